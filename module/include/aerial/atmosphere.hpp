@@ -1,0 +1,149 @@
+// aerial/atmosphere.hpp — the atmosphere: coefficients, presets, constructors, JSON.
+//
+// How to use this:
+//   1. Start from a preset: `aerial::atmosphere_preset("earth")` (names: earth, hp2002, hazy,
+//      foggy, mars), or from JSON: `aerial::atmosphere_from_json(text)`.
+//   2. Or build one from what you know about the weather: `atmosphere_from_turbidity(3.0)`,
+//      `atmosphere_from_visibility(20000.0)`, `atmosphere_with_ground_haze({...})`,
+//      `atmosphere_with_air_pollution(0.5)`.
+//   3. Edit fields freely, then call `validate(atmosphere)` once: it names the first bad field.
+//      Everything downstream assumes a validated atmosphere.
+//
+// All coefficients are per metre at sea level (altitude 0) and fall off exponentially with
+// altitude: beta(h) = beta(0) * exp(-h / scale_height).
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "aerial/error.hpp"
+
+namespace aerial {
+
+/// Physical description of a planet's atmosphere (DESIGN.md §1). Defaults are the `earth` preset.
+/// Channels are R, G, B, taken at 680, 550 and 440 nm for `earth`.
+struct Atmosphere {
+    /// Rayleigh (molecular) scattering coefficient at sea level, 1/m, each >= 0.
+    /// Rayleigh extinction equals scattering (no molecular absorption is modelled).
+    glm::dvec3 rayleigh_scattering{5.802e-6, 13.558e-6, 33.1e-6};
+    /// Mie (aerosol) scattering coefficient at sea level, 1/m, each >= 0.
+    glm::dvec3 mie_scattering{3.996e-6, 3.996e-6, 3.996e-6};
+    /// Mie absorption coefficient at sea level, 1/m, each >= 0. Mie extinction is
+    /// mie_scattering + mie_absorption.
+    glm::dvec3 mie_absorption{0.0, 0.0, 0.0};
+    /// Henyey–Greenstein asymmetry, |g| < 1; g > 0 scatters forwards (bright towards the sun).
+    /// The 2002 slides use the opposite sign: see `mie_g_from_2002_slides()` in phase.hpp.
+    double mie_g = 0.8;
+    /// Rayleigh density scale height, m, > 0.
+    double rayleigh_scale_height_m = 8000.0;
+    /// Mie density scale height, m, > 0.
+    double mie_scale_height_m = 1200.0;
+    /// Radius of the planet (sea level), m, > 0.
+    double planet_radius_m = 6360e3;
+    /// Radius of the top of the atmosphere, m, > planet_radius_m. The `reference` model has no
+    /// air above it; the other models ignore it except when computing sun transmittance.
+    double atmosphere_radius_m = 6420e3;
+    /// Sun irradiance at the top of the atmosphere (E_sun0), linear RGB, each >= 0.
+    glm::dvec3 sun_irradiance{1.0, 1.0, 1.0};
+
+    glm::dvec3 mie_extinction() const { return mie_scattering + mie_absorption; }
+    /// Total extinction at sea level, 1/m.
+    glm::dvec3 extinction() const { return rayleigh_scattering + mie_extinction(); }
+};
+
+/// The first bad field and why: non-finite values, negative coefficients, |g| >= 1,
+/// non-positive scale heights or radii, an atmosphere top not above the planet.
+std::optional<Error> validate(const Atmosphere& atmosphere);
+
+// ---- Presets ---------------------------------------------------------------------------------
+
+/// Names accepted by `atmosphere_preset`, in a fixed order.
+const std::vector<std::string>& atmosphere_preset_names();
+
+/// A named preset: `earth`, `hp2002`, `hazy`, `foggy`, `mars`. Unknown names are an error that
+/// lists the known ones.
+Result<Atmosphere> atmosphere_preset(std::string_view name);
+
+// ---- The 2002 formulas -----------------------------------------------------------------------
+
+/// Wavelengths the 2002 talk uses for R, G, B, m.
+inline constexpr double kHp2002WavelengthsM[3] = {650e-9, 570e-9, 475e-9};
+
+/// Rayleigh total scattering coefficient of air, 1/m, from the 2002 talk:
+/// beta_R = 8 pi^3 (n^2-1)^2 (6+3 p_n) / (3 N lambda^4 (6-7 p_n)),
+/// n = 1.0003 (refractive index), N = 2.545e25 1/m^3 (molecular density), p_n = 0.035
+/// (depolarisation). Gives about 6.95e-6, 1.18e-5, 2.44e-5 at 650, 570, 475 nm.
+double rayleigh_scattering_from_wavelength(double wavelength_m);
+
+/// Lowest turbidity accepted by the turbidity constructors. Preetham's fit of the aerosol
+/// concentration c(T) = (0.6544 T - 0.6510) 1e-16 reaches zero at T = 0.995 and the fitted data
+/// start around T = 2; below 1.3 its results are not physical.
+inline constexpr double kMinTurbidity = 1.3;
+/// Highest turbidity accepted (beyond it the sky is fog, use visibility instead).
+inline constexpr double kMaxTurbidity = 64.0;
+
+/// Mie (haze) total scattering coefficient, 1/m, from Preetham's turbidity formula as used in
+/// 2002: beta_M = 0.434 c pi (2 pi / lambda)^(v-2) K, c = (0.6544 T - 0.6510) 1e-16, v = 4,
+/// K = 0.685, 0.679, 0.670 at 650, 570, 475 nm. The formula is in CGS units (lambda in cm,
+/// beta in 1/cm): taken literally in metres it is 100x too large (a 600 m visibility at T = 2);
+/// this function converts. At T = 2 it gives 7.9e-5 /m at 570 nm, i.e. an aerosol optical depth
+/// of about 0.1 with a 1200 m scale height, matching Rayleigh's as T = 2 means.
+/// Rejects T outside [kMinTurbidity, kMaxTurbidity].
+Result<glm::dvec3> mie_scattering_from_turbidity(double turbidity);
+
+// ---- Constructors from what users know -------------------------------------------------------
+
+/// `base` with its Mie scattering replaced by Preetham's turbidity formula (absorption cleared).
+Result<Atmosphere> atmosphere_from_turbidity(double turbidity, const Atmosphere& base = {});
+
+/// Koschmieder's constant: visibility V (m) and extinction beta (1/m) relate by beta = 3.912 / V
+/// (2 % contrast threshold).
+inline constexpr double kKoschmiederConstant = 3.912;
+
+/// `base` with its sea-level Mie extinction set so that the total extinction at 550 nm (the G
+/// channel) gives `visibility_m` by Koschmieder. Mie stays grey; its single-scattering albedo is
+/// `mie_albedo` (1 = no absorption). Rejects visibilities that clean air alone already forbids
+/// (beyond 3.912 / rayleigh_scattering.g, about 288 km for earth).
+Result<Atmosphere> atmosphere_from_visibility(double visibility_m, const Atmosphere& base = {},
+                                              double mie_albedo = 1.0);
+
+/// A ground haze layer in FlightGear's terms.
+struct GroundHaze {
+    double visibility_in_layer_m = 1000.0;  ///< horizontal visibility at the ground, m, > 0
+    double layer_thickness_m = 500.0;       ///< height of the layer top above sea level, m, > 0
+    double visibility_aloft_m = 20000.0;    ///< visibility just above the layer, m, > the above
+    double mie_albedo = 1.0;                ///< single-scattering albedo of the haze, (0, 1]
+};
+
+/// `base` with its Mie profile fitted to a ground haze layer. The module keeps one exponential
+/// aerosol profile (so all three models, and the GPU path, handle haze alike): its sea-level
+/// coefficient gives `visibility_in_layer_m`, its scale height makes the visibility at the
+/// layer top equal `visibility_aloft_m`. Above the layer the haze keeps thinning.
+Result<Atmosphere> atmosphere_with_ground_haze(const GroundHaze& haze,
+                                               const Atmosphere& base = {});
+
+/// `base` with absorbing urban aerosol added, FlightGear's "air pollution" slider in 0..1: up to
+/// 4e-5 /m of grey extinction at sea level (an optical depth of 0.05 over the Mie scale height
+/// of earth) whose single-scattering albedo drops from 0.8 in red to 0.55 in blue (soot, brown
+/// carbon), dimming and yellowing the haze. 0 returns `base` unchanged.
+Result<Atmosphere> atmosphere_with_air_pollution(double pollution, const Atmosphere& base = {});
+
+// ---- JSON ------------------------------------------------------------------------------------
+
+/// Parses the atmosphere JSON of DESIGN.md §3: an object with any of `rayleigh_scattering` [3],
+/// `mie_scattering` [3], `mie_absorption` [3], `mie_g`, `rayleigh_scale_height_m`,
+/// `mie_scale_height_m`, `planet_radius_m`, `atmosphere_radius_m`, `sun_irradiance` [3].
+/// Missing fields keep the `earth` values (mie_absorption defaults to 0); unknown fields,
+/// malformed JSON and invalid values are errors naming the field. The result is validated.
+Result<Atmosphere> atmosphere_from_json(std::string_view json_text);
+
+/// Reads and parses a file; errors name the path.
+Result<Atmosphere> load_atmosphere_json(const std::string& path);
+
+/// The JSON form of an atmosphere (every field, round-trips through atmosphere_from_json).
+std::string to_json(const Atmosphere& atmosphere);
+
+}  // namespace aerial

@@ -1,0 +1,48 @@
+// aerial/error.hpp — errors as values.
+//
+// How to use this:
+//   1. Functions that can reject their input return `std::optional<aerial::Error>` (nullopt
+//      means "fine") or `aerial::Result<T>` (a value, or the first error found).
+//   2. `Error::field` names the offending field ("mie_g", "rayleigh_scattering[2]", "eye");
+//      `Error::message` is one line for a person and always starts with that field's name.
+//   3. Nothing in the core throws for bad input; exceptions are reserved for allocation failure.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <utility>
+
+namespace aerial {
+
+/// The first problem found in an input.
+struct Error {
+    std::string field;    ///< the offending field, flag or line ("mie_g", "--eye", "line 3")
+    std::string message;  ///< one line, starts with `field`, gives the expected and actual value
+};
+
+/// A value or the first error that prevented computing it.
+template <class T>
+class Result {
+public:
+    Result(T value) : value_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+    Result(Error error) : error_(std::move(error)) {}  // NOLINT(google-explicit-constructor)
+
+    bool ok() const { return value_.has_value(); }
+    explicit operator bool() const { return ok(); }
+
+    /// The value; only valid when ok().
+    const T& value() const& { return *value_; }
+    T& value() & { return *value_; }
+    T&& value() && { return std::move(*value_); }
+    const T& operator*() const& { return *value_; }
+    const T* operator->() const { return &*value_; }
+
+    /// The error; only meaningful when !ok().
+    const Error& error() const { return error_; }
+
+private:
+    std::optional<T> value_;
+    Error error_;
+};
+
+}  // namespace aerial

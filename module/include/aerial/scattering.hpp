@@ -1,0 +1,156 @@
+// aerial/scattering.hpp — extinction F_ex and in-scattering L_in per vertex, three models.
+//
+// How to use this:
+//   1. Validate the atmosphere once (atmosphere.hpp) and describe the frame in a `View`:
+//      eye position, unit direction towards the sun, the world's up axis.
+//   2. Once per frame: `auto frame = aerial::prepare_frame<float>(atmosphere, view, model);`
+//      (it validates the view and does the per-frame work, such as E_sun for the 2002 model).
+//   3. Per vertex: `aerial::Scattering<float> s = aerial::scatter(*frame, vertex_position);`
+//      then colour = texel * s.extinction + s.in_scattering (both raw linear; apply exposure).
+//
+// Conventions (DESIGN.md §1): metres, right-handed world, sea level is the plane through the
+// origin perpendicular to `up`, the planet centre is at -planet_radius_m * up. Distances are
+// Euclidean |vertex - eye|. Every output is finite, 0 <= extinction <= 1, in_scattering >= 0.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "aerial/atmosphere.hpp"
+#include "aerial/error.hpp"
+
+namespace aerial {
+
+/// The physics models (DESIGN.md §1), cheapest first.
+enum class Model {
+    /// The 2002 model: constant sea-level density, F_ex = exp(-beta_ex s),
+    /// L_in = beta_sc(theta) / beta_ex * E_sun * (1 - F_ex), E_sun = E_sun0 * T_sun(eye).
+    hoffman_preetham,
+    /// Exponential density profiles averaged along the eye->vertex segment in closed form, sun
+    /// transmittance (Chapman approximation) at the altitude where the scattering happens.
+    height,
+    /// Ground truth: single scattering integrated numerically in a spherical planet, double
+    /// precision, sun transmittance per sample, shadowed by the planet. Slow.
+    reference,
+};
+
+/// "hoffman-preetham", "height", "reference".
+std::string_view model_name(Model model);
+/// Inverse of model_name; the error lists the valid names.
+Result<Model> parse_model(std::string_view name);
+/// All models, cheapest first.
+const std::vector<Model>& all_models();
+
+/// What changes per frame.
+struct View {
+    glm::dvec3 eye{0.0, 0.0, 2.0};    ///< eye position, engine units (see meters_per_unit)
+    glm::dvec3 sun_dir{0.0, 0.0, 1.0};  ///< unit vector from the scene towards the sun
+    glm::dvec3 up{0.0, 0.0, 1.0};       ///< unit world up axis
+    double meters_per_unit = 1.0;       ///< engine units to metres for positions, > 0
+};
+
+/// The first bad field: non-finite values, sun_dir or up not of unit length (within 1e-3),
+/// meters_per_unit <= 0.
+std::optional<Error> validate(const View& view);
+
+/// Result for one vertex, raw linear values.
+template <class T>
+struct Scattering {
+    glm::vec<3, T> extinction{1, 1, 1};     ///< F_ex in [0, 1]: multiplies the surface colour
+    glm::vec<3, T> in_scattering{0, 0, 0};  ///< L_in >= 0: added to it
+    glm::vec<3, T> sun_irradiance{0, 0, 0};  ///< sun irradiance reaching the vertex in this model
+};
+
+/// Per-frame constants of one (atmosphere, view, model), ready for many `scatter` calls.
+/// Plain data; built by prepare_frame, which is where all validation happens.
+template <class T>
+struct Frame {
+    Model model = Model::height;
+    Atmosphere atmosphere;  ///< validated copy (the reference model works from it in double)
+    View view;              ///< validated copy
+    glm::vec<3, T> eye_m{0};
+    glm::vec<3, T> sun_dir{0, 0, 1};
+    glm::vec<3, T> up{0, 0, 1};
+    T meters_per_unit = 1;
+    T planet_radius_m = 0;
+    T eye_altitude_m = 0;  ///< above the sphere, clamped to kMinAltitudeM
+    glm::vec<3, T> rayleigh_scattering{0};
+    glm::vec<3, T> mie_scattering{0};
+    glm::vec<3, T> mie_extinction{0};
+    T mie_g = 0;
+    T inv_rayleigh_scale_height = 0;  ///< 1/m
+    T inv_mie_scale_height = 0;       ///< 1/m
+    glm::vec<3, T> sun_irradiance_top{0};  ///< E_sun0
+    glm::vec<3, T> sun_irradiance_eye{0};  ///< E_sun0 * T_sun(eye), exact (2002 model's E_sun)
+};
+
+/// Altitudes below this (m) are treated as this for density: deep enough for any real terrain,
+/// shallow enough that exp(-h/H) stays finite in float for every valid scale height >= 1 m.
+inline constexpr double kMinAltitudeM = -5000.0;
+
+/// Validates atmosphere and view, then does the per-frame work. T is float or double.
+template <class T>
+Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, Model model);
+
+/// Vertices farther than this from the eye (m), or with a NaN or infinite coordinate, are not
+/// positions: `scatter` returns F_ex = 1, L_in = 0, E_sun = 0 for them (the batch API counts
+/// them; `evaluate` reports them as an error).
+inline constexpr double kMaxDistanceM = 1e12;
+
+/// F_ex, L_in and E_sun at one vertex (engine units, like View::eye). Never NaN.
+template <class T>
+Scattering<T> scatter(const Frame<T>& frame, const glm::vec<3, T>& vertex);
+
+/// Convenience for one-off evaluations in double: prepare_frame + scatter.
+Result<Scattering<double>> evaluate(const Atmosphere& atmosphere, const View& view, Model model,
+                                    const glm::dvec3& vertex);
+
+// ---- Building blocks, exposed for tests and tools --------------------------------------------
+
+/// Altitude above the sphere of radius planet_radius_m centred at -planet_radius_m * up, for a
+/// position in metres; accurate in float near the origin (no cancellation against the radius).
+template <class T>
+T altitude_above_sphere(const glm::vec<3, T>& position_m, const glm::vec<3, T>& up,
+                        T planet_radius_m);
+
+/// Exact transmittance from a point at `altitude_m` to space along a direction whose cosine
+/// with the local zenith is `cos_zenith`, through the truncated exponential atmosphere (numerical
+/// integration, double). Zero when the planet blocks the direction. Points below sea level are
+/// shadowed as if they were on the surface.
+glm::dvec3 sun_transmittance(const Atmosphere& atmosphere, double altitude_m, double cos_zenith);
+
+/// Fast approximation of the same for the `height` model: per component
+/// tau = beta * H * exp(-h/H) * Ch(x, chi) with the asymptotic Chapman function of
+/// x = (R + h) / H, no truncation at the atmosphere top. Within 1 % in optical depth of
+/// sun_transmittance for zenith angles up to 90 deg, and handles the sun below the horizon.
+template <class T>
+glm::vec<3, T> sun_transmittance_chapman(const Frame<T>& frame, T altitude_m, T cos_zenith);
+
+/// The closed form of the 2002 model for a given segment length, phase cosine and E_sun: used by
+/// the hoffman_preetham model and by the bridge test against the reference integrator.
+template <class T>
+Scattering<T> hoffman_preetham_closed_form(const Frame<T>& frame, T distance_m, T cos_theta,
+                                           const glm::vec<3, T>& sun_irradiance);
+
+/// Options of the reference integrator.
+struct ReferenceOptions {
+    /// Use sea-level density everywhere (no exponential fall-off, no atmosphere top): with
+    /// sun_attenuation off this is exactly the 2002 closed form with E_sun = E_sun0.
+    bool constant_density = false;
+    /// Attenuate sunlight on its way to each sample (and shadow it by the planet).
+    bool sun_attenuation = true;
+    /// Integration steps per e-fold of density or of optical depth; 2 gives <= 1e-6 relative
+    /// against the closed forms, larger is for convergence studies.
+    double steps_per_efold = 2.0;
+};
+
+/// The `reference` model at one vertex (metres, world frame), with options.
+Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View& view,
+                                        const glm::dvec3& vertex,
+                                        const ReferenceOptions& options = {});
+
+}  // namespace aerial

@@ -1,0 +1,228 @@
+// The `reference` model: single scattering integrated numerically along the eye->vertex segment
+// in a spherical planet with exponential Rayleigh and Mie profiles truncated at the atmosphere
+// top, sun transmittance integrated per sample and zero where the planet shadows the sample.
+//
+// Integration: the segment is cut into steps short enough that neither the density (one step per
+// 1/steps_per_efold of a scale height of altitude change, with the curvature term near tangent
+// points) nor the optical depth (1/steps_per_efold per step) changes by more than a fraction of
+// an e-fold; each step uses 4-point Gauss–Legendre. The optical depth from the eye to each node
+// is integrated the same way, so the only error is quadrature error, which falls like the 8th
+// power of the step.
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "aerial/phase.hpp"
+#include "aerial/scattering.hpp"
+
+namespace aerial {
+namespace {
+
+using glm::dvec3;
+
+constexpr std::array<double, 4> kGaussNodes{-0.86113631159405257522, -0.33998104358485626480,
+                                            0.33998104358485626480, 0.86113631159405257522};
+constexpr std::array<double, 4> kGaussWeights{0.34785484513745385737, 0.65214515486254614263,
+                                              0.65214515486254614263, 0.34785484513745385737};
+/// A component whose local extinction is below this fraction of the other's does not set the
+/// step length (it cannot change the result by more than that fraction).
+constexpr double kNegligibleFraction = 1e-10;
+/// Hard cap on steps along one ray, a guard against pathological input only.
+constexpr int kMaxSteps = 200000;
+
+/// The medium seen by the integrator, in a frame centred on the planet.
+struct Medium {
+    const Atmosphere& atmosphere;
+    bool constant_density;
+    double steps_per_efold;
+    double min_altitude_m;
+    dvec3 rayleigh;
+    dvec3 mie_extinction;
+    dvec3 mie_scattering;
+
+    Medium(const Atmosphere& a, bool constant, double steps)
+        : atmosphere(a),
+          constant_density(constant),
+          steps_per_efold(std::max(steps, 0.25)),
+          min_altitude_m(std::max(kMinAltitudeM, -40.0 * std::min(a.rayleigh_scale_height_m,
+                                                                  a.mie_scale_height_m))),
+          rayleigh(a.rayleigh_scattering),
+          mie_extinction(a.mie_extinction()),
+          mie_scattering(a.mie_scattering) {}
+
+    /// Relative densities (1 at sea level) at a point.
+    void density(const dvec3& x, double& rho_r, double& rho_m) const {
+        if (constant_density) {
+            rho_r = rho_m = 1.0;
+            return;
+        }
+        const double r = glm::length(x);
+        if (r > atmosphere.atmosphere_radius_m) {
+            rho_r = rho_m = 0.0;
+            return;
+        }
+        const double h = std::max(r - atmosphere.planet_radius_m, min_altitude_m);
+        rho_r = std::exp(-h / atmosphere.rayleigh_scale_height_m);
+        rho_m = std::exp(-h / atmosphere.mie_scale_height_m);
+    }
+
+    dvec3 extinction(const dvec3& x) const {
+        double rho_r, rho_m;
+        density(x, rho_r, rho_m);
+        return rayleigh * rho_r + mie_extinction * rho_m;
+    }
+
+    /// Length of the next integration step from x along unit direction dir.
+    double step(const dvec3& x, const dvec3& dir, double remaining) const {
+        double rho_r, rho_m;
+        density(x, rho_r, rho_m);
+        const dvec3 k = rayleigh * rho_r + mie_extinction * rho_m;
+        const double k_max = std::max({k.x, k.y, k.z});
+        double dt = remaining;
+        if (k_max > 0.0) dt = std::min(dt, 1.0 / (steps_per_efold * k_max));
+        if (!constant_density) {
+            const double k_r = std::max({rayleigh.x, rayleigh.y, rayleigh.z}) * rho_r;
+            const double k_m = std::max({mie_extinction.x, mie_extinction.y, mie_extinction.z}) * rho_m;
+            double h = 0.0;  // scale height of the fastest-varying component that matters
+            if (k_r > kNegligibleFraction * k_m) h = atmosphere.rayleigh_scale_height_m;
+            if (k_m > kNegligibleFraction * k_r) {
+                h = h > 0.0 ? std::min(h, atmosphere.mie_scale_height_m)
+                            : atmosphere.mie_scale_height_m;
+            }
+            if (h > 0.0) {
+                const double r = glm::length(x);
+                const double radial_speed = std::abs(glm::dot(x, dir)) / std::max(r, 1.0);
+                const double dh = h / steps_per_efold;
+                dt = std::min(dt, std::sqrt(2.0 * r * dh));
+                if (radial_speed > 0.0) dt = std::min(dt, dh / radial_speed);
+            }
+        }
+        // Never stall: at least 1/kMaxSteps of what is left, at least a millimetre.
+        return std::min(remaining, std::max(dt, std::max(remaining / kMaxSteps, 1e-3)));
+    }
+
+    /// Optical depth along origin + t dir for t in [a, b] (one Gauss step, no subdivision).
+    dvec3 optical_depth_step(const dvec3& origin, const dvec3& dir, double a, double b) const {
+        const double half = 0.5 * (b - a);
+        const double mid = 0.5 * (a + b);
+        dvec3 sum(0.0);
+        for (size_t j = 0; j < kGaussNodes.size(); ++j) {
+            sum += kGaussWeights[j] * extinction(origin + dir * (mid + half * kGaussNodes[j]));
+        }
+        return sum * half;
+    }
+
+    /// Optical depth along origin + t dir for t in [a, b], adaptively stepped.
+    dvec3 optical_depth(const dvec3& origin, const dvec3& dir, double a, double b) const {
+        dvec3 tau(0.0);
+        double t = a;
+        while (t < b) {
+            const double dt = step(origin + dir * t, dir, b - t);
+            tau += optical_depth_step(origin, dir, t, t + dt);
+            t += dt;
+        }
+        return tau;
+    }
+};
+
+/// Interval [t0, t1] of origin + t dir (t in [0, length], |dir| = 1) inside a sphere of the given
+/// radius centred at the origin of the frame. Empty when t0 >= t1.
+void clip_to_sphere(const dvec3& origin, const dvec3& dir, double length, double radius,
+                    double& t0, double& t1) {
+    const double b = glm::dot(origin, dir);
+    const double c = glm::dot(origin, origin) - radius * radius;
+    const double disc = b * b - c;
+    if (disc < 0.0) {
+        t0 = t1 = 0.0;
+        return;
+    }
+    const double root = std::sqrt(disc);
+    t0 = std::max(0.0, -b - root);
+    t1 = std::min(length, -b + root);
+}
+
+/// Whether the planet blocks the sun seen from x (frame centred on the planet). Points below sea
+/// level are shadowed as if they were on the surface.
+bool planet_blocks(const Atmosphere& a, const dvec3& x, const dvec3& sun_dir) {
+    const double r = glm::length(x);
+    if (r <= 0.0) return true;
+    const double mu = glm::dot(x, sun_dir) / r;
+    if (mu >= 0.0) return false;
+    const double sin_chi = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+    return r * sin_chi < std::min(a.planet_radius_m, r);
+}
+
+/// Transmittance of sunlight from space to x, through the real (exponential, truncated) profile.
+dvec3 sun_transmittance_at(const Medium& real, const dvec3& x, const dvec3& sun_dir) {
+    if (planet_blocks(real.atmosphere, x, sun_dir)) return dvec3(0.0);
+    double t0, t1;
+    clip_to_sphere(x, sun_dir, 1e300, real.atmosphere.atmosphere_radius_m, t0, t1);
+    if (t0 >= t1) return dvec3(1.0);
+    return glm::exp(-real.optical_depth(x, sun_dir, t0, t1));
+}
+
+}  // namespace
+
+glm::dvec3 sun_transmittance(const Atmosphere& atmosphere, double altitude_m, double cos_zenith) {
+    const Medium real(atmosphere, false, ReferenceOptions{}.steps_per_efold);
+    const double mu = std::clamp(cos_zenith, -1.0, 1.0);
+    const dvec3 x(0.0, 0.0, atmosphere.planet_radius_m + altitude_m);
+    const dvec3 dir(std::sqrt(std::max(0.0, 1.0 - mu * mu)), 0.0, mu);
+    return sun_transmittance_at(real, x, dir);
+}
+
+Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View& view,
+                                        const glm::dvec3& vertex, const ReferenceOptions& options) {
+    const Medium medium(atmosphere, options.constant_density, options.steps_per_efold);
+    const Medium real(atmosphere, false, options.steps_per_efold);
+    const dvec3 up = glm::normalize(view.up);
+    const dvec3 sun = glm::normalize(view.sun_dir);
+    const dvec3 centre_offset = up * atmosphere.planet_radius_m;
+    const dvec3 eye = view.eye * view.meters_per_unit + centre_offset;
+    const dvec3 target = vertex * view.meters_per_unit + centre_offset;
+
+    auto sunlight = [&](const dvec3& x) {
+        if (!options.sun_attenuation) return dvec3(1.0);
+        return sun_transmittance_at(real, x, sun);
+    };
+
+    Scattering<double> out;
+    out.sun_irradiance = atmosphere.sun_irradiance * sunlight(target);
+    const dvec3 segment = target - eye;
+    const double s = glm::length(segment);
+    if (!(s > 0.0)) return out;
+    const dvec3 dir = segment / s;
+    const double cos_theta = glm::dot(dir, sun);
+    const double phase_r = rayleigh_phase(cos_theta);
+    const double phase_m = henyey_greenstein_phase(cos_theta, atmosphere.mie_g);
+
+    double t0 = 0.0, t1 = s;
+    if (!options.constant_density) clip_to_sphere(eye, dir, s, atmosphere.atmosphere_radius_m, t0, t1);
+
+    dvec3 tau(0.0);       // optical depth from the eye to t
+    dvec3 radiance(0.0);  // in-scattered radiance per unit E_sun0
+    double t = t0;
+    while (t < t1) {
+        const double dt = medium.step(eye + dir * t, dir, t1 - t);
+        const double half = 0.5 * dt;
+        for (size_t j = 0; j < kGaussNodes.size(); ++j) {
+            const double tj = t + half * (1.0 + kGaussNodes[j]);
+            const dvec3 xj = eye + dir * tj;
+            double rho_r, rho_m;
+            medium.density(xj, rho_r, rho_m);
+            const dvec3 angular =
+                medium.rayleigh * (rho_r * phase_r) + medium.mie_scattering * (rho_m * phase_m);
+            const dvec3 tau_j = tau + medium.optical_depth_step(eye, dir, t, tj);
+            radiance += (kGaussWeights[j] * half) * angular * sunlight(xj) * glm::exp(-tau_j);
+        }
+        tau += medium.optical_depth_step(eye, dir, t, t + dt);
+        t += dt;
+    }
+    out.extinction = glm::exp(-tau);
+    out.in_scattering = radiance * atmosphere.sun_irradiance;
+    return out;
+}
+
+}  // namespace aerial

@@ -1,0 +1,35 @@
+// Shared helpers of the command-line tools: parsing of vector flags and point files, and the
+// one-line error convention (exit 2, "tool: what is wrong" on stderr).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "aerial/error.hpp"
+
+namespace aerial::tools {
+
+/// Exit status for bad input (DESIGN.md §3).
+inline constexpr int kExitBadInput = 2;
+
+/// Parses one finite number that fills the whole text (surrounding spaces allowed).
+std::optional<double> parse_number(std::string_view text);
+
+/// Parses "X,Y,Z" into three finite numbers; the error names `flag` and quotes the text.
+Result<glm::dvec3> parse_vec3(std::string_view text, const std::string& flag);
+
+/// Parses "X,Y,Z" and normalises it; the zero vector is an error naming `flag`.
+Result<glm::dvec3> parse_direction(std::string_view text, const std::string& flag);
+
+/// Reads points "x,y,z", one per line; blank lines and '#' comments (whole-line or trailing)
+/// are skipped. Errors name `source` and the 1-based line number.
+Result<std::vector<glm::dvec3>> parse_points(std::string_view text, const std::string& source);
+
+/// Prints "tool: message" on stderr and returns kExitBadInput.
+int fail(std::string_view tool, std::string_view message);
+
+}  // namespace aerial::tools

@@ -40,8 +40,9 @@ Result<Atmosphere> atmosphere_from_json(std::string_view json_text) {
     Json root;
     try {
         root = Json::parse(json_text.begin(), json_text.end());
-    } catch (const Json::parse_error& e) {
-        // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ...".
+    } catch (const Json::exception& e) {
+        // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ...";
+        // numbers beyond double raise out_of_range.406 "number overflow parsing ...".
         std::string what = e.what();
         const auto bracket = what.find("] ");
         if (bracket != std::string::npos) what = what.substr(bracket + 2);

@@ -14,13 +14,28 @@ T one_minus_exp_over_x(T x) {
     return -std::expm1(-x) / x;
 }
 
-/// Mean of u over [0, x] weighted by exp(-u), for x >= 0: 1 - x / (exp(x) - 1). Goes from x/2
-/// (no fall-off across the interval) to 1 (the fall-off is much faster than the interval).
+/// log((1 - exp(-x)) / x) for any finite x, without overflow: for x < 0 the ratio is
+/// exp(|x|) (1 - exp(-|x|)) / |x|.
 template <class T>
-T exponential_mean_fraction(T x) {
-    if (x < T(1e-2)) return x * (T(0.5) - x * T(1.0 / 12.0));
-    if (x > T(80)) return T(1);  // exp(80) - 1 overflows float; x / that is below 1e-33
-    return T(1) - x / std::expm1(x);
+T log_one_minus_exp_over_x(T x) {
+    if (x >= T(0)) return std::log(one_minus_exp_over_x(x));
+    return -x + std::log(one_minus_exp_over_x(-x));
+}
+
+/// Mean of u over [0, 1] weighted by exp(-k u), for any finite k: 1/k - 1/(exp(k) - 1).
+/// 1/2 at k = 0, towards 0 for large k (weight piled at the start), towards 1 for large -k.
+template <class T>
+T exponential_mean_fraction(T k) {
+    const T a = std::abs(k);
+    T m;  // the mean for |k|
+    if (a < T(1e-2)) {
+        m = T(0.5) - a * (T(1.0 / 12.0) - a * a * T(1.0 / 720.0));
+    } else if (a > T(80)) {
+        m = T(1) / a;  // exp(80) - 1 overflows float; the correction is below 1e-33
+    } else {
+        m = T(1) / a - T(1) / std::expm1(a);
+    }
+    return k >= T(0) ? m : T(1) - m;
 }
 
 /// Scaled complementary error function exp(y^2) erfc(y) for y >= 0, relative error below 2e-5

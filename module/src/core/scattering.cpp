@@ -179,8 +179,12 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
     const T min_h = min_density_altitude(f);
     const T h0 = f.eye_altitude_m;
     const T h1 = std::max(altitude_above_sphere(p_m, f.up, f.planet_radius_m), min_h);
-    const T h_low = std::min(h0, h1);
-    const T dh = std::abs(h1 - h0);
+    const T rise = h1 - h0;
+    const T dh = std::abs(rise);
+    // A straight segment sags below the line joining its end altitudes by t (s - t) / (2 R);
+    // its mean sag s^2 / (12 R) lowers the altitude at which the density is averaged.
+    const T mean_sag = s * s / (T(12) * f.planet_radius_m);
+    const T h_low = std::max(std::min(h0, h1) - mean_sag, min_h);
 
     // Path-averaged density of each component over a segment whose altitude goes linearly from
     // h0 to h1: exp(-h_low/H) (1 - exp(-dh/H)) / (dh/H), exact when dh = 0.
@@ -188,31 +192,61 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
     const T x_m = dh * f.inv_mie_scale_height;
     const T rho_r = std::exp(-h_low * f.inv_rayleigh_scale_height) * detail::one_minus_exp_over_x(x_r);
     const T rho_m = std::exp(-h_low * f.inv_mie_scale_height) * detail::one_minus_exp_over_x(x_m);
-
-    // Sunlight is taken at the density-weighted mean altitude of the scatterers on the segment.
-    const T mean_r = h_low + detail::exponential_mean_fraction(x_r) / f.inv_rayleigh_scale_height;
-    const T mean_m = h_low + detail::exponential_mean_fraction(x_m) / f.inv_mie_scale_height;
-    const T w_r = (f.rayleigh_scattering.x + f.rayleigh_scattering.y + f.rayleigh_scattering.z) * rho_r;
-    const T w_m = (f.mie_scattering.x + f.mie_scattering.y + f.mie_scattering.z) * rho_m;
-    const T w = w_r + w_m;
-    const T h_star = w > T(0) ? (w_r * mean_r + w_m * mean_m) / w : T(0.5) * (h0 + h1);
-    const T t_star = dh > T(0) ? std::clamp((h_star - h0) / (h1 - h0), T(0), T(1)) : T(0.5);
-    const Vec3<T> scatter_point = f.eye_m + d * t_star;
-    const Vec3<T> sun_at_scatterers =
-        f.sun_irradiance_top *
-        sun_transmittance_chapman(f, h_star, sun_cos_zenith_at(f, scatter_point));
-
     const T phase_r = rayleigh_phase(cos_theta);
     const T phase_m = henyey_greenstein_phase(cos_theta, f.mie_g);
+
+    // Sunlight. Along the segment, each component's contribution to L_in is weighted by its
+    // density (exponential in t, rate rise/H) times the transmittance back to the eye
+    // (exponential in t, rate tau, G channel). The sun's optical depth at a point is
+    // sum_j column_j, each column_j proportional to the density of component j there, with a
+    // Chapman factor that varies slowly along the segment. So: take the Chapman factors at the
+    // weighted mean point, and average each density exactly over each scatterer's weight.
+    const T tau_g = s * (f.rayleigh_scattering.y * rho_r + f.mie_extinction.y * rho_m);
+    const T k_r = rise * f.inv_rayleigh_scale_height + tau_g;  // weight rates over t in [0, 1]
+    const T k_m = rise * f.inv_mie_scale_height + tau_g;
+    const T w_r = f.rayleigh_scattering.y * rho_r * phase_r;
+    const T w_m = f.mie_scattering.y * rho_m * phase_m;
+    const T w = w_r + w_m;
+    const T t_star = w > T(0) ? (w_r * detail::exponential_mean_fraction(k_r) +
+                                 w_m * detail::exponential_mean_fraction(k_m)) /
+                                    w
+                              : T(0.5);
+    const T h_star = std::max(h0 + rise * t_star, min_h);
+    const T mu_star = sun_cos_zenith_at(f, f.eye_m + d * t_star);
+    const T column_r = chapman_column_m(h_star, mu_star, f.planet_radius_m,
+                                        T(1) / f.inv_rayleigh_scale_height, min_h);
+    const T column_m = chapman_column_m(h_star, mu_star, f.planet_radius_m,
+                                        T(1) / f.inv_mie_scale_height, min_h);
+    Vec3<T> sun_r(0), sun_m(0);  // transmittance of the sunlight each component scatters
+    if (column_r >= T(0) && column_m >= T(0)) {
+        // Mean over scatterer i of density_j(h) / density_j(h_star), in log form (no overflow).
+        const T a_r = rise * f.inv_rayleigh_scale_height;
+        const T a_m = rise * f.inv_mie_scale_height;
+        const T lr = detail::log_one_minus_exp_over_x(k_r);
+        const T lm = detail::log_one_minus_exp_over_x(k_m);
+        const T shift_r = (h_star - h0) * f.inv_rayleigh_scale_height;
+        const T shift_m = (h_star - h0) * f.inv_mie_scale_height;
+        auto ratio = [](T shift, T k_plus_a, T log_phi_k) {
+            return std::exp(std::min(shift + detail::log_one_minus_exp_over_x(k_plus_a) - log_phi_k,
+                                     T(80)));
+        };
+        const T r_rr = ratio(shift_r, k_r + a_r, lr), r_rm = ratio(shift_m, k_r + a_m, lr);
+        const T r_mr = ratio(shift_r, k_m + a_r, lm), r_mm = ratio(shift_m, k_m + a_m, lm);
+        sun_r = glm::exp(-(f.rayleigh_scattering * (column_r * r_rr) +
+                           f.mie_extinction * (column_m * r_rm)));
+        sun_m = glm::exp(-(f.rayleigh_scattering * (column_r * r_mr) +
+                           f.mie_extinction * (column_m * r_mm)));
+    }
+
     Scattering<T> out;
     for (int c = 0; c < 3; ++c) {
         const T beta_ex = f.rayleigh_scattering[c] * rho_r + f.mie_extinction[c] * rho_m;
-        const T beta_sc_theta =
-            f.rayleigh_scattering[c] * rho_r * phase_r + f.mie_scattering[c] * rho_m * phase_m;
+        const T sunlit_scattering = f.rayleigh_scattering[c] * rho_r * phase_r * sun_r[c] +
+                                    f.mie_scattering[c] * rho_m * phase_m * sun_m[c];
         const T tau = beta_ex * s;
         out.extinction[c] = std::exp(-tau);
-        out.in_scattering[c] =
-            beta_sc_theta * sun_at_scatterers[c] * s * detail::one_minus_exp_over_x(tau);
+        out.in_scattering[c] = sunlit_scattering * f.sun_irradiance_top[c] * s *
+                               detail::one_minus_exp_over_x(tau);
     }
     out.sun_irradiance =
         f.sun_irradiance_top * sun_transmittance_chapman(f, h1, sun_cos_zenith_at(f, p_m));

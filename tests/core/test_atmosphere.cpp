@@ -1,0 +1,263 @@
+// Atmosphere: validation messages, presets, the 2002 formulas, the constructors, JSON.
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "aerial/atmosphere.hpp"
+#include "aerial/phase.hpp"
+
+namespace {
+
+using aerial::Atmosphere;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Expects validate() to reject `a` naming `field`, with `fragment` in the message.
+void expect_rejected(const Atmosphere& a, const std::string& field, const std::string& fragment) {
+    const auto error = aerial::validate(a);
+    ASSERT_TRUE(error.has_value()) << "expected an error on " << field;
+    EXPECT_EQ(error->field, field);
+    EXPECT_EQ(error->message.rfind(field, 0), 0u) << "message must start with the field: "
+                                                  << error->message;
+    EXPECT_NE(error->message.find(fragment), std::string::npos)
+        << "message '" << error->message << "' lacks '" << fragment << "'";
+}
+
+TEST(AtmosphereValidate, AcceptsEveryPreset) {
+    for (const auto& name : aerial::atmosphere_preset_names()) {
+        const auto a = aerial::atmosphere_preset(name);
+        ASSERT_TRUE(a.ok()) << name << ": " << a.error().message;
+        EXPECT_FALSE(aerial::validate(*a).has_value()) << name;
+    }
+}
+
+TEST(AtmosphereValidate, NamesEachBadFieldAndValue) {
+    Atmosphere a;
+    a.rayleigh_scattering.y = -1e-6;
+    expect_rejected(a, "rayleigh_scattering[1]", "got -1e-06");
+    a = {};
+    a.mie_scattering.z = kNaN;
+    expect_rejected(a, "mie_scattering[2]", "finite");
+    a = {};
+    a.mie_absorption.x = kInf;
+    expect_rejected(a, "mie_absorption[0]", "finite");
+    a = {};
+    a.mie_absorption.x = 2.0;
+    expect_rejected(a, "mie_absorption[0]", "<= 1");
+    a = {};
+    a.mie_g = 1.0;
+    expect_rejected(a, "mie_g", "|g| < 1");
+    a.mie_g = -1.2;
+    expect_rejected(a, "mie_g", "got -1.2");
+    a.mie_g = kNaN;
+    expect_rejected(a, "mie_g", "finite");
+    a = {};
+    a.rayleigh_scale_height_m = 0.0;
+    expect_rejected(a, "rayleigh_scale_height_m", "got 0");
+    a = {};
+    a.mie_scale_height_m = -5.0;
+    expect_rejected(a, "mie_scale_height_m", "got -5");
+    a = {};
+    a.planet_radius_m = kNaN;
+    expect_rejected(a, "planet_radius_m", "finite");
+    a = {};
+    a.atmosphere_radius_m = a.planet_radius_m;
+    expect_rejected(a, "atmosphere_radius_m", "above planet_radius_m");
+    a = {};
+    a.sun_irradiance.y = -1.0;
+    expect_rejected(a, "sun_irradiance[1]", "got -1");
+}
+
+TEST(AtmospherePresets, EarthHasTheDesignValues) {
+    const auto a = aerial::atmosphere_preset("earth");
+    ASSERT_TRUE(a.ok());
+    EXPECT_DOUBLE_EQ(a->rayleigh_scattering.x, 5.802e-6);
+    EXPECT_DOUBLE_EQ(a->rayleigh_scattering.y, 13.558e-6);
+    EXPECT_DOUBLE_EQ(a->rayleigh_scattering.z, 33.1e-6);
+    EXPECT_DOUBLE_EQ(a->mie_scattering.y, 3.996e-6);
+    EXPECT_DOUBLE_EQ(a->mie_absorption.y, 0.0);
+    EXPECT_DOUBLE_EQ(a->mie_g, 0.8);
+    EXPECT_DOUBLE_EQ(a->rayleigh_scale_height_m, 8000.0);
+    EXPECT_DOUBLE_EQ(a->mie_scale_height_m, 1200.0);
+    EXPECT_DOUBLE_EQ(a->planet_radius_m, 6360e3);
+    EXPECT_DOUBLE_EQ(a->atmosphere_radius_m, 6420e3);
+    EXPECT_DOUBLE_EQ(a->sun_irradiance.z, 1.0);
+}
+
+TEST(AtmospherePresets, UnknownNameListsTheKnownOnes) {
+    const auto a = aerial::atmosphere_preset("venus");
+    ASSERT_FALSE(a.ok());
+    EXPECT_NE(a.error().message.find("'venus'"), std::string::npos);
+    EXPECT_NE(a.error().message.find("earth, hp2002, hazy, foggy, mars"), std::string::npos);
+}
+
+TEST(Hp2002, RayleighFromTheTalkFormulaMatchesItsPublishedValues) {
+    // 6.95e-6, 1.18e-5, 2.44e-5 /m at 650, 570, 475 nm (the issue's figures, 3 digits).
+    EXPECT_NEAR(aerial::rayleigh_scattering_from_wavelength(650e-9), 6.95e-6, 0.01e-6);
+    EXPECT_NEAR(aerial::rayleigh_scattering_from_wavelength(570e-9), 1.18e-5, 0.01e-5);
+    EXPECT_NEAR(aerial::rayleigh_scattering_from_wavelength(475e-9), 2.44e-5, 0.01e-5);
+    // lambda^-4.
+    const double ratio = aerial::rayleigh_scattering_from_wavelength(475e-9) /
+                         aerial::rayleigh_scattering_from_wavelength(650e-9);
+    EXPECT_NEAR(ratio, std::pow(650.0 / 475.0, 4.0), 1e-12);
+    const auto hp = aerial::atmosphere_preset("hp2002");
+    ASSERT_TRUE(hp.ok());
+    EXPECT_DOUBLE_EQ(hp->rayleigh_scattering.y, aerial::rayleigh_scattering_from_wavelength(570e-9));
+}
+
+TEST(Hp2002, MieFromTurbidityHasTheOpticalDepthTurbidityMeans) {
+    // T = (tau_R + tau_M) / tau_R: at T = 2 aerosol and air have about equal vertical optical
+    // depth. This pins the CGS -> SI conversion (a literal SI reading is 100x too large).
+    const auto mie = aerial::mie_scattering_from_turbidity(2.0);
+    ASSERT_TRUE(mie.ok());
+    const double tau_mie = mie->y * 1200.0;
+    const double tau_rayleigh = aerial::rayleigh_scattering_from_wavelength(570e-9) * 8000.0;
+    EXPECT_GT(tau_mie / tau_rayleigh, 0.7);
+    EXPECT_LT(tau_mie / tau_rayleigh, 1.3);
+    // Closed form at 570 nm: 0.434 c pi (2 pi / lambda)^2 K, lambda in cm, times 100.
+    const double c = (0.6544 * 2.0 - 0.6510) * 1e-16;
+    const double k = 2.0 * aerial::kPi / 570e-7;
+    EXPECT_NEAR(mie->y, 0.434 * c * aerial::kPi * k * k * 0.679 * 100.0, 1e-18);
+    // Grows with turbidity, bluer than grey but nearly so (K falls slower than lambda^-2 grows).
+    EXPECT_GT(mie->z, mie->x);
+    EXPECT_GT(aerial::mie_scattering_from_turbidity(6.0)->y, mie->y);
+}
+
+TEST(Hp2002, RejectsTurbidityWherePreethamsFitTurnsUnphysical) {
+    for (double t : {1.29, 1.0, 0.5, -3.0, kNaN, 100.0}) {
+        const auto mie = aerial::mie_scattering_from_turbidity(t);
+        ASSERT_FALSE(mie.ok()) << t;
+        EXPECT_EQ(mie.error().field, "turbidity");
+        EXPECT_NE(mie.error().message.find("turbidity must be in [1.3, 64]"), std::string::npos)
+            << mie.error().message;
+    }
+    EXPECT_TRUE(aerial::mie_scattering_from_turbidity(1.3).ok());
+    EXPECT_FALSE(aerial::atmosphere_from_turbidity(1.0).ok());
+}
+
+TEST(AtmosphereConstructors, VisibilityFollowsKoschmieder) {
+    for (double v : {500.0, 5000.0, 40000.0, 200000.0}) {
+        const auto a = aerial::atmosphere_from_visibility(v);
+        ASSERT_TRUE(a.ok()) << v << ": " << a.error().message;
+        EXPECT_NEAR(a->extinction().y, 3.912 / v, 1e-15) << v;
+        EXPECT_DOUBLE_EQ(a->mie_scattering.x, a->mie_scattering.z) << "Mie stays grey";
+    }
+    const auto absorbing = aerial::atmosphere_from_visibility(10000.0, Atmosphere{}, 0.8);
+    ASSERT_TRUE(absorbing.ok());
+    EXPECT_NEAR(absorbing->mie_absorption.y / absorbing->mie_extinction().y, 0.2, 1e-12);
+}
+
+TEST(AtmosphereConstructors, VisibilityBeyondCleanAirIsRejected) {
+    const auto a = aerial::atmosphere_from_visibility(400000.0);
+    ASSERT_FALSE(a.ok());
+    EXPECT_EQ(a.error().field, "visibility_m");
+    EXPECT_NE(a.error().message.find("clean air"), std::string::npos);
+    EXPECT_FALSE(aerial::atmosphere_from_visibility(-1.0).ok());
+    EXPECT_FALSE(aerial::atmosphere_from_visibility(kNaN).ok());
+    EXPECT_EQ(aerial::atmosphere_from_visibility(1000.0, Atmosphere{}, 0.0).error().field,
+              "mie_albedo");
+}
+
+TEST(AtmosphereConstructors, GroundHazeMeetsBothVisibilities) {
+    aerial::GroundHaze haze;
+    haze.visibility_in_layer_m = 800.0;
+    haze.layer_thickness_m = 300.0;
+    haze.visibility_aloft_m = 30000.0;
+    const auto a = aerial::atmosphere_with_ground_haze(haze);
+    ASSERT_TRUE(a.ok()) << a.error().message;
+    auto extinction_g_at = [&](double h) {
+        return a->rayleigh_scattering.y * std::exp(-h / a->rayleigh_scale_height_m) +
+               a->mie_extinction().y * std::exp(-h / a->mie_scale_height_m);
+    };
+    EXPECT_NEAR(3.912 / extinction_g_at(0.0), 800.0, 1e-6);
+    EXPECT_NEAR(3.912 / extinction_g_at(300.0), 30000.0, 1e-3);
+    EXPECT_GT(3.912 / extinction_g_at(1000.0), 30000.0) << "the haze keeps thinning above";
+}
+
+TEST(AtmosphereConstructors, GroundHazeRejectsAloftNotClearerThanTheLayer) {
+    aerial::GroundHaze haze;
+    haze.visibility_in_layer_m = 5000.0;
+    haze.visibility_aloft_m = 4000.0;
+    const auto a = aerial::atmosphere_with_ground_haze(haze);
+    ASSERT_FALSE(a.ok());
+    EXPECT_EQ(a.error().field, "visibility_aloft_m");
+    haze.visibility_aloft_m = 1e9;
+    EXPECT_EQ(aerial::atmosphere_with_ground_haze(haze).error().field, "visibility_aloft_m");
+    haze = {};
+    haze.layer_thickness_m = 0.0;
+    EXPECT_EQ(aerial::atmosphere_with_ground_haze(haze).error().field, "layer_thickness_m");
+}
+
+TEST(AtmosphereConstructors, AirPollutionAddsAbsorbingYellowingAerosol) {
+    const Atmosphere base;
+    const auto clean = aerial::atmosphere_with_air_pollution(0.0, base);
+    ASSERT_TRUE(clean.ok());
+    EXPECT_EQ(clean->mie_extinction(), base.mie_extinction());
+    const auto dirty = aerial::atmosphere_with_air_pollution(1.0, base);
+    ASSERT_TRUE(dirty.ok());
+    EXPECT_GT(dirty->mie_extinction().y, base.mie_extinction().y);
+    EXPECT_GT(dirty->mie_absorption.z, dirty->mie_absorption.x) << "absorbs more in blue";
+    EXPECT_EQ(aerial::atmosphere_with_air_pollution(1.5, base).error().field, "pollution");
+}
+
+TEST(AtmosphereJson, RoundTripsEveryPreset) {
+    for (const auto& name : aerial::atmosphere_preset_names()) {
+        const auto a = aerial::atmosphere_preset(name);
+        const auto back = aerial::atmosphere_from_json(aerial::to_json(*a));
+        ASSERT_TRUE(back.ok()) << name << ": " << back.error().message;
+        EXPECT_EQ(back->rayleigh_scattering, a->rayleigh_scattering) << name;
+        EXPECT_EQ(back->mie_scattering, a->mie_scattering) << name;
+        EXPECT_EQ(back->mie_absorption, a->mie_absorption) << name;
+        EXPECT_EQ(back->mie_g, a->mie_g) << name;
+        EXPECT_EQ(back->mie_scale_height_m, a->mie_scale_height_m) << name;
+        EXPECT_EQ(back->atmosphere_radius_m, a->atmosphere_radius_m) << name;
+        EXPECT_EQ(back->sun_irradiance, a->sun_irradiance) << name;
+    }
+}
+
+TEST(AtmosphereJson, MissingFieldsKeepEarthAndAbsorptionDefaultsToZero) {
+    const auto a = aerial::atmosphere_from_json(R"({"mie_g": 0.5})");
+    ASSERT_TRUE(a.ok());
+    EXPECT_EQ(a->mie_g, 0.5);
+    EXPECT_EQ(a->rayleigh_scattering, Atmosphere{}.rayleigh_scattering);
+    EXPECT_EQ(a->mie_absorption, glm::dvec3(0.0));
+}
+
+TEST(AtmosphereJson, ErrorsNameTheField) {
+    struct Case {
+        const char* json;
+        const char* field;
+        const char* fragment;
+    } cases[] = {
+        {R"({"mie_g": 0.5, "colour": 1})", "colour", "not an atmosphere field"},
+        {R"({"mie_g": "high"})", "mie_g", "must be a number"},
+        {R"({"rayleigh_scattering": [1e-6, 2e-6]})", "rayleigh_scattering", "array of 3"},
+        {R"({"mie_scattering": [1e-6, "x", 2e-6]})", "mie_scattering[1]", "must be a number"},
+        {R"({"rayleigh_scattering": [1e-6, -2e-6, 3e-6]})", "rayleigh_scattering[1]", ">= 0"},
+        {R"({"mie_g": 1.0})", "mie_g", "|g| < 1"},
+        {R"({"planet_radius_m": 7000000})", "atmosphere_radius_m", "above planet_radius_m"},
+        {R"({"mie_g": 1e999})", "json", "number overflow"},
+        {R"([1, 2, 3])", "json", "must be an object"},
+        {R"({"mie_g": 0.5,})", "json", "parse error"},
+        {"", "json", "parse error"},
+    };
+    for (const auto& c : cases) {
+        const auto a = aerial::atmosphere_from_json(c.json);
+        ASSERT_FALSE(a.ok()) << c.json;
+        EXPECT_EQ(a.error().field, c.field) << c.json << " -> " << a.error().message;
+        EXPECT_NE(a.error().message.find(c.fragment), std::string::npos)
+            << c.json << " -> " << a.error().message;
+        EXPECT_EQ(a.error().message.find('\n'), std::string::npos) << "one line: " << c.json;
+    }
+}
+
+TEST(AtmosphereJson, MissingFileIsNamed) {
+    const auto a = aerial::load_atmosphere_json("/nonexistent/dir/air.json");
+    ASSERT_FALSE(a.ok());
+    EXPECT_NE(a.error().message.find("/nonexistent/dir/air.json"), std::string::npos);
+}
+
+}  // namespace

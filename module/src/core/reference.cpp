@@ -46,8 +46,8 @@ struct Medium {
         : atmosphere(a),
           constant_density(constant),
           steps_per_efold(std::max(steps, 0.25)),
-          min_altitude_m(std::max(kMinAltitudeM, -40.0 * std::min(a.rayleigh_scale_height_m,
-                                                                  a.mie_scale_height_m))),
+          min_altitude_m(std::max(
+              kMinAltitudeM, -40.0 * std::min(a.rayleigh_scale_height_m, a.mie_scale_height_m))),
           rayleigh(a.rayleigh_scattering),
           mie_extinction(a.mie_extinction()),
           mie_scattering(a.mie_scattering) {}
@@ -84,7 +84,8 @@ struct Medium {
         if (k_max > 0.0) dt = std::min(dt, 1.0 / (steps_per_efold * k_max));
         if (!constant_density) {
             const double k_r = std::max({rayleigh.x, rayleigh.y, rayleigh.z}) * rho_r;
-            const double k_m = std::max({mie_extinction.x, mie_extinction.y, mie_extinction.z}) * rho_m;
+            const double k_m =
+                std::max({mie_extinction.x, mie_extinction.y, mie_extinction.z}) * rho_m;
             double h = 0.0;  // scale height of the fastest-varying component that matters
             if (k_r > kNegligibleFraction * k_m) h = atmosphere.rayleigh_scale_height_m;
             if (k_m > kNegligibleFraction * k_r) {
@@ -129,8 +130,8 @@ struct Medium {
 
 /// Interval [t0, t1] of origin + t dir (t in [0, length], |dir| = 1) inside a sphere of the given
 /// radius centred at the origin of the frame. Empty when t0 >= t1.
-void clip_to_sphere(const dvec3& origin, const dvec3& dir, double length, double radius,
-                    double& t0, double& t1) {
+void clip_to_sphere(const dvec3& origin, const dvec3& dir, double length, double radius, double& t0,
+                    double& t1) {
     const double b = glm::dot(origin, dir);
     const double c = glm::dot(origin, origin) - radius * radius;
     const double disc = b * b - c;
@@ -199,26 +200,47 @@ Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View
     const double phase_m = henyey_greenstein_phase(cos_theta, atmosphere.mie_g);
 
     double t0 = 0.0, t1 = s;
-    if (!options.constant_density) clip_to_sphere(eye, dir, s, atmosphere.atmosphere_radius_m, t0, t1);
+    if (!options.constant_density)
+        clip_to_sphere(eye, dir, s, atmosphere.atmosphere_radius_m, t0, t1);
+
+    // Split the segment where it crosses the edge of the planet's shadow (a cylinder of radius
+    // R around the axis through the centre along the sun): the integrand jumps there.
+    std::array<double, 4> breaks{t0, t1, t1, t1};
+    if (options.sun_attenuation) {
+        const dvec3 e_perp = eye - sun * glm::dot(eye, sun);
+        const dvec3 d_perp = dir - sun * glm::dot(dir, sun);
+        const double qa = glm::dot(d_perp, d_perp);
+        const double qb = glm::dot(e_perp, d_perp);
+        const double qc =
+            glm::dot(e_perp, e_perp) - atmosphere.planet_radius_m * atmosphere.planet_radius_m;
+        const double disc = qb * qb - qa * qc;
+        if (qa > 0.0 && disc > 0.0) {
+            const double root = std::sqrt(disc);
+            breaks[1] = std::clamp((-qb - root) / qa, t0, t1);
+            breaks[2] = std::clamp((-qb + root) / qa, t0, t1);
+        }
+    }
 
     dvec3 tau(0.0);       // optical depth from the eye to t
     dvec3 radiance(0.0);  // in-scattered radiance per unit E_sun0
     double t = t0;
-    while (t < t1) {
-        const double dt = medium.step(eye + dir * t, dir, t1 - t);
-        const double half = 0.5 * dt;
-        for (size_t j = 0; j < kGaussNodes.size(); ++j) {
-            const double tj = t + half * (1.0 + kGaussNodes[j]);
-            const dvec3 xj = eye + dir * tj;
-            double rho_r, rho_m;
-            medium.density(xj, rho_r, rho_m);
-            const dvec3 angular =
-                medium.rayleigh * (rho_r * phase_r) + medium.mie_scattering * (rho_m * phase_m);
-            const dvec3 tau_j = tau + medium.optical_depth_step(eye, dir, t, tj);
-            radiance += (kGaussWeights[j] * half) * angular * sunlight(xj) * glm::exp(-tau_j);
+    for (size_t piece = 1; piece < breaks.size(); ++piece) {
+        while (t < breaks[piece]) {
+            const double dt = medium.step(eye + dir * t, dir, breaks[piece] - t);
+            const double half = 0.5 * dt;
+            for (size_t j = 0; j < kGaussNodes.size(); ++j) {
+                const double tj = t + half * (1.0 + kGaussNodes[j]);
+                const dvec3 xj = eye + dir * tj;
+                double rho_r, rho_m;
+                medium.density(xj, rho_r, rho_m);
+                const dvec3 angular =
+                    medium.rayleigh * (rho_r * phase_r) + medium.mie_scattering * (rho_m * phase_m);
+                const dvec3 tau_j = tau + medium.optical_depth_step(eye, dir, t, tj);
+                radiance += (kGaussWeights[j] * half) * angular * sunlight(xj) * glm::exp(-tau_j);
+            }
+            tau += medium.optical_depth_step(eye, dir, t, t + dt);
+            t += dt;
         }
-        tau += medium.optical_depth_step(eye, dir, t, t + dt);
-        t += dt;
     }
     out.extinction = glm::exp(-tau);
     out.in_scattering = radiance * atmosphere.sun_irradiance;

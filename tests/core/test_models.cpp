@@ -1,0 +1,320 @@
+// The three models: invariants, closed forms, the bridge between the reference integrator and
+// the 2002 closed form, the analytic zenith transmittance, the Chapman approximation.
+#include <cmath>
+#include <string>
+
+#include <glm/exponential.hpp>
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "aerial/aerial.hpp"
+
+namespace {
+
+using aerial::Atmosphere;
+using aerial::Model;
+using aerial::View;
+using glm::dvec3;
+
+View view_at(dvec3 eye, dvec3 sun) {
+    View v;
+    v.eye = eye;
+    v.sun_dir = glm::normalize(sun);
+    return v;
+}
+
+aerial::Scattering<double> eval(Model m, const View& v, dvec3 p, const Atmosphere& a = {}) {
+    const auto r = aerial::evaluate(a, v, m, p);
+    EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+    return r.ok() ? *r : aerial::Scattering<double>{};
+}
+
+std::string name(Model m) { return std::string(aerial::model_name(m)); }
+
+TEST(Models, NamesRoundTripAndUnknownNamesAreListed) {
+    for (Model m : aerial::all_models()) EXPECT_EQ(*aerial::parse_model(aerial::model_name(m)), m);
+    const auto bad = aerial::parse_model("preetham");
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("hoffman-preetham, height, reference"), std::string::npos);
+}
+
+TEST(Models, ZeroDistanceHasNoExtinctionAndNoInScattering) {
+    const View v = view_at({10, 20, 300}, {0, 0.6, 0.8});
+    for (Model m : aerial::all_models()) {
+        const auto s = eval(m, v, v.eye);
+        EXPECT_EQ(s.extinction, dvec3(1.0)) << name(m);
+        EXPECT_EQ(s.in_scattering, dvec3(0.0)) << name(m);
+    }
+}
+
+TEST(Models, ExtinctionFallsAndInScatteringGrowsWithDistance) {
+    const View v = view_at({0, 0, 50}, {0.3, 0.5, 0.6});
+    for (Model m : aerial::all_models()) {
+        auto previous = eval(m, v, v.eye);
+        for (double d = 100.0; d <= 60000.0; d *= 1.5) {
+            const auto s = eval(m, v, {d * 0.6, d * 0.8, 50.0});
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_LT(s.extinction[c], previous.extinction[c]) << name(m) << " d=" << d;
+                EXPECT_GT(s.in_scattering[c], previous.in_scattering[c]) << name(m) << " d=" << d;
+            }
+            previous = s;
+        }
+    }
+}
+
+TEST(Models, HoffmanPreethamTendsToItsAsymptoteFarAway) {
+    // L_in -> (beta_R P_R + beta_M P_M) / (beta_R + beta_M) * E_sun as s -> infinity.
+    const Atmosphere a;
+    const View v = view_at({0, 0, 0}, {0, 0.6, 0.8});
+    const auto frame = aerial::prepare_frame<double>(a, v, Model::hoffman_preetham);
+    ASSERT_TRUE(frame.ok());
+    const dvec3 dir = glm::normalize(dvec3(1, 2, 0));
+    const double cos_theta = glm::dot(dir, v.sun_dir);
+    const dvec3 angular = a.rayleigh_scattering * aerial::rayleigh_phase(cos_theta) +
+                          a.mie_scattering * aerial::henyey_greenstein_phase(cos_theta, a.mie_g);
+    const dvec3 asymptote = angular / a.extinction() * frame->sun_irradiance_eye;
+    const auto far = aerial::scatter(*frame, dir * 5e6);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(far.in_scattering[c], asymptote[c], 1e-12 * asymptote[c]) << c;
+        EXPECT_LT(far.extinction[c], 1e-20);
+    }
+}
+
+TEST(Models, HoffmanPreethamMatchesItsClosedForm) {
+    const Atmosphere a;
+    const View v = view_at({5, -3, 12}, {0.2, -0.4, 0.9});
+    const auto frame = aerial::prepare_frame<double>(a, v, Model::hoffman_preetham);
+    ASSERT_TRUE(frame.ok());
+    // E_sun = E_sun0 * T_sun(eye) with the exact spherical transmittance.
+    const dvec3 t_eye = aerial::sun_transmittance(a, 12.0, glm::dot(glm::normalize(v.sun_dir),
+                                                                   dvec3(0, 0, 1)));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(frame->sun_irradiance_eye[c], t_eye[c], 1e-6);
+    for (dvec3 p : {dvec3(300, 400, 0), dvec3(-9000, 2000, 40), dvec3(20000, 25000, 800)}) {
+        const dvec3 d = p - v.eye;
+        const double s = glm::length(d);
+        const double cos_theta = glm::dot(d / s, glm::normalize(v.sun_dir));
+        const dvec3 beta_ex = a.extinction();
+        const dvec3 angular =
+            a.rayleigh_scattering * (3.0 / (16.0 * aerial::kPi) * (1 + cos_theta * cos_theta)) +
+            a.mie_scattering * ((1 - 0.64) / (4 * aerial::kPi *
+                                              std::pow(1 + 0.64 - 1.6 * cos_theta, 1.5)));
+        const auto got = aerial::scatter(*frame, p);
+        for (int c = 0; c < 3; ++c) {
+            const double f_ex = std::exp(-beta_ex[c] * s);
+            const double l_in = angular[c] / beta_ex[c] * frame->sun_irradiance_eye[c] * (1 - f_ex);
+            EXPECT_NEAR(got.extinction[c], f_ex, 1e-14);
+            EXPECT_NEAR(got.in_scattering[c], l_in, 1e-12 * l_in);
+        }
+    }
+}
+
+TEST(Models, VanishingCoefficientsGiveTheLinearLimit) {
+    // beta -> 0: F_ex -> 1 and L_in -> beta_sc(theta) E s, with no 0/0.
+    Atmosphere a;
+    a.rayleigh_scattering = dvec3(1e-30, 0.0, 1e-20);
+    a.mie_scattering = dvec3(0.0);
+    const View v = view_at({0, 0, 0}, {0, 0, 1});
+    const auto frame = aerial::prepare_frame<float>(a, v, Model::hoffman_preetham);
+    ASSERT_TRUE(frame.ok());
+    const auto s = aerial::scatter(*frame, glm::vec3(1000, 0, 0));
+    EXPECT_EQ(s.extinction.y, 1.0f);
+    EXPECT_EQ(s.in_scattering.y, 0.0f);
+    const double expected = 1e-20 * aerial::rayleigh_phase(0.0) * frame->sun_irradiance_eye.z * 1000;
+    EXPECT_NEAR(s.in_scattering.z, expected, 1e-6 * expected);
+}
+
+TEST(Reference, ConstantDensityWithoutSunAttenuationIsTheClosedForm) {
+    // The bridge: the integrator, with sea-level density everywhere and E_sun = E_sun0, must
+    // reproduce the 2002 closed form to 1e-6 relative.
+    const Atmosphere a;
+    aerial::ReferenceOptions options;
+    options.constant_density = true;
+    options.sun_attenuation = false;
+    for (dvec3 sun : {dvec3(0, 0, 1), dvec3(0, 0.8, 0.2), dvec3(0.5, -0.5, 0.1)}) {
+        const View v = view_at({0, 0, 100}, sun);
+        const auto frame = aerial::prepare_frame<double>(a, v, Model::hoffman_preetham);
+        for (dvec3 p : {dvec3(0, 500, 100), dvec3(3000, 4000, 300), dvec3(0, 30000, 50),
+                        dvec3(-80000, 10000, 2000), dvec3(0, 800000, 100)}) {
+            const auto ref = aerial::reference_scattering(a, v, p, options);
+            const dvec3 d = p - v.eye;
+            const double s = glm::length(d);
+            const auto closed = aerial::hoffman_preetham_closed_form(
+                *frame, s, glm::dot(d / s, v.sun_dir), a.sun_irradiance);
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(ref.extinction[c], closed.extinction[c], 1e-6 * closed.extinction[c])
+                    << "p=" << p.x << "," << p.y << " c=" << c;
+                EXPECT_NEAR(ref.in_scattering[c], closed.in_scattering[c],
+                            1e-6 * closed.in_scattering[c])
+                    << "p=" << p.x << "," << p.y << " c=" << c;
+            }
+        }
+    }
+}
+
+TEST(Reference, ZenithTransmittanceEqualsTheAnalyticColumn) {
+    // From sea level straight up through the truncated exponential atmosphere:
+    // T = exp(-sum_i beta_i H_i (1 - exp(-h_top / H_i))).
+    const Atmosphere a;
+    const double h_top = a.atmosphere_radius_m - a.planet_radius_m;
+    const dvec3 tau = a.rayleigh_scattering * a.rayleigh_scale_height_m *
+                          (1 - std::exp(-h_top / a.rayleigh_scale_height_m)) +
+                      a.mie_extinction() * a.mie_scale_height_m *
+                          (1 - std::exp(-h_top / a.mie_scale_height_m));
+    const dvec3 expected = glm::exp(-tau);
+    const dvec3 got = aerial::sun_transmittance(a, 0.0, 1.0);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], expected[c], 1e-9) << c;
+    // The figures at 680/550/440 nm.
+    EXPECT_NEAR(got.x, 0.9501, 5e-5);
+    EXPECT_NEAR(got.y, 0.8930, 5e-5);
+    EXPECT_NEAR(got.z, 0.7638, 5e-5);
+}
+
+TEST(Reference, ConvergedToATenthOfAPercent) {
+    // Four times finer steps change nothing that matters: the default is converged.
+    const Atmosphere a;
+    aerial::ReferenceOptions fine;
+    fine.steps_per_efold = 8.0;
+    for (dvec3 sun : {dvec3(0, 0.6, 0.8), dvec3(0, 0.995, 0.0998), dvec3(0.6, 0.0, -0.02)}) {
+        const View v = view_at({0, 0, 100}, sun);
+        for (dvec3 p : {dvec3(0, 1000, 100), dvec3(0, 10000, 100), dvec3(0, 50000, 100),
+                        dvec3(0, 14000, -9900), dvec3(30000, 0, 5000)}) {
+            const auto coarse = aerial::reference_scattering(a, v, p);
+            const auto ref = aerial::reference_scattering(a, v, p, fine);
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(coarse.extinction[c], ref.extinction[c], 1e-3 * ref.extinction[c]);
+                EXPECT_NEAR(coarse.in_scattering[c], ref.in_scattering[c],
+                            1e-3 * ref.in_scattering[c] + 1e-15);
+            }
+        }
+    }
+}
+
+TEST(Reference, PlanetShadowsTheSunBelowTheHorizon) {
+    const Atmosphere a;
+    // Sun 5 degrees below the horizon: dark at sea level, lit at 40 km.
+    const double mu = std::sin(-5.0 * aerial::kPi / 180.0);
+    EXPECT_EQ(aerial::sun_transmittance(a, 0.0, mu), dvec3(0.0));
+    EXPECT_EQ(aerial::sun_transmittance(a, -300.0, mu), dvec3(0.0));
+    EXPECT_GT(aerial::sun_transmittance(a, 40000.0, mu).x, 0.0);
+    // The eye in the shadow still sees sunlit air above it.
+    const View v = view_at({0, 0, 2}, {0, std::cos(0.0873), -std::sin(0.0873)});
+    const auto looking_up = eval(Model::reference, v, {0, 60000, 40000});
+    EXPECT_GT(looking_up.in_scattering.z, 0.0);
+    EXPECT_GT(looking_up.sun_irradiance.x, 0.0) << "the vertex at 40 km is lit";
+    EXPECT_EQ(eval(Model::reference, v, {0, 100, 2}).sun_irradiance, dvec3(0.0))
+        << "no sun at a vertex beside the eye";
+}
+
+TEST(Chapman, SunTransmittanceWithinOnePercentInOpticalDepth) {
+    // The height model's fast sun transmittance against the exact integration, from 0 to 20 km
+    // and from the zenith to the horizon, plus sub-horizon angles seen from altitude.
+    const Atmosphere a;
+    const View v = view_at({0, 0, 0}, {0, 0, 1});
+    const auto frame = aerial::prepare_frame<double>(a, v, Model::height);
+    ASSERT_TRUE(frame.ok());
+    for (double h : {0.0, 500.0, 2000.0, 8000.0, 20000.0}) {
+        for (double elevation_deg : {90.0, 45.0, 20.0, 10.0, 5.0, 2.0, 0.0, -0.5, -1.0, -2.0}) {
+            const double mu = std::sin(elevation_deg * aerial::kPi / 180.0);
+            const dvec3 exact = aerial::sun_transmittance(a, h, mu);
+            const dvec3 fast = aerial::sun_transmittance_chapman(*frame, h, mu);
+            for (int c = 0; c < 3; ++c) {
+                if (exact[c] == 0.0) {
+                    EXPECT_LT(fast[c], 1e-3) << "h=" << h << " elev=" << elevation_deg;
+                    continue;
+                }
+                const double tau_exact = -std::log(exact[c]);
+                const double tau_fast = -std::log(std::max(fast[c], 1e-300));
+                EXPECT_NEAR(tau_fast, tau_exact, 0.01 * tau_exact + 1e-6)
+                    << "h=" << h << " elev=" << elevation_deg << " c=" << c;
+            }
+        }
+    }
+}
+
+TEST(Models, FloatAgreesWithDouble) {
+    const Atmosphere a;
+    const View v = view_at({100, -50, 300}, {0.1, 0.7, 0.3});
+    for (Model m : {Model::hoffman_preetham, Model::height}) {
+        const auto fd = aerial::prepare_frame<double>(a, v, m);
+        const auto ff = aerial::prepare_frame<float>(a, v, m);
+        for (dvec3 p : {dvec3(150, 0, 290), dvec3(5000, 3000, 0), dvec3(-40000, 2000, 1500),
+                        dvec3(0, 200000, 20000)}) {
+            const auto d = aerial::scatter(*fd, p);
+            const auto f = aerial::scatter(*ff, glm::vec3(p));
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(f.extinction[c], d.extinction[c], 1e-5) << name(m);
+                EXPECT_NEAR(f.in_scattering[c], d.in_scattering[c], 1e-4 * d.in_scattering[c] + 1e-9)
+                    << name(m);
+            }
+        }
+    }
+}
+
+TEST(Models, UnitsScaleConvertsEnginePositions) {
+    // An engine in centimetres sets meters_per_unit = 0.01 and gets the same colours.
+    const Atmosphere a;
+    View metres = view_at({0, 0, 30}, {0, 0.6, 0.8});
+    View centimetres = metres;
+    centimetres.eye *= 100.0;
+    centimetres.meters_per_unit = 0.01;
+    for (Model m : aerial::all_models()) {
+        const auto x = eval(m, metres, {4000, 3000, 10});
+        const auto y = eval(m, centimetres, {400000, 300000, 1000});
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(x.in_scattering[c], y.in_scattering[c], 1e-9 * x.in_scattering[c]) << name(m);
+        }
+    }
+}
+
+TEST(Models, UpAxisIsAParameter) {
+    // The same scene with +Y up gives the same colours as with +Z up.
+    const Atmosphere a;
+    View z_up = view_at({0, 0, 30}, {0, 0.6, 0.8});
+    View y_up = view_at({0, 30, 0}, {0, 0.8, 0.6});
+    y_up.up = {0, 1, 0};
+    for (Model m : aerial::all_models()) {
+        const auto zz = eval(m, z_up, {100, 4000, 10});
+        const auto yy = eval(m, y_up, {100, 10, 4000});
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(zz.extinction[c], yy.extinction[c], 1e-12) << name(m);
+            EXPECT_NEAR(zz.in_scattering[c], yy.in_scattering[c], 1e-9 * zz.in_scattering[c])
+                << name(m);
+        }
+    }
+}
+
+TEST(ViewValidate, NamesTheBadField) {
+    View v;
+    v.eye.x = std::nan("");
+    EXPECT_EQ(aerial::validate(v)->field, "eye");
+    v = {};
+    v.sun_dir = {0, 0, 2};
+    EXPECT_EQ(aerial::validate(v)->field, "sun_dir");
+    EXPECT_NE(aerial::validate(v)->message.find("unit vector"), std::string::npos);
+    v = {};
+    v.up = {0, 0, 0};
+    EXPECT_EQ(aerial::validate(v)->field, "up");
+    v = {};
+    v.meters_per_unit = 0.0;
+    EXPECT_EQ(aerial::validate(v)->field, "meters_per_unit");
+    Atmosphere bad;
+    bad.mie_g = 2.0;
+    const auto frame = aerial::prepare_frame<float>(bad, View{}, Model::height);
+    ASSERT_FALSE(frame.ok());
+    EXPECT_EQ(frame.error().field, "mie_g");
+}
+
+TEST(Models, NonPositionsAreNeutralNotNaN) {
+    const auto frame = aerial::prepare_frame<float>(Atmosphere{}, View{}, Model::height);
+    for (glm::vec3 p : {glm::vec3(std::nanf(""), 0, 0), glm::vec3(INFINITY, 0, 0),
+                        glm::vec3(1e30f, 0, 0)}) {
+        const auto s = aerial::scatter(*frame, p);
+        EXPECT_EQ(s.extinction, glm::vec3(1.0f));
+        EXPECT_EQ(s.in_scattering, glm::vec3(0.0f));
+    }
+    const auto r = aerial::evaluate(Atmosphere{}, View{}, Model::height, {std::nan(""), 0, 0});
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().field, "vertex");
+}
+
+}  // namespace

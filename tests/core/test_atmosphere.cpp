@@ -20,8 +20,8 @@ void expect_rejected(const Atmosphere& a, const std::string& field, const std::s
     const auto error = aerial::validate(a);
     ASSERT_TRUE(error.has_value()) << "expected an error on " << field;
     EXPECT_EQ(error->field, field);
-    EXPECT_EQ(error->message.rfind(field, 0), 0u) << "message must start with the field: "
-                                                  << error->message;
+    EXPECT_EQ(error->message.rfind(field, 0), 0u)
+        << "message must start with the field: " << error->message;
     EXPECT_NE(error->message.find(fragment), std::string::npos)
         << "message '" << error->message << "' lacks '" << fragment << "'";
 }
@@ -105,7 +105,8 @@ TEST(Hp2002, RayleighFromTheTalkFormulaMatchesItsPublishedValues) {
     EXPECT_NEAR(ratio, std::pow(650.0 / 475.0, 4.0), 1e-12);
     const auto hp = aerial::atmosphere_preset("hp2002");
     ASSERT_TRUE(hp.ok());
-    EXPECT_DOUBLE_EQ(hp->rayleigh_scattering.y, aerial::rayleigh_scattering_from_wavelength(570e-9));
+    EXPECT_DOUBLE_EQ(hp->rayleigh_scattering.y,
+                     aerial::rayleigh_scattering_from_wavelength(570e-9));
 }
 
 TEST(Hp2002, MieFromTurbidityHasTheOpticalDepthTurbidityMeans) {

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <glm/exponential.hpp>
 #include <glm/geometric.hpp>
-#include <gtest/gtest.h>
 
 #include "aerial/aerial.hpp"
 
@@ -86,8 +86,8 @@ TEST(Models, HoffmanPreethamMatchesItsClosedForm) {
     const auto frame = aerial::prepare_frame<double>(a, v, Model::hoffman_preetham);
     ASSERT_TRUE(frame.ok());
     // E_sun = E_sun0 * T_sun(eye) with the exact spherical transmittance.
-    const dvec3 t_eye = aerial::sun_transmittance(a, 12.0, glm::dot(glm::normalize(v.sun_dir),
-                                                                   dvec3(0, 0, 1)));
+    const dvec3 t_eye =
+        aerial::sun_transmittance(a, 12.0, glm::dot(glm::normalize(v.sun_dir), dvec3(0, 0, 1)));
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(frame->sun_irradiance_eye[c], t_eye[c], 1e-6);
     for (dvec3 p : {dvec3(300, 400, 0), dvec3(-9000, 2000, 40), dvec3(20000, 25000, 800)}) {
         const dvec3 d = p - v.eye;
@@ -96,8 +96,8 @@ TEST(Models, HoffmanPreethamMatchesItsClosedForm) {
         const dvec3 beta_ex = a.extinction();
         const dvec3 angular =
             a.rayleigh_scattering * (3.0 / (16.0 * aerial::kPi) * (1 + cos_theta * cos_theta)) +
-            a.mie_scattering * ((1 - 0.64) / (4 * aerial::kPi *
-                                              std::pow(1 + 0.64 - 1.6 * cos_theta, 1.5)));
+            a.mie_scattering *
+                ((1 - 0.64) / (4 * aerial::kPi * std::pow(1 + 0.64 - 1.6 * cos_theta, 1.5)));
         const auto got = aerial::scatter(*frame, p);
         for (int c = 0; c < 3; ++c) {
             const double f_ex = std::exp(-beta_ex[c] * s);
@@ -119,7 +119,8 @@ TEST(Models, VanishingCoefficientsGiveTheLinearLimit) {
     const auto s = aerial::scatter(*frame, glm::vec3(1000, 0, 0));
     EXPECT_EQ(s.extinction.y, 1.0f);
     EXPECT_EQ(s.in_scattering.y, 0.0f);
-    const double expected = 1e-20 * aerial::rayleigh_phase(0.0) * frame->sun_irradiance_eye.z * 1000;
+    const double expected =
+        1e-20 * aerial::rayleigh_phase(0.0) * frame->sun_irradiance_eye.z * 1000;
     EXPECT_NEAR(s.in_scattering.z, expected, 1e-6 * expected);
 }
 
@@ -156,10 +157,10 @@ TEST(Reference, ZenithTransmittanceEqualsTheAnalyticColumn) {
     // T = exp(-sum_i beta_i H_i (1 - exp(-h_top / H_i))).
     const Atmosphere a;
     const double h_top = a.atmosphere_radius_m - a.planet_radius_m;
-    const dvec3 tau = a.rayleigh_scattering * a.rayleigh_scale_height_m *
-                          (1 - std::exp(-h_top / a.rayleigh_scale_height_m)) +
-                      a.mie_extinction() * a.mie_scale_height_m *
-                          (1 - std::exp(-h_top / a.mie_scale_height_m));
+    const dvec3 tau =
+        a.rayleigh_scattering * a.rayleigh_scale_height_m *
+            (1 - std::exp(-h_top / a.rayleigh_scale_height_m)) +
+        a.mie_extinction() * a.mie_scale_height_m * (1 - std::exp(-h_top / a.mie_scale_height_m));
     const dvec3 expected = glm::exp(-tau);
     const dvec3 got = aerial::sun_transmittance(a, 0.0, 1.0);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], expected[c], 1e-9) << c;
@@ -243,7 +244,8 @@ TEST(Models, FloatAgreesWithDouble) {
             const auto f = aerial::scatter(*ff, glm::vec3(p));
             for (int c = 0; c < 3; ++c) {
                 EXPECT_NEAR(f.extinction[c], d.extinction[c], 1e-5) << name(m);
-                EXPECT_NEAR(f.in_scattering[c], d.in_scattering[c], 1e-4 * d.in_scattering[c] + 1e-9)
+                EXPECT_NEAR(f.in_scattering[c], d.in_scattering[c],
+                            1e-4 * d.in_scattering[c] + 1e-9)
                     << name(m);
             }
         }
@@ -261,7 +263,8 @@ TEST(Models, UnitsScaleConvertsEnginePositions) {
         const auto x = eval(m, metres, {4000, 3000, 10});
         const auto y = eval(m, centimetres, {400000, 300000, 1000});
         for (int c = 0; c < 3; ++c) {
-            EXPECT_NEAR(x.in_scattering[c], y.in_scattering[c], 1e-9 * x.in_scattering[c]) << name(m);
+            EXPECT_NEAR(x.in_scattering[c], y.in_scattering[c], 1e-9 * x.in_scattering[c])
+                << name(m);
         }
     }
 }
@@ -306,8 +309,8 @@ TEST(ViewValidate, NamesTheBadField) {
 
 TEST(Models, NonPositionsAreNeutralNotNaN) {
     const auto frame = aerial::prepare_frame<float>(Atmosphere{}, View{}, Model::height);
-    for (glm::vec3 p : {glm::vec3(std::nanf(""), 0, 0), glm::vec3(INFINITY, 0, 0),
-                        glm::vec3(1e30f, 0, 0)}) {
+    for (glm::vec3 p :
+         {glm::vec3(std::nanf(""), 0, 0), glm::vec3(INFINITY, 0, 0), glm::vec3(1e30f, 0, 0)}) {
         const auto s = aerial::scatter(*frame, p);
         EXPECT_EQ(s.extinction, glm::vec3(1.0f));
         EXPECT_EQ(s.in_scattering, glm::vec3(0.0f));

@@ -28,7 +28,8 @@ double integrate_over_sphere(F phase) {
             const double u = 0.5 * (a + b) + 0.5 * (b - a) * nodes[j];
             const double p = u * u * u * u, q = (1 - u) * (1 - u) * (1 - u) * (1 - u);
             const double mu = 1.0 - 2.0 * p / (p + q);
-            const double dw_du = 4.0 * u * u * u * (1 - u) * (1 - u) * (1 - u) / ((p + q) * (p + q));
+            const double dw_du =
+                4.0 * u * u * u * (1 - u) * (1 - u) * (1 - u) / ((p + q) * (p + q));
             sum += weights[j] * 0.5 * (b - a) * phase(mu) * 2.0 * dw_du;
         }
     }

@@ -122,8 +122,7 @@ struct GroundHaze {
 /// aerosol profile (so all three models, and the GPU path, handle haze alike): its sea-level
 /// coefficient gives `visibility_in_layer_m`, its scale height makes the visibility at the
 /// layer top equal `visibility_aloft_m`. Above the layer the haze keeps thinning.
-Result<Atmosphere> atmosphere_with_ground_haze(const GroundHaze& haze,
-                                               const Atmosphere& base = {});
+Result<Atmosphere> atmosphere_with_ground_haze(const GroundHaze& haze, const Atmosphere& base = {});
 
 /// `base` with absorbing urban aerosol added, FlightGear's "air pollution" slider in 0..1: up to
 /// 4e-5 /m of grey extinction at sea level (an optical depth of 0.05 over the Mie scale height

@@ -23,8 +23,8 @@ struct Error {
 /// A value or the first error that prevented computing it.
 template <class T>
 class Result {
-public:
-    Result(T value) : value_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+  public:
+    Result(T value) : value_(std::move(value)) {}      // NOLINT(google-explicit-constructor)
     Result(Error error) : error_(std::move(error)) {}  // NOLINT(google-explicit-constructor)
 
     bool ok() const { return value_.has_value(); }
@@ -40,7 +40,7 @@ public:
     /// The error; only meaningful when !ok().
     const Error& error() const { return error_; }
 
-private:
+  private:
     std::optional<T> value_;
     Error error_;
 };

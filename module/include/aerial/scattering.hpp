@@ -47,7 +47,7 @@ const std::vector<Model>& all_models();
 
 /// What changes per frame.
 struct View {
-    glm::dvec3 eye{0.0, 0.0, 2.0};    ///< eye position, engine units (see meters_per_unit)
+    glm::dvec3 eye{0.0, 0.0, 2.0};      ///< eye position, engine units (see meters_per_unit)
     glm::dvec3 sun_dir{0.0, 0.0, 1.0};  ///< unit vector from the scene towards the sun
     glm::dvec3 up{0.0, 0.0, 1.0};       ///< unit world up axis
     double meters_per_unit = 1.0;       ///< engine units to metres for positions, > 0
@@ -60,8 +60,8 @@ std::optional<Error> validate(const View& view);
 /// Result for one vertex, raw linear values.
 template <class T>
 struct Scattering {
-    glm::vec<3, T> extinction{1, 1, 1};     ///< F_ex in [0, 1]: multiplies the surface colour
-    glm::vec<3, T> in_scattering{0, 0, 0};  ///< L_in >= 0: added to it
+    glm::vec<3, T> extinction{1, 1, 1};      ///< F_ex in [0, 1]: multiplies the surface colour
+    glm::vec<3, T> in_scattering{0, 0, 0};   ///< L_in >= 0: added to it
     glm::vec<3, T> sun_irradiance{0, 0, 0};  ///< sun irradiance reaching the vertex in this model
 };
 
@@ -82,10 +82,14 @@ struct Frame {
     glm::vec<3, T> mie_scattering{0};
     glm::vec<3, T> mie_extinction{0};
     T mie_g = 0;
-    T inv_rayleigh_scale_height = 0;  ///< 1/m
-    T inv_mie_scale_height = 0;       ///< 1/m
+    T inv_rayleigh_scale_height = 0;       ///< 1/m
+    T inv_mie_scale_height = 0;            ///< 1/m
     glm::vec<3, T> sun_irradiance_top{0};  ///< E_sun0
     glm::vec<3, T> sun_irradiance_eye{0};  ///< E_sun0 * T_sun(eye), exact (2002 model's E_sun)
+    /// log(H Ch) of each component at the eye for the `height` model's sun transmittance (see
+    /// sun_transmittance_chapman); 80 or more when the planet blocks the sun there.
+    T eye_log_chapman_rayleigh = 0;
+    T eye_log_chapman_mie = 0;
 };
 
 /// Altitudes below this (m) are treated as this for density: deep enough for any real terrain,

@@ -27,10 +27,11 @@ std::optional<Error> check_coefficients(const char* field, const glm::dvec3& val
     for (int c = 0; c < 3; ++c) {
         const std::string name = std::string(field) + kChannel[c];
         const double v = value[c];
-        if (!std::isfinite(v)) return Error{name, name + " must be finite, got " + format_number(v)};
+        if (!std::isfinite(v))
+            return Error{name, name + " must be finite, got " + format_number(v)};
         if (v < 0.0) {
-            return Error{name, name + " must be >= 0 (a coefficient in 1/m), got " +
-                                   format_number(v)};
+            return Error{name,
+                         name + " must be >= 0 (a coefficient in 1/m), got " + format_number(v)};
         }
         if (v > kMaxCoefficientPerM) {
             return Error{name, name + " must be <= " + format_number(kMaxCoefficientPerM) +
@@ -47,8 +48,7 @@ std::optional<Error> check_range(const char* field, double value, double lo, dou
     }
     if (value < lo || value > hi) {
         return Error{field, std::string(field) + " must be in [" + format_number(lo) + ", " +
-                                format_number(hi) + "] " + unit + ", got " +
-                                format_number(value)};
+                                format_number(hi) + "] " + unit + ", got " + format_number(value)};
     }
     return std::nullopt;
 }
@@ -66,8 +66,8 @@ std::optional<Error> validate(const Atmosphere& a) {
         return Error{"mie_g", "mie_g must satisfy |g| < 1 (g > 0 scatters forwards), got " +
                                   format_number(a.mie_g)};
     }
-    if (auto e = check_range("rayleigh_scale_height_m", a.rayleigh_scale_height_m,
-                             kMinScaleHeightM, kMaxScaleHeightM, "m")) {
+    if (auto e = check_range("rayleigh_scale_height_m", a.rayleigh_scale_height_m, kMinScaleHeightM,
+                             kMaxScaleHeightM, "m")) {
         return e;
     }
     if (auto e = check_range("mie_scale_height_m", a.mie_scale_height_m, kMinScaleHeightM,
@@ -78,15 +78,14 @@ std::optional<Error> validate(const Atmosphere& a) {
         return e;
     }
     if (!std::isfinite(a.atmosphere_radius_m)) {
-        return Error{"atmosphere_radius_m",
-                     "atmosphere_radius_m must be finite, got " + format_number(a.atmosphere_radius_m)};
+        return Error{"atmosphere_radius_m", "atmosphere_radius_m must be finite, got " +
+                                                format_number(a.atmosphere_radius_m)};
     }
     if (a.atmosphere_radius_m <= a.planet_radius_m || a.atmosphere_radius_m > kMaxRadiusM) {
-        return Error{"atmosphere_radius_m",
-                     "atmosphere_radius_m must be above planet_radius_m (" +
-                         format_number(a.planet_radius_m) + " m) and <= " +
-                         format_number(kMaxRadiusM) + " m, got " +
-                         format_number(a.atmosphere_radius_m)};
+        return Error{"atmosphere_radius_m", "atmosphere_radius_m must be above planet_radius_m (" +
+                                                format_number(a.planet_radius_m) +
+                                                " m) and <= " + format_number(kMaxRadiusM) +
+                                                " m, got " + format_number(a.atmosphere_radius_m)};
     }
     for (int c = 0; c < 3; ++c) {
         const std::string name = std::string("sun_irradiance") + kChannel[c];
@@ -101,9 +100,9 @@ std::optional<Error> validate(const Atmosphere& a) {
 // ---- The 2002 formulas -----------------------------------------------------------------------
 
 double rayleigh_scattering_from_wavelength(double wavelength_m) {
-    constexpr double n = 1.0003;     // refractive index of air
-    constexpr double N = 2.545e25;   // molecules per m^3 at sea level
-    constexpr double p_n = 0.035;    // depolarisation factor
+    constexpr double n = 1.0003;    // refractive index of air
+    constexpr double N = 2.545e25;  // molecules per m^3 at sea level
+    constexpr double p_n = 0.035;   // depolarisation factor
     const double n2m1 = n * n - 1.0;
     const double lambda4 = wavelength_m * wavelength_m * wavelength_m * wavelength_m;
     return 8.0 * kPi * kPi * kPi * n2m1 * n2m1 * (6.0 + 3.0 * p_n) /
@@ -125,7 +124,8 @@ Result<glm::dvec3> mie_scattering_from_turbidity(double turbidity) {
     glm::dvec3 beta;
     for (int i = 0; i < 3; ++i) {
         const double lambda_cm = kHp2002WavelengthsM[i] * 100.0;
-        const double beta_per_cm = 0.434 * c * kPi * std::pow(2.0 * kPi / lambda_cm, v - 2.0) * K[i];
+        const double beta_per_cm =
+            0.434 * c * kPi * std::pow(2.0 * kPi / lambda_cm, v - 2.0) * K[i];
         beta[i] = beta_per_cm * 100.0;
     }
     return beta;
@@ -147,7 +147,8 @@ namespace {
 
 std::optional<Error> check_albedo(const char* field, double albedo) {
     if (!std::isfinite(albedo) || albedo <= 0.0 || albedo > 1.0) {
-        return Error{field, std::string(field) + " must be in (0, 1], got " + format_number(albedo)};
+        return Error{field,
+                     std::string(field) + " must be in (0, 1], got " + format_number(albedo)};
     }
     return std::nullopt;
 }
@@ -193,7 +194,8 @@ Result<Atmosphere> atmosphere_from_visibility(double visibility_m, const Atmosph
 }
 
 Result<Atmosphere> atmosphere_with_ground_haze(const GroundHaze& haze, const Atmosphere& base) {
-    if (auto e = check_positive_length("visibility_in_layer_m", haze.visibility_in_layer_m)) return *e;
+    if (auto e = check_positive_length("visibility_in_layer_m", haze.visibility_in_layer_m))
+        return *e;
     if (auto e = check_positive_length("layer_thickness_m", haze.layer_thickness_m)) return *e;
     if (auto e = check_positive_length("visibility_aloft_m", haze.visibility_aloft_m)) return *e;
     if (auto e = check_albedo("mie_albedo", haze.mie_albedo)) return *e;
@@ -213,8 +215,8 @@ Result<Atmosphere> atmosphere_with_ground_haze(const GroundHaze& haze, const Atm
     }
     const double top_rayleigh_density =
         std::exp(-haze.layer_thickness_m / base.rayleigh_scale_height_m);
-    const double top = mie_extinction_for_visibility(base, haze.visibility_aloft_m,
-                                                     top_rayleigh_density);
+    const double top =
+        mie_extinction_for_visibility(base, haze.visibility_aloft_m, top_rayleigh_density);
     if (!(top > 0.0)) {
         return Error{"visibility_aloft_m",
                      "visibility_aloft_m must be below " +
@@ -312,7 +314,8 @@ Result<Atmosphere> atmosphere_preset(std::string_view name) {
     if (name == "mars") return mars();
     std::string known;
     for (const auto& n : atmosphere_preset_names()) known += (known.empty() ? "" : ", ") + n;
-    return Error{"preset", "preset '" + std::string(name) + "' is unknown; known presets: " + known};
+    return Error{"preset",
+                 "preset '" + std::string(name) + "' is unknown; known presets: " + known};
 }
 
 }  // namespace aerial

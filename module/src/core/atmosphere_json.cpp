@@ -54,21 +54,30 @@ Result<Atmosphere> atmosphere_from_json(std::string_view json_text) {
     Atmosphere a;
     for (const auto& [key, value] : root.items()) {
         std::optional<Error> e;
-        if (key == "rayleigh_scattering") e = read_vector(value, key, a.rayleigh_scattering);
-        else if (key == "mie_scattering") e = read_vector(value, key, a.mie_scattering);
-        else if (key == "mie_absorption") e = read_vector(value, key, a.mie_absorption);
-        else if (key == "mie_g") e = read_number(value, key, a.mie_g);
-        else if (key == "rayleigh_scale_height_m") e = read_number(value, key, a.rayleigh_scale_height_m);
-        else if (key == "mie_scale_height_m") e = read_number(value, key, a.mie_scale_height_m);
-        else if (key == "planet_radius_m") e = read_number(value, key, a.planet_radius_m);
-        else if (key == "atmosphere_radius_m") e = read_number(value, key, a.atmosphere_radius_m);
-        else if (key == "sun_irradiance") e = read_vector(value, key, a.sun_irradiance);
+        if (key == "rayleigh_scattering")
+            e = read_vector(value, key, a.rayleigh_scattering);
+        else if (key == "mie_scattering")
+            e = read_vector(value, key, a.mie_scattering);
+        else if (key == "mie_absorption")
+            e = read_vector(value, key, a.mie_absorption);
+        else if (key == "mie_g")
+            e = read_number(value, key, a.mie_g);
+        else if (key == "rayleigh_scale_height_m")
+            e = read_number(value, key, a.rayleigh_scale_height_m);
+        else if (key == "mie_scale_height_m")
+            e = read_number(value, key, a.mie_scale_height_m);
+        else if (key == "planet_radius_m")
+            e = read_number(value, key, a.planet_radius_m);
+        else if (key == "atmosphere_radius_m")
+            e = read_number(value, key, a.atmosphere_radius_m);
+        else if (key == "sun_irradiance")
+            e = read_vector(value, key, a.sun_irradiance);
         else {
-            return Error{key,
-                         key + " is not an atmosphere field (known: rayleigh_scattering, "
-                               "mie_scattering, mie_absorption, mie_g, rayleigh_scale_height_m, "
-                               "mie_scale_height_m, planet_radius_m, atmosphere_radius_m, "
-                               "sun_irradiance)"};
+            return Error{key, key +
+                                  " is not an atmosphere field (known: rayleigh_scattering, "
+                                  "mie_scattering, mie_absorption, mie_g, rayleigh_scale_height_m, "
+                                  "mie_scale_height_m, planet_radius_m, atmosphere_radius_m, "
+                                  "sun_irradiance)"};
         }
         if (e) return *e;
     }

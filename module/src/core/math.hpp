@@ -14,6 +14,15 @@ T one_minus_exp_over_x(T x) {
     return -std::expm1(-x) / x;
 }
 
+/// (1 - exp(-x)) / x for any x >= -80 (the mean of exp(-x u) over u in [0, 1]); x is clamped
+/// there so that float cannot overflow.
+template <class T>
+T exponential_average(T x) {
+    if (x >= T(0)) return one_minus_exp_over_x(x);
+    const T a = std::min(-x, T(80));
+    return a < T(1e-3) ? one_minus_exp_over_x(x) : std::expm1(a) / a;
+}
+
 /// log((1 - exp(-x)) / x) for any finite x, without overflow: for x < 0 the ratio is
 /// exp(|x|) (1 - exp(-|x|)) / |x|.
 template <class T>
@@ -45,8 +54,7 @@ T erfcx(T y) {
     if (y < T(5)) return std::exp(y * y) * std::erfc(y);
     const T inv2 = T(1) / (y * y);
     constexpr double kInvSqrtPi = 0.56418958354775628695;
-    return T(kInvSqrtPi) / y *
-           (T(1) - inv2 * (T(0.5) - inv2 * (T(0.75) - inv2 * T(1.875))));
+    return T(kInvSqrtPi) / y * (T(1) - inv2 * (T(0.5) - inv2 * (T(0.75) - inv2 * T(1.875))));
 }
 
 }  // namespace aerial::detail

@@ -21,14 +21,20 @@ template <class T>
 using Vec3 = glm::vec<3, T>;
 
 constexpr double kUnitLengthTolerance = 1e-3;
+/// log of the sun's column (m) beyond which it counts as blocked by the planet; exp of it still
+/// fits a float.
+constexpr double kBlockedLogColumn = 80.0;
 
 }  // namespace
 
 std::string_view model_name(Model model) {
     switch (model) {
-        case Model::hoffman_preetham: return "hoffman-preetham";
-        case Model::height: return "height";
-        case Model::reference: return "reference";
+        case Model::hoffman_preetham:
+            return "hoffman-preetham";
+        case Model::height:
+            return "height";
+        case Model::reference:
+            return "reference";
     }
     return "unknown";
 }
@@ -66,9 +72,8 @@ std::optional<Error> validate(const View& view) {
         }
     }
     if (!std::isfinite(view.meters_per_unit) || view.meters_per_unit <= 0.0) {
-        return Error{"meters_per_unit",
-                     "meters_per_unit must be finite and > 0, got " +
-                         format_number(view.meters_per_unit)};
+        return Error{"meters_per_unit", "meters_per_unit must be finite and > 0, got " +
+                                            format_number(view.meters_per_unit)};
     }
     return std::nullopt;
 }
@@ -80,48 +85,51 @@ T altitude_above_sphere(const Vec3<T>& p, const Vec3<T>& up, T planet_radius_m) 
     const T along_up = glm::dot(p, up);
     const T p2 = glm::dot(p, p);
     const T numerator = p2 + T(2) * planet_radius_m * along_up;
-    const T distance_to_centre = std::sqrt(std::max(T(0), numerator + planet_radius_m * planet_radius_m));
+    const T distance_to_centre =
+        std::sqrt(std::max(T(0), numerator + planet_radius_m * planet_radius_m));
     return numerator / (distance_to_centre + planet_radius_m);
 }
 
 namespace {
 
-/// Optical depth of one exponential component from altitude h to space along a direction with
-/// cosine mu to the local zenith, divided by its sea-level coefficient: H exp(-h/H) Ch(x, chi),
-/// with the asymptotic Chapman function of x = (R + h) / H (relative error about 1/x). Returns
-/// a negative value when the planet blocks the direction.
+/// log(H Ch(x, chi)): the optical depth of one exponential component from altitude h to space,
+/// along a direction with cosine mu to the local zenith, is beta * exp(-h/H) * exp(this). Uses the
+/// asymptotic Chapman function of x = (R + h) / H (relative error about 1/x). Returns
+/// kBlockedLogColumn when the planet blocks the direction.
 template <class T>
-T chapman_column_m(T altitude_m, T cos_zenith, T planet_radius_m, T scale_height_m,
-                   T min_altitude_m) {
+T log_chapman_factor(T altitude_m, T cos_zenith, T planet_radius_m, T scale_height_m,
+                     T min_altitude_m) {
     constexpr double kSqrtHalfPi = 1.2533141373155002512;
     const T h = std::max(altitude_m, min_altitude_m);
-    const T r = planet_radius_m + h;
-    const T x = r / scale_height_m;
+    const T x = (planet_radius_m + h) / scale_height_m;
     const T mu = std::clamp(cos_zenith, T(-1), T(1));
-    if (mu >= T(0)) {
-        const T y = std::sqrt(x * T(0.5)) * mu;
-        return scale_height_m * std::exp(-h / scale_height_m) * T(kSqrtHalfPi) * std::sqrt(x) *
-               detail::erfcx(y);
-    }
-    // Below the horizon: the ray passes a tangent point at altitude h_t. Twice the horizontal
-    // column from there, minus the column of the mirrored upward ray from the point.
+    const T upward =
+        T(kSqrtHalfPi) * std::sqrt(x) * detail::erfcx(std::sqrt(x * T(0.5)) * std::abs(mu));
+    if (mu >= T(0)) return std::log(scale_height_m * upward);
+    // Below the horizon: the ray passes a tangent point at altitude h_t <= h. Twice the
+    // horizontal column from there, minus the column of the mirrored upward ray from the point;
+    // relative to exp(-h/H): 2 Ch(x_t, 90 deg) exp((h - h_t)/H) - Ch(x, 180 deg - chi).
     const T sin_chi = std::sqrt(std::max(T(0), T(1) - mu * mu));
-    // h_t = r sin_chi - R, written without cancelling r against R.
+    // h_t = (R + h) sin_chi - R, written without cancelling R against R.
     const T tangent_altitude = h * sin_chi - planet_radius_m * mu * mu / (T(1) + sin_chi);
     const T shadow_floor = std::min(h, T(0));  // points below sea level see the sun like h = 0
-    if (tangent_altitude < shadow_floor) return T(-1);
+    if (tangent_altitude < shadow_floor) return T(kBlockedLogColumn);
     const T x_t = (planet_radius_m + tangent_altitude) / scale_height_m;
-    const T horizontal = T(kSqrtHalfPi) * std::sqrt(x_t) * std::exp(-tangent_altitude / scale_height_m);
-    const T upward = std::exp(-h / scale_height_m) * T(kSqrtHalfPi) * std::sqrt(x) *
-                     detail::erfcx(std::sqrt(x * T(0.5)) * (-mu));
-    return scale_height_m * std::max(T(0), T(2) * horizontal - upward);
+    const T rise = (h - tangent_altitude) / scale_height_m;  // >= 0
+    const T horizontal = T(kSqrtHalfPi) * std::sqrt(x_t);
+    const T factor = std::max(T(2) * horizontal - upward * std::exp(-rise), T(1e-30));
+    return std::min(rise + std::log(scale_height_m * factor), T(kBlockedLogColumn));
 }
 
+/// Sun transmittance from the log Chapman factors of both components at altitude h.
 template <class T>
-Vec3<T> transmittance_from_columns(const Frame<T>& f, T rayleigh_column_m, T mie_column_m) {
-    if (rayleigh_column_m < T(0) || mie_column_m < T(0)) return Vec3<T>(0);
-    const Vec3<T> tau = f.rayleigh_scattering * rayleigh_column_m + f.mie_extinction * mie_column_m;
-    return glm::exp(-tau);
+Vec3<T> transmittance_from_log_factors(const Frame<T>& f, T h, T log_factor_r, T log_factor_m) {
+    if (log_factor_r >= T(kBlockedLogColumn) || log_factor_m >= T(kBlockedLogColumn)) {
+        return Vec3<T>(0);
+    }
+    const T column_r = std::exp(std::min(log_factor_r - h * f.inv_rayleigh_scale_height, T(80)));
+    const T column_m = std::exp(std::min(log_factor_m - h * f.inv_mie_scale_height, T(80)));
+    return glm::exp(-(f.rayleigh_scattering * column_r + f.mie_extinction * column_m));
 }
 
 template <class T>
@@ -144,11 +152,12 @@ T sun_cos_zenith_at(const Frame<T>& f, const Vec3<T>& p_m) {
 template <class T>
 Vec3<T> sun_transmittance_chapman(const Frame<T>& f, T altitude_m, T cos_zenith) {
     const T min_h = min_density_altitude(f);
-    const T rayleigh = chapman_column_m(altitude_m, cos_zenith, f.planet_radius_m,
-                                        T(1) / f.inv_rayleigh_scale_height, min_h);
-    const T mie = chapman_column_m(altitude_m, cos_zenith, f.planet_radius_m,
-                                   T(1) / f.inv_mie_scale_height, min_h);
-    return transmittance_from_columns(f, rayleigh, mie);
+    const T h = std::max(altitude_m, min_h);
+    return transmittance_from_log_factors(
+        f, h,
+        log_chapman_factor(h, cos_zenith, f.planet_radius_m, T(1) / f.inv_rayleigh_scale_height,
+                           min_h),
+        log_chapman_factor(h, cos_zenith, f.planet_radius_m, T(1) / f.inv_mie_scale_height, min_h));
 }
 
 template <class T>
@@ -171,6 +180,29 @@ Scattering<T> hoffman_preetham_closed_form(const Frame<T>& f, T distance_m, T co
 
 namespace {
 
+/// 3-point Gauss–Legendre on [0, 1].
+constexpr double kSunNodes[3] = {0.11270166537925831148, 0.5, 0.88729833462074168852};
+constexpr double kSunWeights[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+
+/// The u in [0, 1] below which a fraction v of the weight exp(-k u) on [0, 1] lies (its inverse
+/// CDF), for |k| <= 80.
+template <class T>
+T exponential_quantile(T v, T k) {
+    if (std::abs(k) < T(1e-4)) return v - k * v * (T(1) - v) * T(0.5);
+    return std::clamp(-std::log1p(v * std::expm1(-k)) / k, T(0), T(1));
+}
+
+/// Whether the planet's shadow covers a point (metres, world frame): it lies on the night side
+/// within the cylinder of radius R around the axis through the planet centre along the sun.
+template <class T>
+bool in_planet_shadow(const Frame<T>& f, const Vec3<T>& p_m) {
+    const Vec3<T> c = p_m + f.up * f.planet_radius_m;
+    const T along = glm::dot(c, f.sun_dir);
+    if (along >= T(0)) return false;
+    const Vec3<T> across = c - f.sun_dir * along;
+    return glm::dot(across, across) < f.planet_radius_m * f.planet_radius_m;
+}
+
 template <class T>
 Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
     const Vec3<T> d = p_m - f.eye_m;
@@ -181,75 +213,105 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
     const T h1 = std::max(altitude_above_sphere(p_m, f.up, f.planet_radius_m), min_h);
     const T rise = h1 - h0;
     const T dh = std::abs(rise);
-    // A straight segment sags below the line joining its end altitudes by t (s - t) / (2 R);
-    // its mean sag s^2 / (12 R) lowers the altitude at which the density is averaged.
-    const T mean_sag = s * s / (T(12) * f.planet_radius_m);
-    const T h_low = std::max(std::min(h0, h1) - mean_sag, min_h);
+    // A straight segment sags below the line joining its end altitudes by u (1 - u) s^2 / (2 R)
+    // at fraction u; its mean sag s^2 / (12 R) lowers the altitude of the density average.
+    const T sag = s * s / (T(2) * f.planet_radius_m);
+    const T h_low = std::max(std::min(h0, h1) - sag * T(1.0 / 6.0), min_h);
 
     // Path-averaged density of each component over a segment whose altitude goes linearly from
     // h0 to h1: exp(-h_low/H) (1 - exp(-dh/H)) / (dh/H), exact when dh = 0.
     const T x_r = dh * f.inv_rayleigh_scale_height;
     const T x_m = dh * f.inv_mie_scale_height;
-    const T rho_r = std::exp(-h_low * f.inv_rayleigh_scale_height) * detail::one_minus_exp_over_x(x_r);
+    const T rho_r =
+        std::exp(-h_low * f.inv_rayleigh_scale_height) * detail::one_minus_exp_over_x(x_r);
     const T rho_m = std::exp(-h_low * f.inv_mie_scale_height) * detail::one_minus_exp_over_x(x_m);
-    const T phase_r = rayleigh_phase(cos_theta);
-    const T phase_m = henyey_greenstein_phase(cos_theta, f.mie_g);
-
-    // Sunlight. Along the segment, each component's contribution to L_in is weighted by its
-    // density (exponential in t, rate rise/H) times the transmittance back to the eye
-    // (exponential in t, rate tau, G channel). The sun's optical depth at a point is
-    // sum_j column_j, each column_j proportional to the density of component j there, with a
-    // Chapman factor that varies slowly along the segment. So: take the Chapman factors at the
-    // weighted mean point, and average each density exactly over each scatterer's weight.
-    const T tau_g = s * (f.rayleigh_scattering.y * rho_r + f.mie_extinction.y * rho_m);
-    const T k_r = rise * f.inv_rayleigh_scale_height + tau_g;  // weight rates over t in [0, 1]
-    const T k_m = rise * f.inv_mie_scale_height + tau_g;
-    const T w_r = f.rayleigh_scattering.y * rho_r * phase_r;
-    const T w_m = f.mie_scattering.y * rho_m * phase_m;
-    const T w = w_r + w_m;
-    const T t_star = w > T(0) ? (w_r * detail::exponential_mean_fraction(k_r) +
-                                 w_m * detail::exponential_mean_fraction(k_m)) /
-                                    w
-                              : T(0.5);
-    const T h_star = std::max(h0 + rise * t_star, min_h);
-    const T mu_star = sun_cos_zenith_at(f, f.eye_m + d * t_star);
-    const T column_r = chapman_column_m(h_star, mu_star, f.planet_radius_m,
-                                        T(1) / f.inv_rayleigh_scale_height, min_h);
-    const T column_m = chapman_column_m(h_star, mu_star, f.planet_radius_m,
-                                        T(1) / f.inv_mie_scale_height, min_h);
-    Vec3<T> sun_r(0), sun_m(0);  // transmittance of the sunlight each component scatters
-    if (column_r >= T(0) && column_m >= T(0)) {
-        // Mean over scatterer i of density_j(h) / density_j(h_star), in log form (no overflow).
-        const T a_r = rise * f.inv_rayleigh_scale_height;
-        const T a_m = rise * f.inv_mie_scale_height;
-        const T lr = detail::log_one_minus_exp_over_x(k_r);
-        const T lm = detail::log_one_minus_exp_over_x(k_m);
-        const T shift_r = (h_star - h0) * f.inv_rayleigh_scale_height;
-        const T shift_m = (h_star - h0) * f.inv_mie_scale_height;
-        auto ratio = [](T shift, T k_plus_a, T log_phi_k) {
-            return std::exp(std::min(shift + detail::log_one_minus_exp_over_x(k_plus_a) - log_phi_k,
-                                     T(80)));
-        };
-        const T r_rr = ratio(shift_r, k_r + a_r, lr), r_rm = ratio(shift_m, k_r + a_m, lr);
-        const T r_mr = ratio(shift_r, k_m + a_r, lm), r_mm = ratio(shift_m, k_m + a_m, lm);
-        sun_r = glm::exp(-(f.rayleigh_scattering * (column_r * r_rr) +
-                           f.mie_extinction * (column_m * r_rm)));
-        sun_m = glm::exp(-(f.rayleigh_scattering * (column_r * r_mr) +
-                           f.mie_extinction * (column_m * r_mm)));
-    }
 
     Scattering<T> out;
+    // Sun at the vertex, and the log Chapman factors at both ends of the segment.
+    const T min_h_r = T(1) / f.inv_rayleigh_scale_height, min_h_m = T(1) / f.inv_mie_scale_height;
+    const T mu1 = sun_cos_zenith_at(f, p_m);
+    const T lf_r1 = log_chapman_factor(h1, mu1, f.planet_radius_m, min_h_r, min_h);
+    const T lf_m1 = log_chapman_factor(h1, mu1, f.planet_radius_m, min_h_m, min_h);
+    out.sun_irradiance = f.sun_irradiance_top * transmittance_from_log_factors(f, h1, lf_r1, lf_m1);
+    // A blocked end borrows the other end's factor; the shadow itself is tested per node below.
+    const bool lit0 = f.eye_log_chapman_rayleigh < T(kBlockedLogColumn);
+    const bool lit1 = lf_r1 < T(kBlockedLogColumn) && lf_m1 < T(kBlockedLogColumn);
+    const T lr0 = lit0 ? f.eye_log_chapman_rayleigh : lf_r1,
+            lm0 = lit0 ? f.eye_log_chapman_mie : lf_m1;
+    const T lr1 = lit1 ? lf_r1 : lr0, lm1 = lit1 ? lf_m1 : lm0;
+
+    // Sunlight scattered by each component i: the mean of the sun transmittance T(u) over the
+    // segment (u in [0, 1] from the eye), weighted by the light that reaches the eye from there,
+    // rho_i(u) exp(-tau(0, u)) (G channel). At a low sun T varies by e^2 and more along the
+    // segment, so no single mean point will do (Jensen's inequality); in fog the weight piles up
+    // near the eye. Quadrature: 3 Gauss nodes in y = share of the segment's attenuation
+    // 1 - exp(-tau(0, u)), mapped to u through a one-exponential fit of the extinction profile,
+    // which makes the weight flat in y for a single dominant component; the exact Jacobian and
+    // each component's density ratio enter the weights, which are normalised per component.
+    const T a_r = rise * f.inv_rayleigh_scale_height;
+    const T a_m = rise * f.inv_mie_scale_height;
+    const T rho_r0 = std::exp(-h0 * f.inv_rayleigh_scale_height);  // densities at the eye
+    const T rho_m0 = std::exp(-h0 * f.inv_mie_scale_height);
+    const T k_r0 = f.rayleigh_scattering.y * rho_r0;
+    const T k_m0 = f.mie_extinction.y * rho_m0;
+    const T k_total = k_r0 + k_m0;  // G extinction at the eye, 1/m
+    // G optical depth from the eye to u along the linear altitude profile (closed form).
+    auto tau_to = [&](T u) {
+        return s * u *
+               (k_r0 * detail::exponential_average(a_r * u) +
+                k_m0 * detail::exponential_average(a_m * u));
+    };
+    // sunlit[i]: integral over u of rho_i(u) / rho_i(0) exp(-tau_G(0, u)) T(u), see below.
+    Vec3<T> sunlit[2] = {Vec3<T>(0), Vec3<T>(0)};
+    const T tau_mix_g = s * (f.rayleigh_scattering.y * rho_r + f.mie_extinction.y * rho_m);
+    if ((lit0 || lit1) && k_total > T(0)) {
+        const T tau_total = tau_to(T(1));
+        const T k_end =
+            k_r0 * std::exp(std::min(-a_r, T(80))) + k_m0 * std::exp(std::min(-a_m, T(80)));
+        const T a_fit = std::clamp(k_end > T(0) ? std::log(k_total / k_end) : T(80), T(-80), T(80));
+        const T log_phi_fit = detail::log_one_minus_exp_over_x(a_fit);
+        for (int n = 0; n < 3; ++n) {
+            const T y = T(kSunNodes[n]);
+            // Fitted optical depth to the node, then the u where the fit reaches it.
+            const T tau_fit =
+                tau_total < T(1e-4) ? y * tau_total : -std::log1p(y * std::expm1(-tau_total));
+            const T fraction = tau_total > T(0) ? std::clamp(tau_fit / tau_total, T(0), T(1)) : y;
+            const T u = exponential_quantile(fraction, a_fit);
+            // du/dy up to a constant factor, times the exact over the fitted attenuation.
+            const T jacobian =
+                std::exp(std::min(tau_fit - tau_to(u) + log_phi_fit + a_fit * u, T(80)));
+            const T h = std::max(h0 + rise * u - sag * u * (T(1) - u), min_h);
+            const T w_r = T(kSunWeights[n]) * jacobian *
+                          std::exp(std::min((h0 - h) * f.inv_rayleigh_scale_height, T(80)));
+            const T w_m = T(kSunWeights[n]) * jacobian *
+                          std::exp(std::min((h0 - h) * f.inv_mie_scale_height, T(80)));
+            if (!in_planet_shadow(f, f.eye_m + d * u)) {
+                const Vec3<T> sun = transmittance_from_log_factors(f, h, lr0 + (lr1 - lr0) * u,
+                                                                   lm0 + (lm1 - lm0) * u);
+                sunlit[0] += w_r * sun;
+                sunlit[1] += w_m * sun;
+            }
+        }
+        // The quadrature sums times phi(tau) rho_i(0) are integrals over u of
+        // rho_i(u) exp(-tau_G(0, u)) T(u); scaled so that the per-channel closed form below
+        // keeps its exact per-channel attenuation for a uniform medium.
+        const T g_scale =
+            detail::one_minus_exp_over_x(tau_total) / detail::one_minus_exp_over_x(tau_mix_g);
+        sunlit[0] *= g_scale * rho_r0;
+        sunlit[1] *= g_scale * rho_m0;
+    }
+
+    const T phase_r = rayleigh_phase(cos_theta);
+    const T phase_m = henyey_greenstein_phase(cos_theta, f.mie_g);
     for (int c = 0; c < 3; ++c) {
         const T beta_ex = f.rayleigh_scattering[c] * rho_r + f.mie_extinction[c] * rho_m;
-        const T sunlit_scattering = f.rayleigh_scattering[c] * rho_r * phase_r * sun_r[c] +
-                                    f.mie_scattering[c] * rho_m * phase_m * sun_m[c];
+        const T sunlit_scattering = f.rayleigh_scattering[c] * phase_r * sunlit[0][c] +
+                                    f.mie_scattering[c] * phase_m * sunlit[1][c];
         const T tau = beta_ex * s;
         out.extinction[c] = std::exp(-tau);
-        out.in_scattering[c] = sunlit_scattering * f.sun_irradiance_top[c] * s *
-                               detail::one_minus_exp_over_x(tau);
+        out.in_scattering[c] =
+            sunlit_scattering * f.sun_irradiance_top[c] * s * detail::one_minus_exp_over_x(tau);
     }
-    out.sun_irradiance =
-        f.sun_irradiance_top * sun_transmittance_chapman(f, h1, sun_cos_zenith_at(f, p_m));
     return out;
 }
 
@@ -279,14 +341,22 @@ Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, M
     f.inv_mie_scale_height = T(1.0 / atmosphere.mie_scale_height_m);
     f.sun_irradiance_top = Vec3<T>(atmosphere.sun_irradiance);
 
-    const double eye_altitude =
-        altitude_above_sphere(eye_m, f.view.up, atmosphere.planet_radius_m);
+    const double eye_altitude = altitude_above_sphere(eye_m, f.view.up, atmosphere.planet_radius_m);
     f.eye_altitude_m = std::max(T(eye_altitude), min_density_altitude(f));
     const glm::dvec3 eye_from_centre = eye_m + f.view.up * atmosphere.planet_radius_m;
     const double eye_cos_zenith =
         glm::dot(eye_from_centre, f.view.sun_dir) / glm::length(eye_from_centre);
     f.sun_irradiance_eye = Vec3<T>(atmosphere.sun_irradiance *
                                    sun_transmittance(atmosphere, eye_altitude, eye_cos_zenith));
+    const T min_h = min_density_altitude(f);
+    f.eye_log_chapman_rayleigh =
+        log_chapman_factor(f.eye_altitude_m, T(eye_cos_zenith), f.planet_radius_m,
+                           T(atmosphere.rayleigh_scale_height_m), min_h);
+    f.eye_log_chapman_mie =
+        log_chapman_factor(f.eye_altitude_m, T(eye_cos_zenith), f.planet_radius_m,
+                           T(atmosphere.mie_scale_height_m), min_h);
+    if (f.eye_log_chapman_mie >= T(kBlockedLogColumn))
+        f.eye_log_chapman_rayleigh = f.eye_log_chapman_mie;
     return f;
 }
 
@@ -304,13 +374,13 @@ Scattering<T> scatter(const Frame<T>& f, const Vec3<T>& vertex) {
             const T cos_theta = s > T(0) ? glm::dot(d, f.sun_dir) / s : T(1);
             return hoffman_preetham_closed_form(f, s, cos_theta, f.sun_irradiance_eye);
         }
-        case Model::height: return height_model(f, p_m);
+        case Model::height:
+            return height_model(f, p_m);
         case Model::reference: {
             View view = f.view;
             view.meters_per_unit = 1.0;
             view.eye = view.eye * f.view.meters_per_unit;
-            const Scattering<double> r =
-                reference_scattering(f.atmosphere, view, glm::dvec3(p_m));
+            const Scattering<double> r = reference_scattering(f.atmosphere, view, glm::dvec3(p_m));
             return Scattering<T>{Vec3<T>(r.extinction), Vec3<T>(r.in_scattering),
                                  Vec3<T>(r.sun_irradiance)};
         }
@@ -328,12 +398,11 @@ Result<Scattering<double>> evaluate(const Atmosphere& atmosphere, const View& vi
     return scatter(*frame, vertex);
 }
 
-#define AERIAL_INSTANTIATE(T)                                                                   \
-    template T altitude_above_sphere<T>(const Vec3<T>&, const Vec3<T>&, T);                     \
-    template Vec3<T> sun_transmittance_chapman<T>(const Frame<T>&, T, T);                       \
-    template Scattering<T> hoffman_preetham_closed_form<T>(const Frame<T>&, T, T,               \
-                                                           const Vec3<T>&);                     \
-    template Result<Frame<T>> prepare_frame<T>(const Atmosphere&, const View&, Model);          \
+#define AERIAL_INSTANTIATE(T)                                                                      \
+    template T altitude_above_sphere<T>(const Vec3<T>&, const Vec3<T>&, T);                        \
+    template Vec3<T> sun_transmittance_chapman<T>(const Frame<T>&, T, T);                          \
+    template Scattering<T> hoffman_preetham_closed_form<T>(const Frame<T>&, T, T, const Vec3<T>&); \
+    template Result<Frame<T>> prepare_frame<T>(const Atmosphere&, const View&, Model);             \
     template Scattering<T> scatter<T>(const Frame<T>&, const Vec3<T>&);
 AERIAL_INSTANTIATE(float)
 AERIAL_INSTANTIATE(double)

@@ -1,0 +1,202 @@
+// Accuracy of the per-vertex models against the `reference` model, on the cases the foundation
+// issue names. Each test prints the worst errors it saw, so that a run of
+//   build/bin/test_core_accuracy
+// is also the table quoted in the docs.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include "aerial/aerial.hpp"
+
+namespace {
+
+using aerial::Atmosphere;
+using aerial::Model;
+using aerial::View;
+using glm::dvec3;
+
+/// Worst relative errors of one model over a set of cases.
+struct Worst {
+    double extinction = 0.0;
+    double in_scattering = 0.0;
+    std::string where_in_scattering;
+
+    void add(const aerial::Scattering<double>& got, const aerial::Scattering<double>& ref,
+             const std::string& where) {
+        for (int c = 0; c < 3; ++c) {
+            extinction = std::max(extinction, std::abs(got.extinction[c] / ref.extinction[c] - 1));
+            const double e = std::abs(got.in_scattering[c] / ref.in_scattering[c] - 1);
+            if (e > in_scattering) {
+                in_scattering = e;
+                where_in_scattering = where + " channel " + std::to_string(c);
+            }
+        }
+    }
+    void print(const char* table, Model m) const {
+        std::printf("| %-44s | %-16s | %8.3f %% | %8.3f %% |\n", table,
+                    std::string(aerial::model_name(m)).c_str(), 100 * extinction,
+                    100 * in_scattering);
+    }
+};
+
+dvec3 sun_from_degrees(double elevation_deg, double azimuth_deg) {
+    const double el = elevation_deg * aerial::kPi / 180, az = azimuth_deg * aerial::kPi / 180;
+    return {std::cos(el) * std::sin(az), std::cos(el) * std::cos(az), std::sin(el)};
+}
+
+/// A point at horizontal (great-circle chord) distance `distance_m` along +Y from the origin, at
+/// altitude `altitude_m` above the sphere.
+dvec3 point_on_sphere(const Atmosphere& a, double distance_m, double altitude_m) {
+    const double r = a.planet_radius_m + altitude_m;
+    return {0.0, distance_m, std::sqrt(r * r - distance_m * distance_m) - a.planet_radius_m};
+}
+
+/// Runs `models` over the ground-level set: eye and target altitudes from `altitudes`, horizontal
+/// distances up to `max_distance_m`, sun elevations from `min_sun_deg` up, four azimuths.
+void ground_level_set(const std::vector<double>& altitudes, double max_distance_m,
+                      double min_sun_deg, const std::function<void(const View&, dvec3)>& visit) {
+    const Atmosphere a;
+    for (double eye_alt : altitudes) {
+        for (double target_alt : altitudes) {
+            for (double d : {1000.0, 0.5 * max_distance_m, max_distance_m}) {
+                for (double elevation : {min_sun_deg, 30.0, 60.0, 90.0}) {
+                    for (double azimuth : {0.0, 60.0, 120.0, 180.0}) {
+                        View v;
+                        v.eye = {0.0, 0.0, eye_alt};
+                        v.sun_dir = sun_from_degrees(std::max(elevation, min_sun_deg), azimuth);
+                        visit(v, point_on_sphere(a, d, target_alt));
+                    }
+                }
+            }
+        }
+    }
+}
+
+std::string describe(const View& v, dvec3 p) {
+    char buffer[160];
+    std::snprintf(buffer, sizeof buffer, "eye z=%g, target (%g, %g, %g), sun (%.3f, %.3f, %.3f)",
+                  v.eye.z, p.x, p.y, p.z, v.sun_dir.x, v.sun_dir.y, v.sun_dir.z);
+    return buffer;
+}
+
+Worst worst_over_ground_set(Model m, const std::vector<double>& altitudes, double max_distance_m,
+                            double min_sun_deg) {
+    Worst worst;
+    ground_level_set(altitudes, max_distance_m, min_sun_deg, [&](const View& v, dvec3 p) {
+        const auto ref = aerial::evaluate(Atmosphere{}, v, Model::reference, p);
+        const auto got = aerial::evaluate(Atmosphere{}, v, m, p);
+        ASSERT_TRUE(ref.ok() && got.ok());
+        worst.add(*got, *ref, describe(v, p));
+    });
+    return worst;
+}
+
+// The 2002 model's constant sea-level density is exact only at sea level, and its single E_sun
+// (at the eye) ignores that the sun's elevation changes by distance/R along the ray (0.27 deg over
+// 30 km: 5 % of E_sun at a 5 deg sun). Where those hold it is within 1 %.
+TEST(Accuracy, HoffmanPreethamWithinOnePercentNearSeaLevel) {
+    const Worst long_rays =
+        worst_over_ground_set(Model::hoffman_preetham, {0.0, 10.0}, 30000.0, 20.0);
+    long_rays.print("sea level (<=10 m), rays <=30 km, sun >=20 deg", Model::hoffman_preetham);
+    EXPECT_LT(long_rays.extinction, 0.01);
+    EXPECT_LT(long_rays.in_scattering, 0.01) << long_rays.where_in_scattering;
+    const Worst low_sun = worst_over_ground_set(Model::hoffman_preetham, {0.0, 2.0}, 5000.0, 10.0);
+    low_sun.print("sea level (<=2 m), rays <=5 km, sun >=10 deg", Model::hoffman_preetham);
+    EXPECT_LT(low_sun.extinction, 0.01);
+    EXPECT_LT(low_sun.in_scattering, 0.01) << low_sun.where_in_scattering;
+}
+
+TEST(Accuracy, HoffmanPreethamFailsAboveSeaLevelAsTheConstantDensityImplies) {
+    // Pins the known failure region: at 2 km the Mie density is exp(-2000/1200) = 19 % of the
+    // sea-level value the model uses.
+    const Worst w = worst_over_ground_set(Model::hoffman_preetham, {0.0, 2000.0}, 30000.0, 5.0);
+    w.print("eye and target <=2 km, rays <=30 km, sun >=5", Model::hoffman_preetham);
+    EXPECT_GT(w.extinction, 0.10);
+    EXPECT_GT(w.in_scattering, 0.50);
+}
+
+TEST(Accuracy, HeightModelAtGroundLevel) {
+    const Worst sea = worst_over_ground_set(Model::height, {0.0, 10.0}, 30000.0, 5.0);
+    sea.print("sea level (<=10 m), rays <=30 km, sun >=5 deg", Model::height);
+    EXPECT_LT(sea.extinction, 0.001);
+    EXPECT_LT(sea.in_scattering, 0.01) << sea.where_in_scattering;
+    const Worst low = worst_over_ground_set(Model::height, {0.0, 1000.0, 2000.0}, 30000.0, 5.0);
+    low.print("eye and target <=2 km, rays <=30 km, sun >=5", Model::height);
+    EXPECT_LT(low.extinction, 0.001);
+    // Worst case (3 %): a 5 deg sun, 30 km rays climbing or descending 2 km, where the two
+    // components' share of the light changes along the ray (see README, failure regions).
+    EXPECT_LT(low.in_scattering, 0.04) << low.where_in_scattering;
+}
+
+TEST(Accuracy, FromTenKilometresLookingAtGroundFourteenKilometresAway) {
+    // The case where the constant-density model is known to be off by 1.5-2.5x.
+    const Atmosphere a;
+    Worst height, hp;
+    double hp_min_ratio = 1e9, hp_max_ratio = 0.0;
+    for (double elevation : {5.0, 10.0, 20.0, 45.0, 90.0}) {
+        for (double azimuth : {0.0, 45.0, 90.0, 135.0, 180.0}) {
+            View v;
+            v.eye = {0.0, 0.0, 10000.0};
+            v.sun_dir = sun_from_degrees(elevation, azimuth);
+            const dvec3 p{0.0, std::sqrt(14000.0 * 14000.0 - 10000.0 * 10000.0), 0.0};
+            const auto ref = *aerial::evaluate(a, v, Model::reference, p);
+            height.add(*aerial::evaluate(a, v, Model::height, p), ref, describe(v, p));
+            const auto h = *aerial::evaluate(a, v, Model::hoffman_preetham, p);
+            hp.add(h, ref, describe(v, p));
+            for (int c = 0; c < 3; ++c) {
+                hp_min_ratio = std::min(hp_min_ratio, h.in_scattering[c] / ref.in_scattering[c]);
+                hp_max_ratio = std::max(hp_max_ratio, h.in_scattering[c] / ref.in_scattering[c]);
+            }
+        }
+    }
+    height.print("eye 10 km, ground 14 km away, sun >=5 deg", Model::height);
+    hp.print("eye 10 km, ground 14 km away, sun >=5 deg", Model::hoffman_preetham);
+    std::printf("  hoffman-preetham L_in / reference: %.2f .. %.2f\n", hp_min_ratio, hp_max_ratio);
+    EXPECT_LT(height.extinction, 0.03);
+    EXPECT_LT(height.in_scattering, 0.10) << height.where_in_scattering;
+    // The constant-density model overestimates everywhere here (measured 1.7x to 3.6x; the
+    // largest with a 5 deg sun behind the camera).
+    EXPECT_GT(hp_min_ratio, 1.5);
+}
+
+TEST(Accuracy, HeightBeatsHoffmanPreethamOnEveryPreset) {
+    // Not a tolerance, an ordering: per preset, the height model's worst in-scattering error over
+    // a mixed set of views is below the 2002 model's. A thin dense fog layer (`foggy`, 163 m
+    // scale height) with a low sun is where the height model's 3-node sunlight quadrature errs
+    // most: up to 60 % (README: failure regions).
+    for (const auto& name : aerial::atmosphere_preset_names()) {
+        const Atmosphere a = *aerial::atmosphere_preset(name);
+        Worst height, hp;
+        for (double eye_alt : {2.0, 300.0, 2000.0}) {
+            for (double target_alt : {0.0, 500.0}) {
+                for (double d : {300.0, 2000.0, 10000.0}) {
+                    for (double elevation : {5.0, 30.0, 90.0}) {
+                        for (double azimuth : {0.0, 90.0, 180.0}) {
+                            View v;
+                            v.eye = {0.0, 0.0, eye_alt};
+                            v.sun_dir = sun_from_degrees(elevation, azimuth);
+                            const dvec3 p = point_on_sphere(a, d, target_alt);
+                            const auto ref = *aerial::evaluate(a, v, Model::reference, p);
+                            height.add(*aerial::evaluate(a, v, Model::height, p), ref,
+                                       describe(v, p));
+                            hp.add(*aerial::evaluate(a, v, Model::hoffman_preetham, p), ref,
+                                   describe(v, p));
+                        }
+                    }
+                }
+            }
+        }
+        const std::string table = "preset " + name + ", eye <=2 km, rays <=10 km";
+        height.print(table.c_str(), Model::height);
+        hp.print(table.c_str(), Model::hoffman_preetham);
+        EXPECT_LT(height.in_scattering, hp.in_scattering) << name;
+        EXPECT_LT(height.extinction, hp.extinction + 1e-12) << name;
+    }
+}
+
+}  // namespace

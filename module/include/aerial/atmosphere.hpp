@@ -13,6 +13,7 @@
 // altitude: beta(h) = beta(0) * exp(-h / scale_height).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>

@@ -29,8 +29,13 @@ constexpr std::array<double, 4> kGaussWeights{0.34785484513745385737, 0.65214515
 /// A component whose local extinction is below this fraction of the other's does not set the
 /// step length (it cannot change the result by more than that fraction).
 constexpr double kNegligibleFraction = 1e-10;
-/// Hard cap on steps along one ray, a guard against pathological input only.
-constexpr int kMaxSteps = 200000;
+/// Cap on steps along one ray: a guard against pathological input only (scale heights of metres
+/// over paths of thousands of kilometres); ordinary atmospheres need a few hundred.
+constexpr double kMaxSteps = 1024.0;
+/// Optical depth beyond which a ray counts as opaque: exp(-60) = 9e-27.
+constexpr double kOpaqueDepth = 60.0;
+/// Remaining optical depth below which an outward-going ray is done.
+constexpr double kNegligibleDepth = 1e-12;
 
 /// The medium seen by the integrator, in a frame centred on the planet.
 struct Medium {
@@ -74,8 +79,25 @@ struct Medium {
         return rayleigh * rho_r + mie_extinction * rho_m;
     }
 
-    /// Length of the next integration step from x along unit direction dir.
-    double step(const dvec3& x, const dvec3& dir, double remaining) const {
+    /// Whether an optical depth hides everything behind it: every channel that has any
+    /// extinction at all is beyond kOpaqueDepth.
+    bool opaque(const dvec3& tau) const {
+        for (int c = 0; c < 3; ++c) {
+            if (tau[c] <= kOpaqueDepth && rayleigh[c] + mie_extinction[c] > 0.0) return false;
+        }
+        return true;
+    }
+
+    /// Whether the rest of a ray from x, of length `remaining`, adds a negligible optical depth:
+    /// it goes outwards (so density only falls) and the local extinction times the length is tiny.
+    bool negligible_beyond(const dvec3& x, const dvec3& dir, double remaining) const {
+        if (constant_density || glm::dot(x, dir) < 0.0) return false;
+        const dvec3 k = extinction(x);
+        return std::max({k.x, k.y, k.z}) * remaining < kNegligibleDepth;
+    }
+
+    /// Length of the next integration step from x along unit direction dir; at least min_step.
+    double step(const dvec3& x, const dvec3& dir, double remaining, double min_step) const {
         double rho_r, rho_m;
         density(x, rho_r, rho_m);
         const dvec3 k = rayleigh * rho_r + mie_extinction * rho_m;
@@ -100,8 +122,7 @@ struct Medium {
                 if (radial_speed > 0.0) dt = std::min(dt, dh / radial_speed);
             }
         }
-        // Never stall: at least 1/kMaxSteps of what is left, at least a millimetre.
-        return std::min(remaining, std::max(dt, std::max(remaining / kMaxSteps, 1e-3)));
+        return std::min(remaining, std::max(dt, min_step));
     }
 
     /// Optical depth along origin + t dir for t in [a, b] (one Gauss step, no subdivision).
@@ -118,9 +139,10 @@ struct Medium {
     /// Optical depth along origin + t dir for t in [a, b], adaptively stepped.
     dvec3 optical_depth(const dvec3& origin, const dvec3& dir, double a, double b) const {
         dvec3 tau(0.0);
+        const double min_step = (b - a) / kMaxSteps;
         double t = a;
-        while (t < b) {
-            const double dt = step(origin + dir * t, dir, b - t);
+        while (t < b && !opaque(tau) && !negligible_beyond(origin + dir * t, dir, b - t)) {
+            const double dt = step(origin + dir * t, dir, b - t, min_step);
             tau += optical_depth_step(origin, dir, t, t + dt);
             t += dt;
         }
@@ -223,10 +245,12 @@ Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View
 
     dvec3 tau(0.0);       // optical depth from the eye to t
     dvec3 radiance(0.0);  // in-scattered radiance per unit E_sun0
+    const double min_step = (t1 - t0) / kMaxSteps;
     double t = t0;
     for (size_t piece = 1; piece < breaks.size(); ++piece) {
-        while (t < breaks[piece]) {
-            const double dt = medium.step(eye + dir * t, dir, breaks[piece] - t);
+        while (t < breaks[piece] && !medium.opaque(tau) &&
+               !medium.negligible_beyond(eye + dir * t, dir, t1 - t)) {
+            const double dt = medium.step(eye + dir * t, dir, breaks[piece] - t, min_step);
             const double half = 0.5 * dt;
             for (size_t j = 0; j < kGaussNodes.size(); ++j) {
                 const double tj = t + half * (1.0 + kGaussNodes[j]);

@@ -261,7 +261,9 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
                (k_r0 * detail::exponential_average(a_r * u) +
                 k_m0 * detail::exponential_average(a_m * u));
     };
-    // sunlit[i]: integral over u of rho_i(u) / rho_i(0) exp(-tau_G(0, u)) T(u), see below.
+    // sunlit[i] = phi(tau_G) * integral over u of rho_i(u) exp(-tau_G(0, u)) T(u), phi(x) =
+    // (1 - exp(-x)) / x; for a uniform medium in full sun it is rho_i phi(tau_G). The weights are
+    // assembled in log form: dense haze and long segments make their factors overflow floats.
     Vec3<T> sunlit[2] = {Vec3<T>(0), Vec3<T>(0)};
     const T tau_mix_g = s * (f.rayleigh_scattering.y * rho_r + f.mie_extinction.y * rho_m);
     if ((lit0 || lit1) && k_total > T(0)) {
@@ -269,7 +271,8 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
         const T k_end =
             k_r0 * std::exp(std::min(-a_r, T(80))) + k_m0 * std::exp(std::min(-a_m, T(80)));
         const T a_fit = std::clamp(k_end > T(0) ? std::log(k_total / k_end) : T(80), T(-80), T(80));
-        const T log_phi_fit = detail::log_one_minus_exp_over_x(a_fit);
+        const T log_scale =
+            detail::log_one_minus_exp_over_x(a_fit) + detail::log_one_minus_exp_over_x(tau_total);
         for (int n = 0; n < 3; ++n) {
             const T y = T(kSunNodes[n]);
             // Fitted optical depth to the node, then the u where the fit reaches it.
@@ -277,28 +280,18 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
                 tau_total < T(1e-4) ? y * tau_total : -std::log1p(y * std::expm1(-tau_total));
             const T fraction = tau_total > T(0) ? std::clamp(tau_fit / tau_total, T(0), T(1)) : y;
             const T u = exponential_quantile(fraction, a_fit);
-            // du/dy up to a constant factor, times the exact over the fitted attenuation.
-            const T jacobian =
-                std::exp(std::min(tau_fit - tau_to(u) + log_phi_fit + a_fit * u, T(80)));
+            if (in_planet_shadow(f, f.eye_m + d * u)) continue;
             const T h = std::max(h0 + rise * u - sag * u * (T(1) - u), min_h);
-            const T w_r = T(kSunWeights[n]) * jacobian *
-                          std::exp(std::min((h0 - h) * f.inv_rayleigh_scale_height, T(80)));
-            const T w_m = T(kSunWeights[n]) * jacobian *
-                          std::exp(std::min((h0 - h) * f.inv_mie_scale_height, T(80)));
-            if (!in_planet_shadow(f, f.eye_m + d * u)) {
-                const Vec3<T> sun = transmittance_from_log_factors(f, h, lr0 + (lr1 - lr0) * u,
-                                                                   lm0 + (lm1 - lm0) * u);
-                sunlit[0] += w_r * sun;
-                sunlit[1] += w_m * sun;
-            }
+            // log of du/dy times the exact over the fitted attenuation, plus the scale.
+            const T log_jacobian = tau_fit - tau_to(u) + a_fit * u + log_scale;
+            const T w_r = std::exp(std::min(log_jacobian - h * f.inv_rayleigh_scale_height, T(80)));
+            const T w_m = std::exp(std::min(log_jacobian - h * f.inv_mie_scale_height, T(80)));
+            const Vec3<T> sun =
+                T(kSunWeights[n]) *
+                transmittance_from_log_factors(f, h, lr0 + (lr1 - lr0) * u, lm0 + (lm1 - lm0) * u);
+            sunlit[0] += w_r * sun;
+            sunlit[1] += w_m * sun;
         }
-        // The quadrature sums times phi(tau) rho_i(0) are integrals over u of
-        // rho_i(u) exp(-tau_G(0, u)) T(u); scaled so that the per-channel closed form below
-        // keeps its exact per-channel attenuation for a uniform medium.
-        const T g_scale =
-            detail::one_minus_exp_over_x(tau_total) / detail::one_minus_exp_over_x(tau_mix_g);
-        sunlit[0] *= g_scale * rho_r0;
-        sunlit[1] *= g_scale * rho_m0;
     }
 
     const T phase_r = rayleigh_phase(cos_theta);
@@ -309,8 +302,11 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
                                     f.mie_scattering[c] * phase_m * sunlit[1][c];
         const T tau = beta_ex * s;
         out.extinction[c] = std::exp(-tau);
-        out.in_scattering[c] =
-            sunlit_scattering * f.sun_irradiance_top[c] * s * detail::one_minus_exp_over_x(tau);
+        // The G-channel quadrature carries the profile; each channel keeps its own attenuation
+        // through the closed form phi(tau_c) / phi(tau_G), exact for a uniform medium.
+        const T path =
+            s * detail::one_minus_exp_over_x(tau) / detail::one_minus_exp_over_x(tau_mix_g);
+        out.in_scattering[c] = sunlit_scattering * f.sun_irradiance_top[c] * path;
     }
     return out;
 }

@@ -14,6 +14,7 @@ PACKAGES=(
     ninja-build
     pkg-config
     libglm-dev
+    libhwy-dev
     nlohmann-json3-dev
     libcli11-dev
     libgtest-dev

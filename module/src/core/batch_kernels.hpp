@@ -1,0 +1,50 @@
+// Internal: the per-block shading kernels behind the batch API (batch.cpp). A block is at most
+// kBlockSize vertices in structure-of-arrays form; outputs are raw linear floats, SoA, each
+// optional. Two implementations with one contract:
+//   shade_block_scalar  a plain loop over scatter<float> (std::exp): the reference for the SIMD
+//                       kernels and the `scalar` figure of aerial-bench;
+//   shade_block_simd    Google Highway, dynamic dispatch (SSE4 / AVX2 / AVX-512 as the CPU
+//                       allows), for the hoffman-preetham and height models.
+#pragma once
+
+#include <cstddef>
+
+#include "aerial/scattering.hpp"
+
+namespace aerial::detail {
+
+/// Vertices per block: small enough for the SoA scratch to stay in L1, large enough to amortise
+/// the per-block work.
+inline constexpr std::size_t kBlockSize = 256;
+
+/// How the kernels compute exp/log.
+enum class KernelPrecision {
+    accurate,  ///< Highway's Exp/Log/Expm1/Log1p (about 1 ulp)
+    fast,      ///< low-degree polynomial exp2/log2 (error measured by the tests, well below 1 LSB)
+};
+
+/// One block of work. Positions are in engine units, like View::eye. Any output pointer may be
+/// null: that quantity is then not written (and not computed when nothing needs it).
+struct KernelBlock {
+    const float* x = nullptr;
+    const float* y = nullptr;
+    const float* z = nullptr;
+    std::size_t count = 0;  ///< <= kBlockSize
+    float* extinction[3] = {nullptr, nullptr, nullptr};      ///< F_ex per channel
+    float* in_scattering[3] = {nullptr, nullptr, nullptr};   ///< L_in per channel
+    float* sun_irradiance[3] = {nullptr, nullptr, nullptr};  ///< E_sun at the vertex per channel
+};
+
+/// Contract shared by both kernels: for each vertex i < count, the same quantities as
+/// scatter(frame, {x[i], y[i], z[i]}) (within float rounding for `accurate`); vertices that are
+/// not positions (NaN, Inf, farther than kMaxDistanceM) get F_ex = 1, L_in = 0, E_sun = 0 and
+/// are counted in the return value. frame.model must be hoffman_preetham or height for the SIMD
+/// kernel; the scalar kernel takes any model.
+std::size_t shade_block_scalar(const Frame<float>& frame, const KernelBlock& block);
+std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block,
+                             KernelPrecision precision);
+
+/// Name of the SIMD target the dispatcher picked on this CPU ("AVX2", "AVX3", "SSE4", ...).
+const char* simd_target_name();
+
+}  // namespace aerial::detail

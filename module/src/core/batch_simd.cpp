@@ -1,0 +1,823 @@
+// The SIMD block kernel: the hoffman-preetham and height models of scattering.cpp, vectorised with
+// Google Highway and dispatched at run time to the best target the CPU offers (SSE4, AVX2,
+// AVX-512, ...). Every branch of the scalar models is a mask here (IfThenElse); uniform
+// per-frame decisions stay `if`s. Two precisions (batch_kernels.hpp):
+//   accurate  Highway's Exp/Log/Expm1/Log1p (about 1 ulp);
+//   fast      polynomial exp2/log2 with exponent bit manipulation (relative error 5.4e-6,
+//             absolute 2e-6 in log2).
+// Both take expm1(z) from its Taylor series for |z| < 1/2 and from an exp already computed
+// beyond it where there is one (F_ex), which keeps the per-vertex cost at one exp per channel.
+// The scaled complementary error function of the Chapman factor is the rational form of
+// Numerical Recipes (erfcc, fractional error below 1.2e-7 for every y >= 0), kept in log form so
+// that log(H Ch) costs one log and no exp.
+//
+// Where float rounding makes the scalar code ill-conditioned the kernel is more accurate than it
+// (and closer to the double model): the Henyey–Greenstein base near either peak (see Phases),
+// the planet-shadow test for planets whose radius float resolves to metres (see
+// FrameConstants::shadow_*), and 1 / tau_total for subnormal depths.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "aerial/phase.hpp"
+#include "batch_kernels.hpp"
+
+// The kernels keep vectors in small arrays and structs, which scalable vectors (SVE, RVV) do not
+// allow: those targets are not compiled (Arm gets NEON).
+#ifndef HWY_DISABLED_TARGETS
+#define HWY_DISABLED_TARGETS (HWY_SVE | HWY_SVE2 | HWY_SVE_256 | HWY_SVE2_128 | HWY_RVV)
+#endif
+// Highway re-includes this file once per SIMD target. The path is relative to module/include,
+// the include directory every translation unit of aerial_core has.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "../src/core/batch_simd.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+
+#include <hwy/contrib/math/math-inl.h>
+
+// ---- Target-independent part: per-frame constants, compiled once -----------------------------
+#ifndef AERIAL_BATCH_SIMD_ONCE
+#define AERIAL_BATCH_SIMD_ONCE
+
+namespace aerial::detail::simd {
+
+/// log of the sun's column (m) beyond which it counts as blocked (scattering.cpp).
+constexpr float kBlockedLogColumn = 80.0f;
+/// Smallest normal float: floor of every log argument (log(0) would be -inf or undefined).
+constexpr float kTiny = std::numeric_limits<float>::min();
+
+/// 3-point Gauss–Legendre on [0, 1] (scattering.cpp, height_model).
+constexpr float kSunNodes[3] = {0.11270166537925831148f, 0.5f, 0.88729833462074168852f};
+constexpr float kSunWeights[3] = {5.0f / 18.0f, 8.0f / 18.0f, 5.0f / 18.0f};
+
+/// Everything the kernels need from a Frame<float>, computed once per block, in float like the
+/// scalar models except where noted.
+struct FrameConstants {
+    float eye[3], sun[3], up[3];
+    float meters_per_unit;
+    float max_distance_m;
+    // Phase functions: Rayleigh 3/(16 pi) (1 + c^2); Henyey–Greenstein
+    // hg_numerator / base^(3/2), base = hg_a + hg_b (1 - c'), c' = sign(g) c (see Phases).
+    float rayleigh_phase_scale;
+    float hg_a, hg_b, hg_numerator, hg_one_minus_c_at_sun;
+    float hg_peak[3];  // sign(g) sun: the direction of the Henyey–Greenstein peak
+    // hoffman-preetham: beta_R E_eye and beta_Ms E_eye per channel (1/m), total extinction and
+    // its inverse (0 where the extinction is 0), E_eye.
+    float hp_rayleigh[3], hp_mie[3], hp_extinction[3], hp_inv_extinction[3], sun_eye[3];
+    // height.
+    float rayleigh[3], mie_scattering[3], mie_extinction[3], sun_top[3];
+    float radius_m, radius_sq_m2, two_radius_m, inv_two_radius;
+    float eye_altitude_m, min_altitude_m;
+    float inv_hr, inv_hm, log_hr, log_hm;  // 1/H (1/m), log(H / 1 m)
+    float eye_log_chapman_r, eye_log_chapman_m;
+    bool eye_lit;
+    float k_r0, k_m0, k_total;  // G extinction at the eye per component and total, 1/m
+    // in_planet_shadow of eye + d u without cancelling numbers of size R: with c = eye + R up
+    // (from the planet centre), along(u) = c.sun + u d.sun and |across(u)|^2 - R^2 =
+    // (|A|^2 - R^2) + 2 u A.d + u^2 (|d|^2 - (d.sun)^2), A = c - (c.sun) sun, the two constants
+    // taken in double; A.d = A.d_perp since A is across the sun.
+    float shadow_along_eye, shadow_excess_eye, shadow_across_eye[3];
+};
+
+inline FrameConstants make_frame_constants(const Frame<float>& f) {
+    FrameConstants k{};
+    for (int i = 0; i < 3; ++i) {
+        k.eye[i] = f.eye_m[i];
+        k.sun[i] = f.sun_dir[i];
+        k.up[i] = f.up[i];
+        k.hg_peak[i] = f.mie_g < 0.0f ? -f.sun_dir[i] : f.sun_dir[i];
+    }
+    k.meters_per_unit = f.meters_per_unit;
+    k.max_distance_m = float(kMaxDistanceM);
+    k.rayleigh_phase_scale = float(3.0 / (16.0 * kPi));
+    // From g in double: near |g| = 1, 1 - |g| and 1 - g^2 lose digits in float.
+    const double abs_g = std::abs(f.atmosphere.mie_g);
+    k.hg_a = float((1.0 - abs_g) * (1.0 - abs_g));
+    k.hg_b = float(2.0 * abs_g);
+    k.hg_numerator = float((1.0 - abs_g) * (1.0 + abs_g) / (4.0 * kPi));
+    k.hg_one_minus_c_at_sun = f.mie_g < 0.0f ? 2.0f : 0.0f;
+    for (int c = 0; c < 3; ++c) {
+        k.rayleigh[c] = f.rayleigh_scattering[c];
+        k.mie_scattering[c] = f.mie_scattering[c];
+        k.mie_extinction[c] = f.mie_extinction[c];
+        k.sun_top[c] = f.sun_irradiance_top[c];
+        k.sun_eye[c] = f.sun_irradiance_eye[c];
+        k.hp_rayleigh[c] = f.rayleigh_scattering[c] * f.sun_irradiance_eye[c];
+        k.hp_mie[c] = f.mie_scattering[c] * f.sun_irradiance_eye[c];
+        k.hp_extinction[c] = f.rayleigh_scattering[c] + f.mie_extinction[c];
+        k.hp_inv_extinction[c] = k.hp_extinction[c] > 0.0f ? 1.0f / k.hp_extinction[c] : 0.0f;
+    }
+    k.radius_m = f.planet_radius_m;
+    k.radius_sq_m2 = f.planet_radius_m * f.planet_radius_m;
+    k.two_radius_m = 2.0f * f.planet_radius_m;
+    k.inv_two_radius = 1.0f / (2.0f * f.planet_radius_m);
+    k.eye_altitude_m = f.eye_altitude_m;
+    const float min_scale_height =
+        1.0f / std::max(f.inv_rayleigh_scale_height, f.inv_mie_scale_height);
+    k.min_altitude_m = std::max(float(kMinAltitudeM), -40.0f * min_scale_height);
+    k.inv_hr = f.inv_rayleigh_scale_height;
+    k.inv_hm = f.inv_mie_scale_height;
+    k.log_hr = std::log(1.0f / f.inv_rayleigh_scale_height);
+    k.log_hm = std::log(1.0f / f.inv_mie_scale_height);
+    k.eye_log_chapman_r = f.eye_log_chapman_rayleigh;
+    k.eye_log_chapman_m = f.eye_log_chapman_mie;
+    k.eye_lit = f.eye_log_chapman_rayleigh < kBlockedLogColumn;
+    k.k_r0 = f.rayleigh_scattering.y * std::exp(-f.eye_altitude_m * f.inv_rayleigh_scale_height);
+    k.k_m0 = f.mie_extinction.y * std::exp(-f.eye_altitude_m * f.inv_mie_scale_height);
+    k.k_total = k.k_r0 + k.k_m0;
+    const double radius = f.atmosphere.planet_radius_m;
+    const glm::dvec3 centre_to_eye = glm::dvec3(f.eye_m) + f.view.up * radius;
+    const double along_eye = glm::dot(centre_to_eye, f.view.sun_dir);
+    const glm::dvec3 across_eye = centre_to_eye - f.view.sun_dir * along_eye;
+    k.shadow_along_eye = float(along_eye);
+    k.shadow_excess_eye = float(glm::dot(across_eye, across_eye) - radius * radius);
+    for (int i = 0; i < 3; ++i) k.shadow_across_eye[i] = float(across_eye[i]);
+    return k;
+}
+
+}  // namespace aerial::detail::simd
+
+#endif  // AERIAL_BATCH_SIMD_ONCE
+
+// ---- Per-target part --------------------------------------------------------------------------
+HWY_BEFORE_NAMESPACE();
+namespace aerial::detail {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using simd::FrameConstants;
+using simd::kBlockedLogColumn;
+using simd::kTiny;
+
+using DF = hn::ScalableTag<float>;
+using DI = hn::RebindToSigned<DF>;
+using VF = hn::Vec<DF>;
+using MF = hn::Mask<DF>;
+
+HWY_INLINE VF K(float value) { return hn::Set(DF(), value); }
+
+// ---- Fast exp2 / log2 -------------------------------------------------------------------------
+
+/// 2^x: x = n + f with n = round(x), f in [-1/2, 1/2]; 2^f = 1 + f Q(f), Q cubic minimax for
+/// relative error (5.4e-6); 2^n from the exponent bits. 0 below 2^-126, saturates at 2^127.
+HWY_INLINE VF FastExp2(VF x) {
+    const DF d;
+    const DI di;
+    const VF clamped = hn::Min(hn::Max(x, K(-126.0f)), K(127.0f));
+    // Adding 1.5 * 2^23 rounds to an integer and leaves n in the low mantissa bits, whose shift
+    // by 23 (with the bias 127 added) is 2^n: no float-int conversions.
+    const VF shifted = hn::Add(clamped, K(12582912.0f));
+    const VF f = hn::Sub(clamped, hn::Sub(shifted, K(12582912.0f)));
+    VF q = hn::MulAdd(f, K(9.676037117e-03f), K(5.600578838e-02f));
+    q = hn::MulAdd(q, f, K(2.402216778e-01f));
+    q = hn::MulAdd(q, f, K(6.931053341e-01f));
+    const VF p = hn::MulAdd(q, f, K(1.0f));
+    const VF scale =
+        hn::BitCast(d, hn::ShiftLeft<23>(hn::Add(hn::BitCast(di, shifted), hn::Set(di, 127))));
+    return hn::IfThenZeroElse(hn::Lt(x, K(-126.0f)), hn::Mul(p, scale));
+}
+
+/// log2(x) for x > 0: x = 2^e m with m in [sqrt(1/2), sqrt(2)) from the bits, log2(m) =
+/// t Q(t) with t = m - 1, Q quintic minimax for absolute error (2.1e-6). Finite for any input
+/// (about -127 at 0, 128 at +inf), so that no NaN can leave a masked-off lane.
+HWY_INLINE VF FastLog2(VF x) {
+    const DF d;
+    const DI di;
+    const auto kSqrtHalfBits = hn::Set(di, 0x3F3504F3);
+    const auto bits = hn::Sub(hn::BitCast(di, x), kSqrtHalfBits);
+    const VF e = hn::ConvertTo(d, hn::ShiftRight<23>(bits));
+    const VF m = hn::BitCast(d, hn::Add(hn::And(bits, hn::Set(di, 0x007FFFFF)), kSqrtHalfBits));
+    const VF t = hn::Sub(m, K(1.0f));
+    VF q = hn::MulAdd(t, K(-2.065918143e-01f), K(3.221548210e-01f));
+    q = hn::MulAdd(q, t, K(-3.674899679e-01f));
+    q = hn::MulAdd(q, t, K(4.793480168e-01f));
+    q = hn::MulAdd(q, t, K(-7.211318588e-01f));
+    q = hn::MulAdd(q, t, K(1.442713481e+00f));
+    return hn::MulAdd(t, q, e);
+}
+
+constexpr float kLog2E = 1.44269504088896340736f;
+constexpr float kLn2 = 0.69314718055994530942f;
+
+// ---- The two precisions -----------------------------------------------------------------------
+
+/// Highway's functions (about 1 ulp).
+struct AccurateMath {
+    static HWY_INLINE VF Exp(VF x) { return hn::Exp(DF(), x); }
+    static HWY_INLINE VF Log(VF x) { return hn::Log(DF(), x); }
+    static HWY_INLINE VF Expm1Far(VF x) { return hn::Expm1(DF(), x); }
+    static HWY_INLINE VF Log1p(VF x) { return hn::Log1p(DF(), x); }
+    static HWY_INLINE VF Reciprocal(VF x) { return hn::Div(K(1.0f), x); }
+    /// x^(-3/2) for x > 0.
+    static HWY_INLINE VF InversePow32(VF x) { return hn::Div(K(1.0f), hn::Mul(x, hn::Sqrt(x))); }
+};
+
+/// Polynomial exp2/log2; expm1 as exp - 1 beyond the series (relative error about 1e-5 there);
+/// log1p with the rounding of 1 + x added back.
+struct FastMath {
+    static HWY_INLINE VF Exp(VF x) { return FastExp2(hn::Mul(x, K(kLog2E))); }
+    static HWY_INLINE VF Log(VF x) { return hn::Mul(FastLog2(x), K(kLn2)); }
+    static HWY_INLINE VF Expm1Far(VF x) { return hn::Sub(Exp(x), K(1.0f)); }
+    static HWY_INLINE VF Log1p(VF x) {
+        const VF u = hn::Add(x, K(1.0f));
+        // log1p(x) = log(u) + (x - (u - 1)) / u to first order in the rounding error of u.
+        const VF rounding = hn::Sub(x, hn::Sub(u, K(1.0f)));
+        return hn::MulAdd(rounding, hn::ApproximateReciprocal(hn::Max(u, K(kTiny))), Log(u));
+    }
+    /// The hardware estimates and one Newton step (relative error about 1e-7 on x86).
+    static HWY_INLINE VF Reciprocal(VF x) {
+        const VF r = hn::ApproximateReciprocal(x);
+        return hn::Mul(r, hn::NegMulAdd(x, r, K(2.0f)));
+    }
+    static HWY_INLINE VF InversePow32(VF x) {
+        const VF r0 = hn::ApproximateReciprocalSqrt(x);
+        const VF r = hn::Mul(r0, hn::NegMulAdd(hn::Mul(K(0.5f), x), hn::Mul(r0, r0), K(1.5f)));
+        return hn::Mul(r, hn::Mul(r, r));
+    }
+};
+
+// ---- Shared numerics (math.hpp, vectorised) ---------------------------------------------------
+
+/// expm1(z) / z by its Taylor series; float-exact for |z| <= 1/2 (truncation 2e-11).
+HWY_INLINE VF ExpAverageSeries(VF z) {
+    VF p = hn::MulAdd(z, K(1.0f / 3628800.0f), K(1.0f / 362880.0f));
+    p = hn::MulAdd(p, z, K(1.0f / 40320.0f));
+    p = hn::MulAdd(p, z, K(1.0f / 5040.0f));
+    p = hn::MulAdd(p, z, K(1.0f / 720.0f));
+    p = hn::MulAdd(p, z, K(1.0f / 120.0f));
+    p = hn::MulAdd(p, z, K(1.0f / 24.0f));
+    p = hn::MulAdd(p, z, K(1.0f / 6.0f));
+    p = hn::MulAdd(p, z, K(0.5f));
+    return hn::MulAdd(p, z, K(1.0f));
+}
+
+/// |z| below which expm1(z) and expm1(z) / z come from their Taylor series.
+constexpr float kSeriesLimit = 0.5f;
+
+HWY_INLINE MF NearZero(VF z) { return hn::Lt(hn::Abs(z), K(kSeriesLimit)); }
+
+/// expm1(z) with full relative precision (z <= 88).
+template <class M>
+HWY_INLINE VF Expm1(VF z) {
+    return hn::IfThenElse(NearZero(z), hn::Mul(z, ExpAverageSeries(z)), M::Expm1Far(z));
+}
+
+/// expm1(z) when exp(z) is already known: exp(z) - 1 beyond the series, where it loses at most
+/// a factor 1.6 of exp's relative error (2 ulp for the accurate precision).
+HWY_INLINE VF Expm1GivenExp(VF z, VF exp_z) {
+    return hn::IfThenElse(NearZero(z), hn::Mul(z, ExpAverageSeries(z)), hn::Sub(exp_z, K(1.0f)));
+}
+
+/// expm1(z) / z from expm1(z): the mean of exp(z u) over u in [0, 1], 1 at z = 0. With
+/// z = -x it is (1 - exp(-x)) / x (one_minus_exp_over_x, exponential_average).
+HWY_INLINE VF ExpAverageFrom(VF z, VF expm1_z) {
+    const MF near_zero = NearZero(z);
+    return hn::IfThenElse(near_zero, ExpAverageSeries(z),
+                          hn::Div(expm1_z, hn::IfThenElse(near_zero, K(1.0f), z)));
+}
+
+/// (1 - exp(-x)) / x for x >= -80 (exponential_average): z = min(-x, 80).
+template <class M>
+HWY_INLINE VF ExponentialAverage(VF x) {
+    const VF z = hn::Min(hn::Neg(x), K(80.0f));
+    return ExpAverageFrom(z, Expm1<M>(z));
+}
+
+template <class M>
+HWY_INLINE VF SafeLog(VF x) {
+    return M::Log(hn::Max(x, K(kTiny)));
+}
+
+HWY_INLINE VF Clamp(VF x, float lo, float hi) { return hn::Min(hn::Max(x, K(lo)), K(hi)); }
+
+/// log(erfcx(y)) - log(t) with t = 1 / (1 + y/2): the exponent of Numerical Recipes' erfcc,
+/// erfc(y) = t exp(-y^2 + P(t)), fractional error below 1.2e-7 for all y >= 0.
+HWY_INLINE VF ErfcxLogPoly(VF t) {
+    VF p = hn::MulAdd(t, K(0.17087277f), K(-0.82215223f));
+    p = hn::MulAdd(p, t, K(1.48851587f));
+    p = hn::MulAdd(p, t, K(-1.13520398f));
+    p = hn::MulAdd(p, t, K(0.27886807f));
+    p = hn::MulAdd(p, t, K(-0.18628806f));
+    p = hn::MulAdd(p, t, K(0.09678418f));
+    p = hn::MulAdd(p, t, K(0.37409196f));
+    p = hn::MulAdd(p, t, K(1.00002368f));
+    return hn::MulAdd(p, t, K(-1.26551223f));
+}
+
+HWY_INLINE VF ErfcxT(VF y) { return hn::Div(K(1.0f), hn::MulAdd(y, K(0.5f), K(1.0f))); }
+
+/// exp(y^2) erfc(y) for y >= 0 (only the test hook needs the value itself).
+template <class M>
+HWY_INLINE VF Erfcx(VF y) {
+    const VF t = ErfcxT(y);
+    return hn::Mul(t, M::Exp(ErfcxLogPoly(t)));
+}
+
+HWY_INLINE VF Dot(VF ax, VF ay, VF az, VF bx, VF by, VF bz) {
+    return hn::MulAdd(ax, bx, hn::MulAdd(ay, by, hn::Mul(az, bz)));
+}
+
+/// Both phase functions (phase.hpp) of cos_theta = dot(d, sun) / s (1 at s = 0). The
+/// Henyey–Greenstein base 1 + g^2 - 2 g cos_theta is written (1 - |g|)^2 + 2 |g| (1 - c') with
+/// c' = sign(g) cos_theta, stable at either peak (phase.hpp's form cancels at the backward peak
+/// when g < 0), and 1 - c' comes from the chord |d/s - sign(g) sun|^2 / 2, whose error shrinks
+/// with the angle (1 - float(cos_theta) is off by 1e-7, 10 % of the base at |g| = 0.999).
+template <class M>
+HWY_INLINE void Phases(const FrameConstants& k, VF dx, VF dy, VF dz, VF s, VF& rayleigh, VF& mie) {
+    const MF positive = hn::Gt(s, hn::Zero(DF()));
+    const VF inv_s = M::Reciprocal(hn::IfThenElse(positive, s, K(1.0f)));
+    const VF cx = hn::MulSub(dx, inv_s, K(k.hg_peak[0]));
+    const VF cy = hn::MulSub(dy, inv_s, K(k.hg_peak[1]));
+    const VF cz = hn::MulSub(dz, inv_s, K(k.hg_peak[2]));
+    // At s = 0 the direction is the sun's: 1 - c' = 1 - sign(g).
+    const VF one_minus_c =
+        hn::IfThenElse(positive, Clamp(hn::Mul(Dot(cx, cy, cz, cx, cy, cz), K(0.5f)), 0.0f, 2.0f),
+                       K(k.hg_one_minus_c_at_sun));
+    const VF c = hn::Sub(K(1.0f), one_minus_c);  // +-cos_theta: the Rayleigh phase needs c^2
+    rayleigh = hn::Mul(K(k.rayleigh_phase_scale), hn::MulAdd(c, c, K(1.0f)));
+    const VF base = hn::MulAdd(K(k.hg_b), one_minus_c, K(k.hg_a));
+    mie = hn::Mul(K(k.hg_numerator), M::InversePow32(base));
+}
+
+// ---- Block loop: full vectors from the caller's arrays, the tail through padded copies ---------
+
+/// Most float lanes of any target.
+constexpr std::size_t kMaxLanes = HWY_MAX_BYTES / sizeof(float);
+
+/// Where one vector's results go: three arrays per quantity (null where the caller does not
+/// want it), written at `offset`. Either the caller's arrays or the padded tail buffers.
+struct VectorOut {
+    float* const* extinction;
+    float* const* in_scattering;
+    float* const* sun_irradiance;
+    std::size_t offset;
+
+    static HWY_INLINE void Store(VF v, float* p, std::size_t offset) {
+        if (p) hn::StoreU(v, DF(), p + offset);
+    }
+    HWY_INLINE void Extinction(int c, VF v) const { Store(v, extinction[c], offset); }
+    HWY_INLINE void InScattering(int c, VF v) const { Store(v, in_scattering[c], offset); }
+    HWY_INLINE void SunIrradiance(int c, VF v) const { Store(v, sun_irradiance[c], offset); }
+};
+
+/// Calls body(x, y, z, out) -> valid mask for each vector of the block; returns the number of
+/// invalid vertices. Never reads or writes past block.count: the last, partial vector goes
+/// through padded copies (the same code path, so the body is instantiated once).
+template <class Body>
+HWY_INLINE std::size_t ForEachVector(const KernelBlock& b, const Body& body) {
+    const DF d;
+    const std::size_t lanes = hn::Lanes(d);
+    HWY_ALIGN float pad_in[3][kMaxLanes];
+    HWY_ALIGN float pad_out[9][kMaxLanes];
+    float* tail_out[9];
+    for (int c = 0; c < 3; ++c) {
+        tail_out[c] = b.extinction[c] ? pad_out[c] : nullptr;
+        tail_out[3 + c] = b.in_scattering[c] ? pad_out[3 + c] : nullptr;
+        tail_out[6 + c] = b.sun_irradiance[c] ? pad_out[6 + c] : nullptr;
+    }
+    const VectorOut caller{b.extinction, b.in_scattering, b.sun_irradiance, 0};
+    const VectorOut tail{tail_out, tail_out + 3, tail_out + 6, 0};
+    std::size_t invalid = 0;
+    for (std::size_t i = 0; i < b.count; i += lanes) {
+        const std::size_t n = std::min(lanes, b.count - i);
+        const float* px = b.x + i;
+        const float* py = b.y + i;
+        const float* pz = b.z + i;
+        VectorOut out = caller;
+        out.offset = i;
+        if (HWY_UNLIKELY(n < lanes)) {
+            for (std::size_t j = 0; j < lanes; ++j) {
+                pad_in[0][j] = j < n ? px[j] : 0.0f;
+                pad_in[1][j] = j < n ? py[j] : 0.0f;
+                pad_in[2][j] = j < n ? pz[j] : 0.0f;
+            }
+            px = pad_in[0];
+            py = pad_in[1];
+            pz = pad_in[2];
+            out = tail;
+        }
+        const MF valid = body(hn::LoadU(d, px), hn::LoadU(d, py), hn::LoadU(d, pz), out);
+        invalid += hn::CountTrue(d, hn::AndNot(valid, hn::FirstN(d, n)));
+        if (HWY_UNLIKELY(n < lanes)) {
+            for (int q = 0; q < 9; ++q) {
+                float* const* caller_arrays = q < 3   ? b.extinction
+                                              : q < 6 ? b.in_scattering
+                                                      : b.sun_irradiance;
+                if (caller_arrays[q % 3]) {
+                    std::memcpy(caller_arrays[q % 3] + i, pad_out[q], n * sizeof(float));
+                }
+            }
+        }
+    }
+    return invalid;
+}
+
+/// Scaled position, offset from the eye and distance; invalid lanes (NaN, Inf, farther than
+/// kMaxDistanceM) are moved onto the eye so that nothing downstream sees a NaN.
+struct Segment {
+    VF px, py, pz, dx, dy, dz, s;
+    MF valid;
+};
+
+HWY_INLINE Segment MakeSegment(const FrameConstants& k, VF x, VF y, VF z) {
+    const VF scale = K(k.meters_per_unit);
+    const VF ex = K(k.eye[0]), ey = K(k.eye[1]), ez = K(k.eye[2]);
+    const VF px = hn::Mul(x, scale), py = hn::Mul(y, scale), pz = hn::Mul(z, scale);
+    const VF dx = hn::Sub(px, ex), dy = hn::Sub(py, ey), dz = hn::Sub(pz, ez);
+    const VF s = hn::Sqrt(Dot(dx, dy, dz, dx, dy, dz));
+    const MF valid = hn::Le(s, K(k.max_distance_m));  // false for NaN
+    return Segment{hn::IfThenElse(valid, px, ex), hn::IfThenElse(valid, py, ey),
+                   hn::IfThenElse(valid, pz, ez), hn::IfThenElseZero(valid, dx),
+                   hn::IfThenElseZero(valid, dy), hn::IfThenElseZero(valid, dz),
+                   hn::IfThenElseZero(valid, s),  valid};
+}
+
+// ---- hoffman-preetham -------------------------------------------------------------------------
+
+template <class M, bool kInScattering>
+std::size_t ShadeHoffmanPreetham(const FrameConstants& k, const KernelBlock& b) {
+    return ForEachVector(b, [&k](VF x, VF y, VF z, const VectorOut& out) {
+        const Segment seg = MakeSegment(k, x, y, z);
+        VF extinction[3];
+        for (int c = 0; c < 3; ++c) {
+            extinction[c] = M::Exp(hn::Mul(K(-k.hp_extinction[c]), seg.s));
+            out.Extinction(c, hn::IfThenElse(seg.valid, extinction[c], K(1.0f)));
+            out.SunIrradiance(c, hn::IfThenElseZero(seg.valid, K(k.sun_eye[c])));
+        }
+        if constexpr (kInScattering) {
+            VF rayleigh, mie;
+            Phases<M>(k, seg.dx, seg.dy, seg.dz, seg.s, rayleigh, mie);
+            for (int c = 0; c < 3; ++c) {
+                // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), phi(tau) = (1 - e^-tau) / tau;
+                // s phi(tau) = (1 - F_ex) / beta_ex beyond the series: no division per vertex.
+                const VF minus_tau = hn::Mul(K(-k.hp_extinction[c]), seg.s);
+                const VF length = hn::IfThenElse(
+                    NearZero(minus_tau), hn::Mul(seg.s, ExpAverageSeries(minus_tau)),
+                    hn::Mul(hn::Sub(K(1.0f), extinction[c]), K(k.hp_inv_extinction[c])));
+                const VF angular =
+                    hn::MulAdd(K(k.hp_rayleigh[c]), rayleigh, hn::Mul(K(k.hp_mie[c]), mie));
+                out.InScattering(c, hn::IfThenElseZero(seg.valid, hn::Mul(angular, length)));
+            }
+        }
+        return seg.valid;
+    });
+}
+
+// ---- height -----------------------------------------------------------------------------------
+
+/// log_chapman_factor of scattering.cpp for both components at once (they share the geometry):
+/// log(H Ch) at altitude h (already clamped to min_altitude) for a sun at cosine mu to the local
+/// zenith; kBlockedLogColumn where the planet blocks the sun.
+template <class M>
+HWY_INLINE void LogChapmanFactors(const FrameConstants& k, VF h, VF cos_zenith, VF& log_r,
+                                  VF& log_m) {
+    constexpr float kSqrtHalfPi = 1.2533141373155002512f;
+    constexpr float kSqrtHalf = 0.70710678118654752440f;
+    const VF mu = Clamp(cos_zenith, -1.0f, 1.0f);
+    const VF abs_mu = hn::Abs(mu);
+    const VF r_plus_h = hn::Add(K(k.radius_m), h);
+    // log(upward) = log(sqrt(pi/2) sqrt(x) erfcx(sqrt(x/2) |mu|)), x = (R + h) / H.
+    auto log_upward = [&](float inv_h) {
+        const VF root_x = hn::Sqrt(hn::Max(hn::Mul(r_plus_h, K(inv_h)), hn::Zero(DF())));
+        const VF t = ErfcxT(hn::Mul(hn::Mul(root_x, K(kSqrtHalf)), abs_mu));
+        return hn::Add(SafeLog<M>(hn::Mul(hn::Mul(K(kSqrtHalfPi), root_x), t)), ErfcxLogPoly(t));
+    };
+    const VF up_r = log_upward(k.inv_hr);
+    const VF up_m = log_upward(k.inv_hm);
+    log_r = hn::Add(up_r, K(k.log_hr));
+    log_m = hn::Add(up_m, K(k.log_hm));
+    const MF below = hn::Lt(mu, hn::Zero(DF()));
+    if (HWY_LIKELY(hn::AllFalse(DF(), below))) return;
+
+    // Below the horizon: 2 Ch(x_t, 90 deg) exp((h - h_t)/H) - Ch(x, 180 deg - chi), relative to
+    // exp(-h/H), with h_t the tangent altitude; blocked when h_t is under the shadow floor.
+    const VF mu2 = hn::Mul(mu, mu);
+    const VF sin_chi = hn::Sqrt(hn::Max(hn::Sub(K(1.0f), mu2), hn::Zero(DF())));
+    const VF tangent = hn::Sub(hn::Mul(h, sin_chi),
+                               hn::Div(hn::Mul(K(k.radius_m), mu2), hn::Add(K(1.0f), sin_chi)));
+    const MF blocked = hn::Lt(tangent, hn::Min(h, hn::Zero(DF())));
+    const VF drop = hn::Sub(h, tangent);
+    const VF r_plus_tangent = hn::Add(K(k.radius_m), tangent);
+    auto below_factor = [&](VF log_up, float inv_h, float log_h) {
+        const VF rise = hn::Mul(drop, K(inv_h));
+        const VF horizontal = hn::Mul(
+            K(kSqrtHalfPi), hn::Sqrt(hn::Max(hn::Mul(r_plus_tangent, K(inv_h)), hn::Zero(DF()))));
+        const VF factor = hn::Max(
+            hn::Sub(hn::Add(horizontal, horizontal), M::Exp(hn::Sub(log_up, rise))), K(1e-30f));
+        const VF value =
+            hn::Min(hn::Add(hn::Add(rise, K(log_h)), M::Log(factor)), K(kBlockedLogColumn));
+        return hn::IfThenElse(blocked, K(kBlockedLogColumn), value);
+    };
+    log_r = hn::IfThenElse(below, below_factor(up_r, k.inv_hr, k.log_hr), log_r);
+    log_m = hn::IfThenElse(below, below_factor(up_m, k.inv_hm, k.log_hm), log_m);
+}
+
+/// transmittance_from_log_factors: sun transmittance per channel at altitude h.
+template <class M>
+HWY_INLINE void Transmittance(const FrameConstants& k, VF h, VF log_r, VF log_m, VF (&t)[3]) {
+    const MF blocked =
+        hn::Or(hn::Ge(log_r, K(kBlockedLogColumn)), hn::Ge(log_m, K(kBlockedLogColumn)));
+    const VF column_r = M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hr), log_r), K(80.0f)));
+    const VF column_m = M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hm), log_m), K(80.0f)));
+    for (int c = 0; c < 3; ++c) {
+        const VF tau =
+            hn::MulAdd(K(k.rayleigh[c]), column_r, hn::Mul(K(k.mie_extinction[c]), column_m));
+        t[c] = hn::IfThenZeroElse(blocked, M::Exp(hn::Neg(tau)));
+    }
+}
+
+template <class M, bool kInScattering, bool kSunIrradiance>
+std::size_t ShadeHeight(const FrameConstants& k, const KernelBlock& b) {
+    return ForEachVector(b, [&k](VF x, VF y, VF z, const VectorOut& out) {
+        const DF d;
+        const VF zero = hn::Zero(d);
+        const Segment seg = MakeSegment(k, x, y, z);
+        const VF s = seg.s;
+        const VF min_h = K(k.min_altitude_m);
+        const VF h0 = K(k.eye_altitude_m);
+        // Altitude of the vertex above the sphere (altitude_above_sphere).
+        const VF along_up = Dot(seg.px, seg.py, seg.pz, K(k.up[0]), K(k.up[1]), K(k.up[2]));
+        const VF numerator = hn::MulAdd(K(k.two_radius_m), along_up,
+                                        Dot(seg.px, seg.py, seg.pz, seg.px, seg.py, seg.pz));
+        const VF to_centre = hn::Sqrt(hn::Max(hn::Add(numerator, K(k.radius_sq_m2)), zero));
+        const VF h1 = hn::Max(hn::Div(numerator, hn::Add(to_centre, K(k.radius_m))), min_h);
+        const VF rise = hn::Sub(h1, h0);
+        const VF sag = hn::Mul(hn::Mul(s, s), K(k.inv_two_radius));
+        const VF h_low = hn::Max(hn::NegMulAdd(sag, K(1.0f / 6.0f), hn::Min(h0, h1)), min_h);
+
+        // Path-averaged densities and the extinction.
+        const VF dh = hn::Abs(rise);
+        const VF rho_r = hn::Mul(M::Exp(hn::Mul(h_low, K(-k.inv_hr))),
+                                 ExponentialAverage<M>(hn::Mul(dh, K(k.inv_hr))));
+        const VF rho_m = hn::Mul(M::Exp(hn::Mul(h_low, K(-k.inv_hm))),
+                                 ExponentialAverage<M>(hn::Mul(dh, K(k.inv_hm))));
+        VF tau[3], extinction[3];
+        for (int c = 0; c < 3; ++c) {
+            const VF beta =
+                hn::MulAdd(K(k.rayleigh[c]), rho_r, hn::Mul(K(k.mie_extinction[c]), rho_m));
+            tau[c] = hn::Mul(beta, s);
+            extinction[c] = M::Exp(hn::Neg(tau[c]));
+            out.Extinction(c, hn::IfThenElse(seg.valid, extinction[c], K(1.0f)));
+        }
+        if constexpr (!kInScattering && !kSunIrradiance) return seg.valid;
+
+        // Sun at the vertex: log Chapman factors, and E_sun.
+        const VF cx = hn::MulAdd(K(k.up[0]), K(k.radius_m), seg.px);
+        const VF cy = hn::MulAdd(K(k.up[1]), K(k.radius_m), seg.py);
+        const VF cz = hn::MulAdd(K(k.up[2]), K(k.radius_m), seg.pz);
+        const VF centre_distance = hn::Sqrt(Dot(cx, cy, cz, cx, cy, cz));
+        const MF off_centre = hn::Gt(centre_distance, zero);
+        const VF mu1 =
+            hn::IfThenElse(off_centre,
+                           hn::Div(Dot(cx, cy, cz, K(k.sun[0]), K(k.sun[1]), K(k.sun[2])),
+                                   hn::IfThenElse(off_centre, centre_distance, K(1.0f))),
+                           K(1.0f));
+        VF lf_r1, lf_m1;
+        LogChapmanFactors<M>(k, h1, mu1, lf_r1, lf_m1);
+        if constexpr (kSunIrradiance) {
+            VF sun[3];
+            Transmittance<M>(k, h1, lf_r1, lf_m1, sun);
+            for (int c = 0; c < 3; ++c) {
+                out.SunIrradiance(c,
+                                  hn::IfThenElseZero(seg.valid, hn::Mul(K(k.sun_top[c]), sun[c])));
+            }
+        }
+        if constexpr (!kInScattering) return seg.valid;
+
+        // A blocked end borrows the other end's factor; the shadow is tested per node.
+        const MF lit1 =
+            hn::And(hn::Lt(lf_r1, K(kBlockedLogColumn)), hn::Lt(lf_m1, K(kBlockedLogColumn)));
+        const VF lr0 = k.eye_lit ? K(k.eye_log_chapman_r) : lf_r1;
+        const VF lm0 = k.eye_lit ? K(k.eye_log_chapman_m) : lf_m1;
+        const VF lr1 = hn::IfThenElse(lit1, lf_r1, lr0);
+        const VF lm1 = hn::IfThenElse(lit1, lf_m1, lm0);
+        const MF active = k.eye_lit ? hn::Eq(zero, zero) : lit1;
+
+        VF sunlit_r[3] = {zero, zero, zero};
+        VF sunlit_m[3] = {zero, zero, zero};
+        if (k.k_total > 0.0f && !hn::AllFalse(d, hn::And(active, seg.valid))) {
+            const VF k_r0 = K(k.k_r0), k_m0 = K(k.k_m0);
+            const VF a_r = hn::Mul(rise, K(k.inv_hr));
+            const VF a_m = hn::Mul(rise, K(k.inv_hm));
+            // G optical depth to the vertex and the extinction there, relative to the eye's.
+            const VF z_r = hn::Min(hn::Neg(a_r), K(80.0f));
+            const VF z_m = hn::Min(hn::Neg(a_m), K(80.0f));
+            const VF exp_r = M::Exp(z_r), exp_m = M::Exp(z_m);
+            const VF tau_total = hn::Mul(
+                s, hn::MulAdd(k_r0, ExpAverageFrom(z_r, Expm1GivenExp(z_r, exp_r)),
+                              hn::Mul(k_m0, ExpAverageFrom(z_m, Expm1GivenExp(z_m, exp_m)))));
+            const VF k_end = hn::MulAdd(k_r0, exp_r, hn::Mul(k_m0, exp_m));
+            const VF a_fit =
+                Clamp(hn::IfThenElse(hn::Gt(k_end, zero),
+                                     SafeLog<M>(hn::Min(hn::Div(K(k.k_total), k_end),
+                                                        K(std::numeric_limits<float>::max()))),
+                                     K(80.0f)),
+                      -80.0f, 80.0f);
+            // log_one_minus_exp_over_x(a_fit) + log_one_minus_exp_over_x(tau_total), as one log.
+            const VF expm1_fit = Expm1<M>(hn::Neg(a_fit));
+            const VF expm1_total = Expm1<M>(hn::Neg(tau_total));
+            const VF log_scale =
+                SafeLog<M>(hn::Mul(ExpAverageFrom(hn::Neg(a_fit), expm1_fit),
+                                   ExpAverageFrom(hn::Neg(tau_total), expm1_total)));
+            // Where tau_total < 1e-4 the fitted depth is linear in the node and the fraction is
+            // the node itself; elsewhere 1 / tau_total is safe (it overflows for subnormals).
+            const MF total_small = hn::Lt(tau_total, K(1e-4f));
+            const VF inv_total = hn::Div(K(1.0f), hn::Max(tau_total, K(1e-4f)));
+            const MF fit_small = hn::Lt(hn::Abs(a_fit), K(1e-4f));
+            const VF inv_fit = hn::Div(K(1.0f), hn::IfThenElse(fit_small, K(1.0f), a_fit));
+            // in_planet_shadow along the segment (FrameConstants::shadow_*), with the part of d
+            // across the sun taken as a vector: |d|^2 - (d.sun)^2 cancels when d is along it.
+            const VF sun_x = K(k.sun[0]), sun_y = K(k.sun[1]), sun_z = K(k.sun[2]);
+            const VF d_sun = Dot(seg.dx, seg.dy, seg.dz, sun_x, sun_y, sun_z);
+            const VF px = hn::NegMulAdd(sun_x, d_sun, seg.dx);
+            const VF py = hn::NegMulAdd(sun_y, d_sun, seg.dy);
+            const VF pz = hn::NegMulAdd(sun_z, d_sun, seg.dz);
+            const VF perpendicular_sq = Dot(px, py, pz, px, py, pz);
+            const VF across_d =
+                hn::Mul(K(2.0f), Dot(px, py, pz, K(k.shadow_across_eye[0]),
+                                     K(k.shadow_across_eye[1]), K(k.shadow_across_eye[2])));
+            for (int n = 0; n < 3; ++n) {
+                const VF node = K(simd::kSunNodes[n]);
+                // Fitted optical depth to the node, the fraction of the total, and the u where
+                // the one-exponential fit reaches it (exponential_quantile).
+                const VF tau_fit = hn::IfThenElse(total_small, hn::Mul(node, tau_total),
+                                                  hn::Neg(M::Log1p(hn::Mul(node, expm1_total))));
+                const VF fraction = hn::IfThenElse(total_small, node,
+                                                   Clamp(hn::Mul(tau_fit, inv_total), 0.0f, 1.0f));
+                const VF quantile_arg = hn::Mul(fraction, expm1_fit);
+                const VF quantile = hn::IfThenElse(
+                    hn::Le(hn::Add(quantile_arg, K(1.0f)), zero), K(1.0f),
+                    Clamp(hn::Mul(hn::Neg(M::Log1p(quantile_arg)), inv_fit), 0.0f, 1.0f));
+                const VF series =
+                    hn::NegMulAdd(hn::Mul(a_fit, fraction),
+                                  hn::Mul(hn::Sub(K(1.0f), fraction), K(0.5f)), fraction);
+                const VF u = hn::IfThenElse(fit_small, series, quantile);
+                // in_planet_shadow at eye + d u: on the night side, within the cylinder.
+                const VF along = hn::MulAdd(u, d_sun, K(k.shadow_along_eye));
+                const VF excess = hn::MulAdd(u, hn::MulAdd(u, perpendicular_sq, across_d),
+                                             K(k.shadow_excess_eye));
+                const MF shadow = hn::And(hn::Lt(along, zero), hn::Lt(excess, zero));
+                const VF h = hn::Max(
+                    hn::NegMulAdd(hn::Mul(sag, u), hn::Sub(K(1.0f), u), hn::MulAdd(rise, u, h0)),
+                    min_h);
+                // tau_to(u): G optical depth from the eye to u.
+                const VF tau_u =
+                    hn::Mul(hn::Mul(s, u),
+                            hn::MulAdd(k_r0, ExponentialAverage<M>(hn::Mul(a_r, u)),
+                                       hn::Mul(k_m0, ExponentialAverage<M>(hn::Mul(a_m, u)))));
+                const VF log_jacobian =
+                    hn::Add(hn::MulAdd(a_fit, u, hn::Sub(tau_fit, tau_u)), log_scale);
+                const VF w_r =
+                    M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hr), log_jacobian), K(80.0f)));
+                const VF w_m =
+                    M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hm), log_jacobian), K(80.0f)));
+                VF sun[3];
+                Transmittance<M>(k, h, hn::MulAdd(hn::Sub(lr1, lr0), u, lr0),
+                                 hn::MulAdd(hn::Sub(lm1, lm0), u, lm0), sun);
+                const MF lit = hn::AndNot(shadow, active);
+                for (int c = 0; c < 3; ++c) {
+                    const VF weighted =
+                        hn::IfThenElseZero(lit, hn::Mul(K(simd::kSunWeights[n]), sun[c]));
+                    sunlit_r[c] = hn::MulAdd(w_r, weighted, sunlit_r[c]);
+                    sunlit_m[c] = hn::MulAdd(w_m, weighted, sunlit_m[c]);
+                }
+            }
+        }
+
+        // Per channel: phases, the closed-form path factor s phi(tau_c) / phi(tau_G), L_in.
+        VF phase_r, phase_m;
+        Phases<M>(k, seg.dx, seg.dy, seg.dz, s, phase_r, phase_m);
+        VF path[3];
+        for (int c = 0; c < 3; ++c) {
+            const VF minus_tau = hn::Neg(tau[c]);
+            path[c] = ExpAverageFrom(minus_tau, Expm1GivenExp(minus_tau, extinction[c]));
+        }
+        const VF inv_green = hn::Div(s, hn::Max(path[1], K(kTiny)));
+        for (int c = 0; c < 3; ++c) {
+            const VF scattering =
+                hn::MulAdd(hn::Mul(K(k.rayleigh[c]), phase_r), sunlit_r[c],
+                           hn::Mul(hn::Mul(K(k.mie_scattering[c]), phase_m), sunlit_m[c]));
+            const VF value =
+                hn::Mul(hn::Mul(scattering, K(k.sun_top[c])), hn::Mul(path[c], inv_green));
+            out.InScattering(c, hn::IfThenElseZero(seg.valid, value));
+        }
+        return seg.valid;
+    });
+}
+
+// ---- Per-target entry points ------------------------------------------------------------------
+
+template <class M>
+std::size_t ShadeWith(const FrameConstants& k, Model model, const KernelBlock& b) {
+    const bool in_scattering = b.in_scattering[0] || b.in_scattering[1] || b.in_scattering[2];
+    const bool sun = b.sun_irradiance[0] || b.sun_irradiance[1] || b.sun_irradiance[2];
+    if (model == Model::hoffman_preetham) {
+        return in_scattering ? ShadeHoffmanPreetham<M, true>(k, b)
+                             : ShadeHoffmanPreetham<M, false>(k, b);
+    }
+    if (in_scattering) {
+        return sun ? ShadeHeight<M, true, true>(k, b) : ShadeHeight<M, true, false>(k, b);
+    }
+    return sun ? ShadeHeight<M, false, true>(k, b) : ShadeHeight<M, false, false>(k, b);
+}
+
+std::size_t ShadeBlockSimd(const Frame<float>& frame, const KernelBlock& block, bool fast) {
+    if (block.count == 0) return 0;
+    const FrameConstants k = simd::make_frame_constants(frame);
+    return fast ? ShadeWith<FastMath>(k, frame.model, block)
+                : ShadeWith<AccurateMath>(k, frame.model, block);
+}
+
+const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
+
+/// Applies a vector function to n floats (any n), through padded copies for the tail.
+template <class F>
+void ApplyToArray(const float* in, float* out, std::size_t n, const F& f) {
+    const DF d;
+    const std::size_t lanes = hn::Lanes(d);
+    HWY_ALIGN float pad[kMaxLanes] = {};
+    for (std::size_t i = 0; i < n; i += lanes) {
+        const std::size_t m = std::min(lanes, n - i);
+        std::memcpy(pad, in + i, m * sizeof(float));
+        hn::Store(f(hn::Load(d, pad)), d, pad);
+        std::memcpy(out + i, pad, m * sizeof(float));
+    }
+}
+
+void ErfcxArray(const float* in, float* out, std::size_t n) {
+    ApplyToArray(in, out, n, [](VF y) { return Erfcx<AccurateMath>(y); });
+}
+void FastExp2Array(const float* in, float* out, std::size_t n) {
+    ApplyToArray(in, out, n, [](VF x) { return FastExp2(x); });
+}
+void FastLog2Array(const float* in, float* out, std::size_t n) {
+    ApplyToArray(in, out, n, [](VF x) { return FastLog2(x); });
+}
+
+// NOLINTNEXTLINE(google-readability-namespace-comments)
+}  // namespace HWY_NAMESPACE
+}  // namespace aerial::detail
+HWY_AFTER_NAMESPACE();
+
+// ---- Dispatch ---------------------------------------------------------------------------------
+#if HWY_ONCE
+namespace aerial::detail {
+
+HWY_EXPORT(ShadeBlockSimd);
+HWY_EXPORT(TargetName);
+HWY_EXPORT(ErfcxArray);
+HWY_EXPORT(FastExp2Array);
+HWY_EXPORT(FastLog2Array);
+
+std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block,
+                             KernelPrecision precision) {
+    if (frame.model != Model::hoffman_preetham && frame.model != Model::height) {
+        return shade_block_scalar(frame, block);  // the reference model has no SIMD kernel
+    }
+    return HWY_DYNAMIC_DISPATCH(ShadeBlockSimd)(frame, block, precision == KernelPrecision::fast);
+}
+
+const char* simd_target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
+
+// Test hooks (declared by tests/core/test_batch_kernels.cpp): the dispatched target's building
+// blocks applied to arrays, for accuracy tests against the standard library in double.
+void simd_erfcx(const float* y, float* out, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(ErfcxArray)(y, out, n);
+}
+void simd_fast_exp2(const float* x, float* out, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(FastExp2Array)(x, out, n);
+}
+void simd_fast_log2(const float* x, float* out, std::size_t n) {
+    HWY_DYNAMIC_DISPATCH(FastLog2Array)(x, out, n);
+}
+
+// Test hooks: the targets compiled here that this CPU runs, and forcing one of them (an empty
+// name goes back to the best), so that the tests cover every code path a user's CPU may take.
+std::vector<std::string> simd_test_targets() {
+    std::vector<std::string> names;
+    for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
+        names.emplace_back(hwy::TargetName(target));
+    }
+    return names;
+}
+bool simd_test_use_target(const std::string& name) {
+    hwy::SetSupportedTargetsForTest(0);
+    if (name.empty()) return true;
+    for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
+        if (name == hwy::TargetName(target)) {
+            hwy::SetSupportedTargetsForTest(target);
+            return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace aerial::detail
+#endif  // HWY_ONCE

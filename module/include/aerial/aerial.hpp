@@ -10,6 +10,7 @@
 #pragma once
 
 #include "aerial/atmosphere.hpp"
+#include "aerial/batch.hpp"
 #include "aerial/error.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/scattering.hpp"

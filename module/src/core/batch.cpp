@@ -1,0 +1,265 @@
+// The batch API: validation, splitting into threads and blocks, gathering strided positions into
+// structure-of-arrays blocks for the kernels, and packing their float results into the caller's
+// RGBA8 / float arrays.
+#include "aerial/batch.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include "batch_kernels.hpp"
+#include "format.hpp"
+
+namespace aerial {
+namespace {
+
+using detail::kBlockSize;
+
+const float* advance(const float* p, std::size_t bytes) {
+    return reinterpret_cast<const float*>(reinterpret_cast<const unsigned char*>(p) + bytes);
+}
+
+/// Scratch of one block, in structure-of-arrays form.
+struct BlockScratch {
+    alignas(64) float x[kBlockSize];
+    alignas(64) float y[kBlockSize];
+    alignas(64) float z[kBlockSize];
+    alignas(64) float extinction[3][kBlockSize];
+    alignas(64) float in_scattering[3][kBlockSize];
+    alignas(64) float sun_irradiance[3][kBlockSize];
+};
+
+struct Plan {
+    const Frame<float>& frame;
+    const Positions& positions;
+    const BatchOutputs& out;
+    const BatchSettings& settings;
+    bool need_extinction;
+    bool need_in_scattering;
+    bool need_sun;
+    std::size_t extinction_rgba8_stride;
+    std::size_t lit_rgba8_stride;
+    std::size_t in_scattering_rgba8_stride;
+    std::size_t extinction_rgb_stride;
+    std::size_t in_scattering_rgb_stride;
+    std::size_t sun_irradiance_rgb_stride;
+    std::size_t normal_stride;
+};
+
+void store_rgba8(std::uint8_t* base, std::size_t stride, std::size_t first, std::size_t n,
+                 const float (&value)[3][kBlockSize]) {
+    for (std::size_t i = 0; i < n; ++i) {
+        std::uint8_t* texel = base + (first + i) * stride;
+        texel[0] = to_unorm8(value[0][i]);
+        texel[1] = to_unorm8(value[1][i]);
+        texel[2] = to_unorm8(value[2][i]);
+        texel[3] = 255;
+    }
+}
+
+void store_rgb(float* base, std::size_t stride_bytes, std::size_t first, std::size_t n,
+               const float (&value)[3][kBlockSize]) {
+    auto* bytes = reinterpret_cast<unsigned char*>(base);
+    for (std::size_t i = 0; i < n; ++i) {
+        float* rgb = reinterpret_cast<float*>(bytes + (first + i) * stride_bytes);
+        rgb[0] = value[0][i];
+        rgb[1] = value[1][i];
+        rgb[2] = value[2][i];
+    }
+}
+
+/// Maps a block of linear radiance through the display into [0, 1], in place.
+void apply_display(const Display& display, std::size_t n, float (&value)[3][kBlockSize]) {
+    for (int c = 0; c < 3; ++c) {
+        for (std::size_t i = 0; i < n; ++i) value[c][i] = display_value(display, value[c][i]);
+    }
+}
+
+/// Shades vertices [first, last) block by block; returns the invalid-vertex count.
+std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
+    const Positions& pos = plan.positions;
+    const BatchOutputs& out = plan.out;
+    const bool simd =
+        plan.frame.model != Model::reference && plan.settings.kernel != Kernel::scalar;
+    const detail::KernelPrecision precision = plan.settings.kernel == Kernel::simd_fast
+                                                  ? detail::KernelPrecision::fast
+                                                  : detail::KernelPrecision::accurate;
+    BlockScratch scratch;
+    std::size_t invalid = 0;
+    for (std::size_t begin = first; begin < last; begin += kBlockSize) {
+        const std::size_t n = std::min(kBlockSize, last - begin);
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t offset = (begin + i) * pos.stride_bytes;
+            scratch.x[i] = *advance(pos.x, offset);
+            scratch.y[i] = *advance(pos.y, offset);
+            scratch.z[i] = *advance(pos.z, offset);
+        }
+        detail::KernelBlock block;
+        block.x = scratch.x;
+        block.y = scratch.y;
+        block.z = scratch.z;
+        block.count = n;
+        for (int c = 0; c < 3; ++c) {
+            if (plan.need_extinction) block.extinction[c] = scratch.extinction[c];
+            if (plan.need_in_scattering) block.in_scattering[c] = scratch.in_scattering[c];
+            if (plan.need_sun) block.sun_irradiance[c] = scratch.sun_irradiance[c];
+        }
+        invalid += simd ? detail::shade_block_simd(plan.frame, block, precision)
+                        : detail::shade_block_scalar(plan.frame, block);
+
+        if (out.extinction_rgb) {
+            store_rgb(out.extinction_rgb, plan.extinction_rgb_stride, begin, n, scratch.extinction);
+        }
+        if (out.in_scattering_rgb) {
+            store_rgb(out.in_scattering_rgb, plan.in_scattering_rgb_stride, begin, n,
+                      scratch.in_scattering);
+        }
+        if (out.sun_irradiance_rgb) {
+            store_rgb(out.sun_irradiance_rgb, plan.sun_irradiance_rgb_stride, begin, n,
+                      scratch.sun_irradiance);
+        }
+        if (out.extinction_rgba8) {
+            store_rgba8(out.extinction_rgba8, plan.extinction_rgba8_stride, begin, n,
+                        scratch.extinction);
+        }
+        if (out.in_scattering_rgba8) {
+            apply_display(plan.settings.display, n, scratch.in_scattering);
+            store_rgba8(out.in_scattering_rgba8, plan.in_scattering_rgba8_stride, begin, n,
+                        scratch.in_scattering);
+        }
+        if (out.lit_rgba8) {
+            // F_ex x albedo x (E_sun max(N.L, 0) + ambient), written over the sun scratch.
+            const Lighting& light = *plan.settings.lighting;
+            const glm::vec3 sun = plan.frame.sun_dir;
+            for (std::size_t i = 0; i < n; ++i) {
+                const float* normal = advance(light.normals, (begin + i) * plan.normal_stride);
+                const float n_dot_l =
+                    std::max(normal[0] * sun.x + normal[1] * sun.y + normal[2] * sun.z, 0.0f);
+                for (int c = 0; c < 3; ++c) {
+                    scratch.sun_irradiance[c][i] =
+                        scratch.extinction[c][i] * light.albedo[c] *
+                        (scratch.sun_irradiance[c][i] * n_dot_l + light.ambient[c]);
+                }
+            }
+            apply_display(plan.settings.display, n, scratch.sun_irradiance);
+            store_rgba8(out.lit_rgba8, plan.lit_rgba8_stride, begin, n, scratch.sun_irradiance);
+        }
+    }
+    return invalid;
+}
+
+std::optional<Error> check_stride(const char* field, std::size_t stride, std::size_t element) {
+    if (stride != 0 && stride < element) {
+        return Error{field, std::string(field) + " must be 0 (packed) or >= " +
+                                std::to_string(element) + " bytes, got " + std::to_string(stride)};
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
+Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positions,
+                              const BatchOutputs& out, const BatchSettings& settings) {
+    constexpr const char* kWhere = "aerial::shade_into(): ";
+    if (positions.count > 0 && (!positions.x || !positions.y || !positions.z)) {
+        return Error{"positions", std::string(kWhere) + "positions has a null array for " +
+                                      std::to_string(positions.count) + " vertices"};
+    }
+    if (positions.count > 0 && positions.stride_bytes < sizeof(float)) {
+        return Error{"positions.stride_bytes", std::string(kWhere) +
+                                                   "positions.stride_bytes must be >= 4, got " +
+                                                   std::to_string(positions.stride_bytes)};
+    }
+    if (!out.extinction_rgba8 && !out.lit_rgba8 && !out.in_scattering_rgba8 &&
+        !out.extinction_rgb && !out.in_scattering_rgb && !out.sun_irradiance_rgb) {
+        return Error{"outputs", std::string(kWhere) + "no output array is set"};
+    }
+    const struct {
+        const char* field;
+        std::size_t stride;
+        std::size_t element;
+    } strides[] = {{"extinction_rgba8_stride", out.extinction_rgba8_stride, 4},
+                   {"lit_rgba8_stride", out.lit_rgba8_stride, 4},
+                   {"in_scattering_rgba8_stride", out.in_scattering_rgba8_stride, 4},
+                   {"extinction_rgb_stride", out.extinction_rgb_stride, 12},
+                   {"in_scattering_rgb_stride", out.in_scattering_rgb_stride, 12},
+                   {"sun_irradiance_rgb_stride", out.sun_irradiance_rgb_stride, 12}};
+    for (const auto& s : strides) {
+        if (auto e = check_stride(s.field, s.stride, s.element)) {
+            return Error{e->field, kWhere + e->message};
+        }
+    }
+    if (out.lit_rgba8 && (!settings.lighting || !settings.lighting->normals)) {
+        return Error{"lighting", std::string(kWhere) +
+                                     "lit_rgba8 needs settings.lighting with normals, got none"};
+    }
+    if (settings.lighting) {
+        if (auto e = check_stride("lighting.normal_stride_bytes",
+                                  settings.lighting->normal_stride_bytes, 12)) {
+            return Error{e->field, kWhere + e->message};
+        }
+    }
+    if (!std::isfinite(settings.display.exposure) || settings.display.exposure <= 0.0f) {
+        return Error{"display.exposure", std::string(kWhere) +
+                                             "display.exposure must be finite and > 0, got " +
+                                             detail::format_number(settings.display.exposure)};
+    }
+
+    auto packed = [](std::size_t stride, std::size_t element) { return stride ? stride : element; };
+    const Plan plan{frame,
+                    positions,
+                    out,
+                    settings,
+                    out.extinction_rgba8 || out.lit_rgba8 || out.extinction_rgb,
+                    out.in_scattering_rgba8 || out.in_scattering_rgb,
+                    out.lit_rgba8 || out.sun_irradiance_rgb,
+                    packed(out.extinction_rgba8_stride, 4),
+                    packed(out.lit_rgba8_stride, 4),
+                    packed(out.in_scattering_rgba8_stride, 4),
+                    packed(out.extinction_rgb_stride, 12),
+                    packed(out.in_scattering_rgb_stride, 12),
+                    packed(out.sun_irradiance_rgb_stride, 12),
+                    settings.lighting ? packed(settings.lighting->normal_stride_bytes, 12) : 12};
+
+    BatchStats stats;
+    stats.vertices = positions.count;
+    const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+    const unsigned wanted = settings.threads ? settings.threads : hardware;
+    const std::size_t per_thread = std::max<std::size_t>(settings.min_vertices_per_thread, 1);
+    const unsigned threads = static_cast<unsigned>(
+        std::max<std::size_t>(1, std::min<std::size_t>(wanted, positions.count / per_thread)));
+    stats.threads_used = threads;
+    if (threads == 1) {
+        stats.invalid_vertices = shade_range(plan, 0, positions.count);
+        return stats;
+    }
+    // Contiguous chunks, whole blocks each: the caller's thread takes the first.
+    const std::size_t blocks = (positions.count + kBlockSize - 1) / kBlockSize;
+    std::vector<std::size_t> invalid(threads, 0);
+    std::vector<std::thread> workers;
+    workers.reserve(threads - 1);
+    auto chunk = [&](unsigned t) {
+        const std::size_t first = std::min(positions.count, blocks * t / threads * kBlockSize);
+        const std::size_t last = std::min(positions.count, blocks * (t + 1) / threads * kBlockSize);
+        invalid[t] = shade_range(plan, first, last);
+    };
+    for (unsigned t = 1; t < threads; ++t) {
+        try {
+            workers.emplace_back(chunk, t);
+        } catch (const std::system_error&) {
+            chunk(t);  // no thread to be had: do that chunk here rather than fail
+        }
+    }
+    chunk(0);
+    for (auto& w : workers) w.join();
+    for (std::size_t v : invalid) stats.invalid_vertices += v;
+    return stats;
+}
+
+const char* simd_target() { return detail::simd_target_name(); }
+
+}  // namespace aerial

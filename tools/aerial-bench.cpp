@@ -1,0 +1,159 @@
+// aerial-bench: benchmarks of the module. --cpu-throughput measures the CPU batch path against a
+// plain std::exp loop and against the memory limit, all in one run (ratios, not absolute times,
+// are what a shared machine reproduces).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <functional>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <glm/geometric.hpp>
+
+#include "aerial/aerial.hpp"
+#include "aerial/batch.hpp"
+#include "common/cli.hpp"
+
+namespace {
+
+constexpr const char* kTool = "aerial-bench";
+
+/// A terrain-like cloud: a square grid of `count` vertices spanning 20 km around the origin,
+/// gently undulating, seen from 100 m up. AoS floats, 12-byte records.
+std::vector<float> terrain_positions(std::size_t count) {
+    const auto side = static_cast<std::size_t>(std::ceil(std::sqrt(double(count))));
+    std::vector<float> xyz;
+    xyz.reserve(3 * count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const double u = double(i % side) / double(side) - 0.5;
+        const double v = double(i / side) / double(side) - 0.5;
+        const double x = 20000.0 * u, y = 20000.0 * v;
+        xyz.push_back(float(x));
+        xyz.push_back(float(y));
+        xyz.push_back(float(60.0 * std::sin(x * 0.0011) * std::cos(y * 0.0007)));
+    }
+    return xyz;
+}
+
+/// Best wall time of `repetitions` runs, seconds.
+double best_of(int repetitions, const std::function<void()>& run) {
+    double best = 1e300;
+    for (int r = 0; r < repetitions; ++r) {
+        const auto start = std::chrono::steady_clock::now();
+        run();
+        const auto stop = std::chrono::steady_clock::now();
+        best = std::min(best, std::chrono::duration<double>(stop - start).count());
+    }
+    return best;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "Benchmarks of the aerial module. --cpu-throughput: Mvertices/s of the CPU batch\n"
+        "path (F_ex and L_in as RGBA8) with a plain std::exp loop (scalar), the SIMD\n"
+        "kernels on one thread and on all, against a loop that only reads the same\n"
+        "positions and writes the same bytes (stream, the memory limit); best of\n"
+        "several repetitions, all in one run.",
+        kTool};
+    bool cpu_throughput = false;
+    std::size_t vertices = 2'000'000;
+    int repetitions = 7;
+    std::string model_text = "hoffman-preetham", preset = "earth";
+    app.add_flag("--cpu-throughput", cpu_throughput, "Measure the CPU batch path");
+    app.add_option("--vertices", vertices,
+                   "Vertices per batch (default 2000000, at least 1000000 "
+                   "for the figures the docs quote)");
+    app.add_option("--repetitions", repetitions, "Runs per figure; the best is kept (default 7)");
+    app.add_option("--model", model_text, "hoffman-preetham (default) or height");
+    app.add_option("--preset", preset, "Atmosphere preset (default earth)");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp&) {
+        std::printf("%s", app.help().c_str());
+        return 0;
+    } catch (const CLI::ParseError& e) {
+        return aerial::tools::fail(kTool, std::string(e.what()) + " (see --help)");
+    }
+    if (!cpu_throughput) return aerial::tools::fail(kTool, "nothing to do: give --cpu-throughput");
+    if (vertices < 1 || vertices > 200'000'000) {
+        return aerial::tools::fail(
+            kTool, "--vertices must be in [1, 200000000], got " + std::to_string(vertices));
+    }
+    if (repetitions < 1 || repetitions > 1000) {
+        return aerial::tools::fail(
+            kTool, "--repetitions must be in [1, 1000], got " + std::to_string(repetitions));
+    }
+    const auto model = aerial::parse_model(model_text);
+    if (!model) return aerial::tools::fail(kTool, "--model: " + model.error().message);
+    if (*model == aerial::Model::reference) {
+        return aerial::tools::fail(kTool, "--model: reference has no SIMD kernel to measure");
+    }
+    const auto atmosphere = aerial::atmosphere_preset(preset);
+    if (!atmosphere) return aerial::tools::fail(kTool, "--preset: " + atmosphere.error().message);
+
+    aerial::View view;
+    view.eye = {0.0, 0.0, 100.0};
+    view.sun_dir = glm::normalize(glm::dvec3(0.3, 0.6, 0.5));
+    const auto frame = aerial::prepare_frame<float>(*atmosphere, view, *model);
+    if (!frame) return aerial::tools::fail(kTool, frame.error().message);
+
+    const std::vector<float> xyz = terrain_positions(vertices);
+    const aerial::Positions positions = aerial::Positions::aos(xyz.data(), vertices);
+    std::vector<std::uint8_t> extinction(4 * vertices), in_scattering(4 * vertices);
+    aerial::BatchOutputs out;
+    out.extinction_rgba8 = extinction.data();
+    out.in_scattering_rgba8 = in_scattering.data();
+
+    auto run_batch = [&](aerial::Kernel kernel, unsigned threads) {
+        aerial::BatchSettings settings;
+        settings.kernel = kernel;
+        settings.threads = threads;
+        settings.display.exposure = 20.0f;
+        return best_of(repetitions, [&] {
+            const auto stats = aerial::shade_into(*frame, positions, out, settings);
+            if (!stats) std::fprintf(stderr, "%s\n", stats.error().message.c_str());
+        });
+    };
+    // The memory limit: read the same positions, write the same 8 bytes per vertex.
+    auto run_stream = [&] {
+        return best_of(repetitions, [&] {
+            std::uint32_t* e = reinterpret_cast<std::uint32_t*>(extinction.data());
+            std::uint32_t* l = reinterpret_cast<std::uint32_t*>(in_scattering.data());
+            for (std::size_t i = 0; i < vertices; ++i) {
+                std::uint32_t a, b, c;
+                std::memcpy(&a, &xyz[3 * i], 4);
+                std::memcpy(&b, &xyz[3 * i + 1], 4);
+                std::memcpy(&c, &xyz[3 * i + 2], 4);
+                e[i] = a ^ b;
+                l[i] = b ^ c;
+            }
+        });
+    };
+
+    const double mverts = double(vertices) / 1e6;
+    const double stream = mverts / run_stream();
+    const double scalar = mverts / run_batch(aerial::Kernel::scalar, 1);
+    const double simd = mverts / run_batch(aerial::Kernel::simd, 1);
+    const double simd_fast = mverts / run_batch(aerial::Kernel::simd_fast, 1);
+    const double simd_threads = mverts / run_batch(aerial::Kernel::simd, 0);
+    const double simd_fast_threads = mverts / run_batch(aerial::Kernel::simd_fast, 0);
+    std::printf("model=%s preset=%s vertices=%zu repetitions=%d simd_target=%s threads=%u\n",
+                model_text.c_str(), preset.c_str(), vertices, repetitions, aerial::simd_target(),
+                std::max(1u, std::thread::hardware_concurrency()));
+    std::printf(
+        "throughput: scalar=%.1f simd=%.1f simd_threads=%.1f stream=%.1f "
+        "ratio_simd_stream=%.2f ratio_simd_scalar=%.1f\n",
+        scalar, simd, simd_threads, stream, simd / stream, simd / scalar);
+    std::printf(
+        "fast exp: simd_fast=%.1f simd_fast_threads=%.1f ratio_fast_simd=%.2f "
+        "ratio_threads_simd=%.2f\n",
+        simd_fast, simd_fast_threads, simd_fast / simd, simd_threads / simd);
+    return 0;
+}

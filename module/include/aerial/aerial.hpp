@@ -11,6 +11,7 @@
 
 #include "aerial/atmosphere.hpp"
 #include "aerial/batch.hpp"
+#include "aerial/cache.hpp"
 #include "aerial/error.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/scattering.hpp"

@@ -112,9 +112,13 @@ TEST(PhaseFunction, FiniteAndPositiveNearTheLimitsInFloat) {
             EXPECT_TRUE(std::isfinite(cs) && cs > 0.0f) << "CS g=" << g << " mu=" << mu;
         }
     }
-    // At g = 0.999 the forward peak is (1+g)/(4 pi (1-g)^2) = 1.59e5 /sr: float must get it.
-    const float peak = aerial::henyey_greenstein_phase(1.0f, 0.999f);
-    EXPECT_NEAR(peak, (1.0 + 0.999) / (4.0 * kPi * 1e-6), 0.001 * peak);
+    // At |g| = 0.999 the peak is (1+|g|)/(4 pi (1-|g|)^2) = 1.59e5 /sr, forwards for g > 0 and
+    // backwards for g < 0: float must get both (the naive 1 + g^2 - 2 g cos cancels).
+    for (float g : {0.999f, -0.999f}) {
+        const float peak = aerial::henyey_greenstein_phase(g > 0 ? 1.0f : -1.0f, g);
+        const double exact = aerial::henyey_greenstein_phase(g > 0 ? 1.0 : -1.0, double(g));
+        EXPECT_NEAR(peak, exact, 1e-4 * exact) << "g = " << g;
+    }
 }
 
 }  // namespace

@@ -26,13 +26,21 @@ T rayleigh_phase(T cos_theta) {
 }
 
 namespace detail {
-/// 1 + g^2 - 2 g cos_theta, written so that it stays accurate (and > 0) as g -> 1 and
-/// cos_theta -> 1, where the naive form cancels catastrophically in float.
+/// 1 + g^2 - 2 g cos_theta, written as (1 - |g|)^2 + 2 |g| (1 - sign(g) cos_theta) so that it
+/// stays accurate (and > 0) at the peak as |g| -> 1, where the naive form cancels
+/// catastrophically in float (for either sign of g).
 template <class T>
 T hg_denominator_base(T cos_theta, T g) {
     const T c = std::clamp(cos_theta, T(-1), T(1));
-    const T one_minus_g = T(1) - g;
-    return one_minus_g * one_minus_g + T(2) * g * (T(1) - c);
+    const T a = std::abs(g);
+    const T one_minus_a = T(1) - a;
+    return one_minus_a * one_minus_a + T(2) * a * (T(1) - (g < T(0) ? -c : c));
+}
+/// 1 - g^2 as (1 - |g|)(1 + |g|): no cancellation as |g| -> 1.
+template <class T>
+T one_minus_g_squared(T g) {
+    const T a = std::abs(g);
+    return (T(1) - a) * (T(1) + a);
 }
 }  // namespace detail
 
@@ -41,7 +49,7 @@ T hg_denominator_base(T cos_theta, T g) {
 template <class T>
 T henyey_greenstein_phase(T cos_theta, T g) {
     const T base = detail::hg_denominator_base(cos_theta, g);
-    return (T(1) - g * g) / (T(4.0 * kPi) * base * std::sqrt(base));
+    return detail::one_minus_g_squared(g) / (T(4.0 * kPi) * base * std::sqrt(base));
 }
 
 /// Cornette–Shanks phase function (1992), a Henyey–Greenstein variant with a Rayleigh-like
@@ -51,7 +59,7 @@ template <class T>
 T cornette_shanks_phase(T cos_theta, T g) {
     const T c = std::clamp(cos_theta, T(-1), T(1));
     const T base = detail::hg_denominator_base(c, g);
-    return T(3.0 / (8.0 * kPi)) * (T(1) - g * g) * (T(1) + c * c) /
+    return T(3.0 / (8.0 * kPi)) * detail::one_minus_g_squared(g) * (T(1) + c * c) /
            ((T(2) + g * g) * base * std::sqrt(base));
 }
 

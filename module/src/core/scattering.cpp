@@ -194,13 +194,18 @@ T exponential_quantile(T v, T k) {
 
 /// Whether the planet's shadow covers a point (metres, world frame): it lies on the night side
 /// within the cylinder of radius R around the axis through the planet centre along the sun.
+/// With c = p + R up, along = c.sun and |c|^2 - along^2 < R^2 is expanded so that no R^2 term is
+/// formed and cancelled in float: the edge stays sharp to millimetres.
 template <class T>
 bool in_planet_shadow(const Frame<T>& f, const Vec3<T>& p_m) {
-    const Vec3<T> c = p_m + f.up * f.planet_radius_m;
-    const T along = glm::dot(c, f.sun_dir);
+    const T r = f.planet_radius_m;
+    const T up_sun = glm::dot(f.up, f.sun_dir);
+    const T p_sun = glm::dot(p_m, f.sun_dir);
+    const T along = p_sun + r * up_sun;
     if (along >= T(0)) return false;
-    const Vec3<T> across = c - f.sun_dir * along;
-    return glm::dot(across, across) < f.planet_radius_m * f.planet_radius_m;
+    const T excess = glm::dot(p_m, p_m) + T(2) * r * glm::dot(p_m, f.up) - p_sun * p_sun -
+                     T(2) * r * p_sun * up_sun - r * r * up_sun * up_sun;
+    return excess < T(0);
 }
 
 template <class T>

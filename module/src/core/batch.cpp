@@ -50,15 +50,30 @@ struct Plan {
     std::size_t normal_stride;
 };
 
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+#error "store_rgba8 packs R, G, B, A into little-endian 32-bit words"
+#endif
+
+/// floor(clamp(v, 0, 1) * 255 + 0.5) for the finite values the kernels produce, written so the
+/// compiler vectorises it (to_unorm8 additionally maps NaN to 0).
+inline std::uint32_t unorm8_bits(float v) {
+    v = v > 0.0f ? v : 0.0f;
+    v = v < 1.0f ? v : 1.0f;
+    return static_cast<std::uint32_t>(static_cast<int>(v * 255.0f + 0.5f));
+}
+
 void store_rgba8(std::uint8_t* base, std::size_t stride, std::size_t first, std::size_t n,
                  const float (&value)[3][kBlockSize]) {
+    alignas(64) std::uint32_t packed[kBlockSize];  // R, G, B, A bytes in memory order
     for (std::size_t i = 0; i < n; ++i) {
-        std::uint8_t* texel = base + (first + i) * stride;
-        texel[0] = to_unorm8(value[0][i]);
-        texel[1] = to_unorm8(value[1][i]);
-        texel[2] = to_unorm8(value[2][i]);
-        texel[3] = 255;
+        packed[i] = unorm8_bits(value[0][i]) | unorm8_bits(value[1][i]) << 8 |
+                    unorm8_bits(value[2][i]) << 16 | 0xFF000000u;
     }
+    if (stride == 4) {
+        std::memcpy(base + first * 4, packed, n * 4);
+        return;
+    }
+    for (std::size_t i = 0; i < n; ++i) std::memcpy(base + (first + i) * stride, &packed[i], 4);
 }
 
 void store_rgb(float* base, std::size_t stride_bytes, std::size_t first, std::size_t n,
@@ -74,8 +89,17 @@ void store_rgb(float* base, std::size_t stride_bytes, std::size_t first, std::si
 
 /// Maps a block of linear radiance through the display into [0, 1], in place.
 void apply_display(const Display& display, std::size_t n, float (&value)[3][kBlockSize]) {
+    const float exposure = display.exposure;
     for (int c = 0; c < 3; ++c) {
-        for (std::size_t i = 0; i < n; ++i) value[c][i] = display_value(display, value[c][i]);
+        float* v = value[c];
+        if (display.tone == ToneCurve::clamp) {
+            for (std::size_t i = 0; i < n; ++i) {
+                const float x = exposure * v[i];
+                v[i] = x < 1.0f ? (x > 0.0f ? x : 0.0f) : 1.0f;  // vectorises
+            }
+        } else {
+            for (std::size_t i = 0; i < n; ++i) v[i] = display_value(display, v[i]);
+        }
     }
 }
 

@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "aerial/aerial.hpp"
+#include "aerial/arb_program.hpp"
 #include "common/cli.hpp"
 
 namespace {
@@ -22,7 +23,9 @@ constexpr const char* kDescription =
     "or stdin, and writes CSV of raw linear values (before exposure, unclamped):\n"
     "  x,y,z,fex_r,fex_g,fex_b,lin_r,lin_g,lin_b,esun_r,esun_g,esun_b\n"
     "esun is the sun irradiance reaching the point in that model. Vector flags take X,Y,Z; write\n"
-    "--eye=X,Y,Z when a value is negative. Exit status: 0 on success, 2 on bad input.";
+    "--eye=X,Y,Z when a value is negative. Exit status: 0 on success, 2 on bad input.\n"
+    "--print-arb-program prints the ARB vertex program of the hoffman-preetham model exactly as\n"
+    "it is handed to glProgramStringARB (no other flag is needed) and exits.";
 
 }  // namespace
 
@@ -35,9 +38,15 @@ int main(int argc, char** argv) {
                                       "Atmosphere preset: earth, hp2002, hazy, foggy, mars");
     auto* file_opt = app.add_option("--atmosphere", atmosphere_file, "Atmosphere JSON file");
     preset_opt->excludes(file_opt);
-    app.add_option("--eye", eye_text, "Eye position X,Y,Z in metres")->required();
-    app.add_option("--sun", sun_text, "Direction towards the sun X,Y,Z (normalised)")->required();
-    app.add_option("--model", model_text, "hoffman-preetham, height (default) or reference");
+    // --eye and --sun are required unless --print-arb-program is given (checked below).
+    auto* eye_opt = app.add_option("--eye", eye_text, "Eye position X,Y,Z in metres (required)");
+    auto* sun_opt =
+        app.add_option("--sun", sun_text, "Direction towards the sun X,Y,Z (normalised; required)");
+    auto* model_opt =
+        app.add_option("--model", model_text, "hoffman-preetham, height (default) or reference");
+    bool print_arb_program = false;
+    app.add_flag("--print-arb-program", print_arb_program,
+                 "Print the ARB vertex program (hoffman-preetham) as loaded into GL, and exit");
     app.add_option("--up", up_text, "World up axis X,Y,Z (normalised; default 0,0,1)");
     app.add_option("--points", points_file, "File of points x,y,z (default: stdin)");
     try {
@@ -50,6 +59,25 @@ int main(int argc, char** argv) {
         if (what.empty()) what = e.get_name();
         return tools::fail(kTool, what + " (see --help)");
     }
+
+    if (print_arb_program) {
+        if (model_opt->count() > 0 && model_text != model_name(Model::hoffman_preetham)) {
+            return tools::fail(kTool,
+                               "--model: the ARB vertex program exists for "
+                               "hoffman-preetham only, got '" +
+                                   model_text + "'");
+        }
+        const auto program = generate_arb_program();
+        if (!program) return tools::fail(kTool, program.error().message);
+        const std::string& text = program->text;
+        if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() ||
+            std::fflush(stdout) != 0) {
+            return tools::fail(kTool, "cannot write output");
+        }
+        return 0;
+    }
+    if (eye_opt->count() == 0) return tools::fail(kTool, "--eye is required (see --help)");
+    if (sun_opt->count() == 0) return tools::fail(kTool, "--sun is required (see --help)");
 
     Atmosphere atmosphere;
     if (preset_opt->count() == 0 && file_opt->count() == 0) {

@@ -1,0 +1,221 @@
+// aerial/arb_program.hpp — the 2002 model as an ARB vertex program (`!!ARBvp1.0` text), its
+// per-frame parameters, and a CPU interpreter of that text. Nothing here calls GL.
+//
+// How to use this:
+//   1. Once: `auto program = aerial::generate_arb_program(options);` and hand `program->text` as
+//      it is to glProgramStringARB(GL_VERTEX_PROGRAM_ARB, GL_PROGRAM_FORMAT_ASCII_ARB, ...).
+//   2. Per frame: `auto frame = aerial::prepare_frame<float>(atmosphere, view,
+//      aerial::Model::hoffman_preetham);` then `auto p = aerial::arb_program_parameters(*frame,
+//      display, options);` and upload p[i] to program.local[options.parameter_base + i]
+//      (glProgramLocalParameter4fvARB) or program.env[...] (glProgramEnvParameter4fvARB).
+//   3. Draw with the program bound and enabled, texture env MODULATE and GL_COLOR_SUM on: the
+//      primary colour is F_ex (it modulates the texture), the secondary colour is L_in with the
+//      exposure applied (it is added; GL clamps it to [0, 1]), the fog coordinate is the
+//      distance eye -> vertex in engine units.
+//   4. Without GL: `parse_arb_program(text)` then `run_arb_program(...)` execute the text on the
+//      CPU in float, optionally with the approximate instructions (EX2, RSQ, POW, ...) perturbed
+//      the way old hardware computes them.
+//
+// Vertex positions are read from vertex.position as world positions in engine units (what
+// aerial::scatter takes), and vertex.position.w must be 1 (glVertex3*, 3-component arrays).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "aerial/batch.hpp"
+#include "aerial/error.hpp"
+#include "aerial/scattering.hpp"
+
+namespace aerial {
+
+// ---- Generator -------------------------------------------------------------------------------
+
+/// Where the program reads its per-frame parameters from.
+enum class ParameterSpace {
+    local,  ///< program.local[i]: belongs to the program object (what Irrlicht and Ogre write)
+    env,    ///< program.env[i]: shared by every vertex program of the context
+};
+
+/// Resource limits of ARB_vertex_program. The defaults are the spec's minimums, which every
+/// implementation meets; pass a driver's MAX_PROGRAM_NATIVE_* values to check against those.
+struct ArbLimits {
+    int max_instructions = 128;  ///< MAX_PROGRAM_INSTRUCTIONS_ARB (minus 4 if position-invariant)
+    int max_temporaries = 12;    ///< MAX_PROGRAM_TEMPORARIES_ARB
+    int max_parameters = 96;     ///< MAX_PROGRAM_PARAMETERS_ARB, and the local/env index range
+    int max_attributes = 16;     ///< MAX_PROGRAM_ATTRIBS_ARB
+};
+
+/// Largest texture-coordinate set passed through (MAX_TEXTURE_COORDS of the hardware era).
+inline constexpr int kArbMaxTexcoordUnits = 8;
+
+/// Options of generate_arb_program and arb_program_parameters (use the same for both).
+struct ArbProgramOptions {
+    Model model = Model::hoffman_preetham;  ///< the only model with an ARB program so far
+    ParameterSpace parameter_space = ParameterSpace::local;
+    int parameter_base = 0;  ///< index of the first parameter, >= 0
+    /// Texture units whose coordinates are copied unchanged to the rasteriser (units 0 .. n-1),
+    /// 0 .. kArbMaxTexcoordUnits. Outputs a program does not write are undefined.
+    int texcoord_units = 1;
+    /// `OPTION ARB_position_invariant`: GL transforms the position exactly as the fixed pipeline
+    /// does (needed when passes with and without the program are mixed); saves 4 instructions.
+    bool position_invariant = false;
+    /// For hardware whose EX2 is only ~11 bits accurate: L_in = lin (1 - F_ex) cancels where F_ex
+    /// is close to 1, so such an EX2 would put an error of 2^-11 lin into L_in (lin: the haze at
+    /// infinity, many times display white towards a bright Mie lobe). The guard clamps F_ex
+    /// between its series bounds 1 - tau + tau^2/2 - tau^3/6 <= F_ex <= 1 - tau + tau^2/2, which
+    /// keeps L_in within 1 LSB at any exposure. Costs 7 instructions (29 by default); not
+    /// needed where EX2 is full precision (Mesa computes it in float; Direct3D asks 21 bits of
+    /// the vertex-shader exp that the same hardware runs).
+    bool guard_coarse_ex2 = false;
+    ArbLimits limits;  ///< checked by generate_arb_program
+};
+
+/// How many program.local / program.env vectors the program reads, starting at parameter_base.
+///
+/// Layout (index relative to parameter_base; x, y, z are the R, G, B channels where it applies):
+///   0  eye        xyz: eye position, engine units;  w: 1 - 2^-20 (vertex.w - eye.w = 2^-20
+///                 exactly, which keeps |vertex - eye|^2 >= 2^-40 for RSQ)
+///   1  sun        xyz: sun_dir (unit, towards the sun), negated when g < 0;  w: 0
+///   2  extinction xyz: -beta_ex * meters_per_unit * log2(e), per engine unit (EX2 argument / s);
+///                 w: 0
+///   3  rayleigh   xyz: exposure * E_sun * beta_R * 3/(16 pi) / beta_ex;  w: 0
+///   4  mie        xyz: exposure * E_sun * beta_M * (1 - g^2)/(4 pi) / beta_ex;  w: 0
+///   5  phase      (|g|, 1/4, (1 - |g|)^2, -1)
+/// with E_sun = frame.sun_irradiance_eye and beta_ex clamped per channel to at least
+/// 1e-12 * (largest channel) and 1e-30 /m, so that a channel without extinction stays finite (see
+/// arb_program_parameters). The program also declares the constant { 2, -1.5, 0, 0 }.
+inline constexpr int kArbParameterCount = 6;
+
+/// What a program uses, counted as the spec counts it (section 2.14.3.7).
+struct ArbResources {
+    int instructions = 0;  ///< executable instructions (not declarations, OPTION or END)
+    int temporaries = 0;   ///< TEMP variables
+    int parameters = 0;    ///< distinct parameter bindings: state vectors, local/env, constants
+    int attributes = 0;    ///< distinct vertex attributes
+};
+
+/// A generated program.
+struct ArbProgram {
+    std::string text;  ///< exactly what goes to glProgramStringARB; "!!ARBvp1.0" ... "END\n"
+    ArbResources resources;
+    int instruction_count = 0;  ///< resources.instructions, for convenience
+    ArbProgramOptions options;  ///< what it was generated with
+};
+
+/// Generates the program for options.model. Errors name the field: "model" (only
+/// hoffman-preetham has a program), "parameter_base", "texcoord_units", or the exceeded limit
+/// ("instructions", "temporaries", "parameters", "attributes").
+Result<ArbProgram> generate_arb_program(const ArbProgramOptions& options = {});
+
+/// The kArbParameterCount parameter vectors of one frame (element i goes to index
+/// options.parameter_base + i; layout above). Requires frame.model == hoffman_preetham, a finite
+/// display.exposure > 0 and display.tone == ToneCurve::clamp (GL clamps the secondary colour;
+/// the exponential curve has no room in the program). Every value is finite.
+///
+/// Extinction close to 0: the program computes L_in = A (1 - 2^(k s)) with A proportional to
+/// beta_sc / beta_ex, which is <= 1 and never overflows; only beta_ex = 0 (0/0) needs care, so
+/// each channel's beta_ex is raised to beta_min = max(1e-12 * max_c beta_ex, 1e-30 /m). In a
+/// raised channel (beta_sc <= beta_ex < beta_min) F_ex then differs from exp(-beta_ex s) by at
+/// most beta_min s, and L_in from the closed form by a relative beta_min s / 2. With
+/// beta_min s = 1e-12 tau_max (the optical depth of the densest channel), both stay below
+/// 0.5 LSB up to tau_max = 2e9: 2000 km of the densest fog the validation accepts (1 /m).
+Result<std::vector<std::array<float, 4>>> arb_program_parameters(
+    const Frame<float>& frame, const Display& display, const ArbProgramOptions& options = {});
+
+/// Checks counts against limits. `position_invariant` lowers the instruction limit by 4 (spec
+/// section 2.14.4.5.1). The error names the resource ("instructions", ...) and the GL limit.
+std::optional<Error> check_arb_limits(const ArbResources& resources, const ArbLimits& limits,
+                                      bool position_invariant);
+
+// ---- CPU interpreter -------------------------------------------------------------------------
+
+/// A program parsed for run_arb_program: the subset of ARB_vertex_program 1.0 that
+/// generate_arb_program emits, plus the other scalar instructions. Supported: OPTION
+/// ARB_position_invariant; ATTRIB (vertex.position, vertex.texcoord[n]); PARAM (program.local[i],
+/// program.env[i], state.matrix.mvp[.row[i]], constants); TEMP; OUTPUT (result.position,
+/// result.color[.primary|.secondary], result.fogcoord, result.texcoord[n]); the instructions
+/// MOV ADD SUB MUL MAD DP3 DP4 DPH MIN MAX SWZ EX2 LG2 EXP LOG RCP RSQ POW with swizzles, write
+/// masks and negation; `#` comments. Anything else (ARL, ALIAS, LIT, ...) is a parse error.
+struct ArbCpuProgramData;  // the parsed instructions and bindings (arb_interpreter.cpp)
+struct ArbCpuProgram {
+    std::shared_ptr<const ArbCpuProgramData> data;
+    ArbResources resources;
+    bool position_invariant = false;
+};
+
+/// Parses program text. Errors: field "line N", message "line N, column C: what is wrong".
+Result<ArbCpuProgram> parse_arb_program(std::string_view text);
+
+/// The GL state a program reads. Parameters the vectors do not hold read as NaN (GL would give
+/// 0 or a stale value), so that a missing upload shows in the results.
+struct ArbMachine {
+    std::vector<std::array<float, 4>> local;  ///< program.local[i]
+    std::vector<std::array<float, 4>> env;    ///< program.env[i]
+    /// state.matrix.mvp, row-major: clip = rows * position. Identity by default.
+    std::array<std::array<float, 4>, 4> mvp{
+        {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
+};
+
+/// One vertex's attributes.
+struct ArbVertex {
+    std::array<float, 4> position{0, 0, 0, 1};
+    std::array<std::array<float, 4>, kArbMaxTexcoordUnits> texcoord{};
+};
+
+/// One result register: its value and which components the program wrote (bit i = component i;
+/// unwritten components are NaN).
+struct ArbOutput {
+    std::array<float, 4> value{};
+    unsigned written = 0;
+};
+
+/// The results of one run, before GL clamps the colours.
+struct ArbResults {
+    ArbOutput position;  ///< clip coordinates (unwritten with ARB_position_invariant)
+    ArbOutput color_primary;
+    ArbOutput color_secondary;
+    ArbOutput fogcoord;
+    std::array<ArbOutput, kArbMaxTexcoordUnits> texcoord;
+};
+
+/// Instructions whose results are approximations in the spec (bit mask).
+enum ArbApprox : unsigned {
+    kArbApproxEx2 = 1u << 0,
+    kArbApproxLg2 = 1u << 1,
+    kArbApproxExp = 1u << 2,  ///< the z component (x and y are exact in the spec)
+    kArbApproxLog = 1u << 3,  ///< the z component
+    kArbApproxRcp = 1u << 4,
+    kArbApproxRsq = 1u << 5,
+    kArbApproxPow = 1u << 6,
+    kArbApproxAll = 0x7fu,
+};
+
+/// Models hardware whose approximate instructions are less precise than float: the n-th
+/// approximate instruction of the program (counting those in `perturbed`, in program order, from
+/// 0) has its result multiplied by 1 + relative_error if bit (n mod 32) of sign_pattern is set,
+/// else by 1 - relative_error. LG2 and LOG.z, whose error the spec states in log2 units, get
+/// +-relative_error added instead. relative_error = 2^-11 models the ~10-11 bits the spec
+/// promises for EXP/LOG. Deterministic: the same pattern gives the same results.
+struct ArbInterpreterOptions {
+    float relative_error = 0.0f;
+    std::uint32_t sign_pattern = 0;
+    unsigned perturbed = kArbApproxAll;
+};
+
+/// Runs the program on one vertex in float, instruction by instruction as the spec defines them.
+/// Temporaries start as NaN (the spec leaves them undefined).
+ArbResults run_arb_program(const ArbCpuProgram& program, const ArbMachine& machine,
+                           const ArbVertex& vertex, const ArbInterpreterOptions& options = {});
+
+/// The number of approximate instructions (of the kinds in `perturbed`) the program executes:
+/// the sign patterns 0 .. 2^n - 1 cover every combination of signs.
+int count_approximate_instructions(const ArbCpuProgram& program,
+                                   unsigned perturbed = kArbApproxAll);
+
+}  // namespace aerial

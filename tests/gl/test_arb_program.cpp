@@ -1,0 +1,988 @@
+// The ARB vertex program of the hoffman-preetham model: its size, its resources and limits, its
+// parameter layout, its options (local/env, texcoords, position invariance), and its output run
+// on the CPU interpreter against aerial::scatter, exactly and with old-hardware precision.
+#include <sys/wait.h>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <regex>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include "aerial/aerial.hpp"
+#include "aerial/arb_program.hpp"
+
+namespace {
+
+using aerial::ArbProgramOptions;
+using aerial::ArbResults;
+using aerial::Atmosphere;
+using aerial::Display;
+using aerial::Frame;
+using aerial::Model;
+using aerial::View;
+using Params = std::vector<std::array<float, 4>>;
+
+constexpr double kDegree = aerial::kPi / 180.0;
+/// The precision the spec promises for EXP/LOG, applied to every approximate instruction.
+constexpr float kOldHardwareError = 1.0f / 2048.0f;
+/// The 2002 demo's program.
+constexpr int kOriginalInstructionCount = 33;
+constexpr int kTargetInstructionCount = 24;
+
+aerial::ArbProgram generate(const ArbProgramOptions& options = {}) {
+    auto p = aerial::generate_arb_program(options);
+    EXPECT_TRUE(p.ok()) << (p.ok() ? "" : p.error().message);
+    return p.ok() ? *p : aerial::ArbProgram{};
+}
+
+aerial::ArbCpuProgram parse(const std::string& text) {
+    auto p = aerial::parse_arb_program(text);
+    EXPECT_TRUE(p.ok()) << (p.ok() ? "" : p.error().message) << "\n" << text;
+    return p.ok() ? *p : aerial::ArbCpuProgram{};
+}
+
+Atmosphere preset(const std::string& name) {
+    auto a = aerial::atmosphere_preset(name);
+    EXPECT_TRUE(a.ok()) << name;
+    return a.ok() ? *a : Atmosphere{};
+}
+
+glm::dvec3 direction(double elevation_deg, double azimuth_deg) {
+    const double e = elevation_deg * kDegree, a = azimuth_deg * kDegree;
+    return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+}
+
+Frame<float> frame_for(const Atmosphere& atmosphere, const glm::dvec3& eye, const glm::dvec3& sun,
+                       double meters_per_unit = 1.0) {
+    View view;
+    view.eye = eye;
+    view.sun_dir = glm::normalize(sun);
+    view.meters_per_unit = meters_per_unit;
+    auto f = aerial::prepare_frame<float>(atmosphere, view, Model::hoffman_preetham);
+    EXPECT_TRUE(f.ok()) << (f.ok() ? "" : f.error().message);
+    return f.ok() ? *f : Frame<float>{};
+}
+
+Params parameters(const Frame<float>& frame, float exposure, const ArbProgramOptions& o = {}) {
+    Display display;
+    display.exposure = exposure;
+    auto p = aerial::arb_program_parameters(frame, display, o);
+    EXPECT_TRUE(p.ok()) << (p.ok() ? "" : p.error().message);
+    return p.ok() ? *p : Params(aerial::kArbParameterCount);
+}
+
+/// A machine holding exactly the parameters at their indices; every other index is unset.
+aerial::ArbMachine machine_with(const Params& params, const ArbProgramOptions& o = {}) {
+    aerial::ArbMachine m;
+    auto& space = o.parameter_space == aerial::ParameterSpace::local ? m.local : m.env;
+    const float nan = std::nanf("");
+    space.assign(static_cast<std::size_t>(o.parameter_base), {nan, nan, nan, nan});
+    space.insert(space.end(), params.begin(), params.end());
+    return m;
+}
+
+aerial::ArbVertex vertex_at(const glm::vec3& p) {
+    aerial::ArbVertex v;
+    v.position = {p.x, p.y, p.z, 1.0f};
+    return v;
+}
+
+int lsb_difference(float a, float b) {
+    return std::abs(int(aerial::to_unorm8(a)) - int(aerial::to_unorm8(b)));
+}
+
+bool all_finite(const std::array<float, 4>& v, unsigned mask = 0xf) {
+    for (int i = 0; i < 4; ++i) {
+        if ((mask >> i) & 1u && !std::isfinite(v[static_cast<std::size_t>(i)])) return false;
+    }
+    return true;
+}
+
+/// Directions to probe from an eye: a spread of azimuths and elevations, plus the sun itself,
+/// its close neighbourhood (the Mie peak) and the anti-sun.
+std::vector<glm::dvec3> view_directions(const glm::dvec3& sun, int azimuths) {
+    std::vector<glm::dvec3> dirs;
+    for (int a = 0; a < azimuths; ++a) {
+        for (double e : {-45.0, -10.0, -2.0, 0.0, 2.0, 10.0, 45.0, 89.0}) {
+            dirs.push_back(direction(e, 360.0 * a / azimuths + 7.0));
+        }
+    }
+    const glm::dvec3 side = glm::normalize(
+        glm::cross(sun, std::abs(sun.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+    for (double off : {0.0, 0.3, 1.0, 3.0, 10.0, 30.0, 90.0, 180.0}) {
+        dirs.push_back(std::cos(off * kDegree) * sun + std::sin(off * kDegree) * side);
+    }
+    return dirs;
+}
+
+const std::vector<double> kDistancesM{1, 3, 10, 30, 100, 300, 1e3, 3e3, 1e4, 3e4, 5e4};
+
+/// Display L_in at infinity in the direction of `dir`: exposure E_sun beta_sc(theta) / beta_ex,
+/// the largest value L_in approaches along that ray (before clamping).
+double asymptotic_display(const Frame<float>& f, float exposure, const glm::dvec3& dir, int c) {
+    const double cos_theta = glm::dot(dir, f.view.sun_dir);
+    const double beta_ex = double(f.rayleigh_scattering[c]) + double(f.mie_extinction[c]);
+    if (beta_ex <= 0.0) return 0.0;
+    return exposure * f.sun_irradiance_eye[c] *
+           (f.rayleigh_scattering[c] * aerial::rayleigh_phase(cos_theta) +
+            f.mie_scattering[c] * aerial::henyey_greenstein_phase(cos_theta, double(f.mie_g))) /
+           beta_ex;
+}
+
+struct Parity {
+    int max_fex_lsb = 0;
+    int max_lin_lsb = 0;
+    double max_raw_lsb = 0.0;  ///< before rounding to 8 bits, after clamping to [0, 1]
+    long vertices = 0;
+    long off_by_one = 0;
+    std::string worst;
+};
+
+/// Compares the program with aerial::scatter at one vertex and records the worst case.
+void compare(const ArbResults& r, const Frame<float>& f, float exposure, const glm::vec3& p,
+             Parity& parity, const std::string& where) {
+    const aerial::Scattering<float> cpu = aerial::scatter(f, p);
+    Display display;
+    display.exposure = exposure;
+    ++parity.vertices;
+    bool any = false;
+    for (int c = 0; c < 3; ++c) {
+        const std::size_t i = static_cast<std::size_t>(c);
+        const int fex = lsb_difference(r.color_primary.value[i], cpu.extinction[c]);
+        const int lin = lsb_difference(r.color_secondary.value[i],
+                                       aerial::display_value(display, cpu.in_scattering[c]));
+        any = any || fex > 0 || lin > 0;
+        const auto clamp01 = [](float x) { return std::clamp(x, 0.0f, 1.0f); };
+        parity.max_raw_lsb =
+            std::max({parity.max_raw_lsb,
+                      255.0 * std::abs(clamp01(r.color_primary.value[i]) - cpu.extinction[c]),
+                      255.0 * std::abs(clamp01(r.color_secondary.value[i]) -
+                                       aerial::display_value(display, cpu.in_scattering[c]))});
+        if (std::max(fex, lin) > std::max(parity.max_fex_lsb, parity.max_lin_lsb)) {
+            parity.worst = where + " channel " + std::to_string(c) +
+                           ": F_ex arb=" + std::to_string(r.color_primary.value[i]) +
+                           " cpu=" + std::to_string(cpu.extinction[c]) +
+                           ", L_in arb=" + std::to_string(r.color_secondary.value[i]) + " cpu=" +
+                           std::to_string(aerial::display_value(display, cpu.in_scattering[c]));
+        }
+        parity.max_fex_lsb = std::max(parity.max_fex_lsb, fex);
+        parity.max_lin_lsb = std::max(parity.max_lin_lsb, lin);
+    }
+    if (any) ++parity.off_by_one;
+}
+
+// ---- The program text ------------------------------------------------------------------------
+
+TEST(ArbProgram, DefaultProgramFitsTheInstructionTarget) {
+    const aerial::ArbProgram program = generate();
+    std::printf(
+        "[ info     ] default program: %d instructions (target <= %d, 2002 original %d), "
+        "%d temporaries, %d parameters, %d attributes\n%s",
+        program.instruction_count, kTargetInstructionCount, kOriginalInstructionCount,
+        program.resources.temporaries, program.resources.parameters, program.resources.attributes,
+        program.text.c_str());
+    EXPECT_LE(program.instruction_count, kTargetInstructionCount);
+    EXPECT_EQ(program.instruction_count, program.resources.instructions);
+    EXPECT_EQ(program.text.rfind("!!ARBvp1.0", 0), 0u) << "must start with the header";
+    ASSERT_GE(program.text.size(), 4u);
+    EXPECT_EQ(program.text.substr(program.text.size() - 4), "END\n") << "must end with END";
+    // Within the spec minimums, so that it loads everywhere.
+    EXPECT_LE(program.resources.temporaries, 12);
+    EXPECT_LE(program.resources.parameters, 96);
+    EXPECT_LE(program.resources.attributes, 16);
+    // One instruction per line: every line with a ';' holds exactly one statement.
+    std::size_t start = 0;
+    while (start < program.text.size()) {
+        const std::size_t end = program.text.find('\n', start);
+        const std::string line = program.text.substr(start, end - start);
+        const std::string code = line.substr(0, line.find('#'));
+        EXPECT_LE(std::count(code.begin(), code.end(), ';'), 1) << line;
+        start = end == std::string::npos ? program.text.size() : end + 1;
+    }
+}
+
+TEST(ArbProgram, CountsOnlyExecutableInstructions) {
+    // 4 DP4 of the transform + the scattering + one MOV per texture unit; declarations, OPTION and
+    // END do not count.
+    const int base = generate().instruction_count - 1;  // default: one texture unit
+    ArbProgramOptions o;
+    o.texcoord_units = 0;
+    EXPECT_EQ(generate(o).instruction_count, base);
+    o.texcoord_units = 3;
+    EXPECT_EQ(generate(o).instruction_count, base + 3);
+    o.position_invariant = true;
+    EXPECT_EQ(generate(o).instruction_count, base + 3 - 4);
+    const auto synthetic = parse(
+        "!!ARBvp1.0\nOPTION ARB_position_invariant;\nTEMP a, b;\nPARAM c = program.local[0];\n"
+        "ATTRIB p = vertex.position;\nOUTPUT o = result.color;\nMOV a, p;\nADD b, a, c;\n"
+        "MOV o, b;\nEND\n");
+    EXPECT_EQ(synthetic.resources.instructions, 3);
+    EXPECT_EQ(synthetic.resources.temporaries, 2);
+    EXPECT_EQ(synthetic.resources.parameters, 1);
+    EXPECT_EQ(synthetic.resources.attributes, 1);
+}
+
+TEST(ArbProgram, ReadsOnlyTheDocumentedParameterIndices) {
+    const std::regex use(R"(program\.(local|env)\[(\d+)\])");
+    for (auto space : {aerial::ParameterSpace::local, aerial::ParameterSpace::env}) {
+        for (int base : {0, 7, 90}) {
+            ArbProgramOptions o;
+            o.parameter_space = space;
+            o.parameter_base = base;
+            const std::string text = generate(o).text;
+            std::vector<bool> used(aerial::kArbParameterCount, false);
+            for (auto it = std::sregex_iterator(text.begin(), text.end(), use);
+                 it != std::sregex_iterator(); ++it) {
+                const int index = std::stoi((*it)[2].str());
+                EXPECT_EQ((*it)[1].str(), space == aerial::ParameterSpace::local ? "local" : "env");
+                ASSERT_GE(index, base) << text;
+                ASSERT_LT(index, base + aerial::kArbParameterCount) << text;
+                used[static_cast<std::size_t>(index - base)] = true;
+            }
+            for (int i = 0; i < aerial::kArbParameterCount; ++i) {
+                EXPECT_TRUE(used[static_cast<std::size_t>(i)]) << "parameter " << i << " unused";
+            }
+        }
+    }
+}
+
+TEST(ArbProgram, WritesEveryOutputItUsesAndNothingElse) {
+    const auto program = parse(generate().text);
+    const Frame<float> f = frame_for(Atmosphere{}, {0, 0, 100}, {0, 0.6, 0.8});
+    const ArbResults r = aerial::run_arb_program(program, machine_with(parameters(f, 8.0f)),
+                                                 vertex_at({0, 5e3f, 50}));
+    EXPECT_EQ(r.position.written, 0xfu);
+    EXPECT_EQ(r.color_primary.written, 0xfu);
+    EXPECT_EQ(r.color_secondary.written, 0xfu);
+    EXPECT_EQ(r.fogcoord.written & 1u, 1u);
+    EXPECT_EQ(r.texcoord[0].written, 0xfu);
+    EXPECT_EQ(r.texcoord[1].written, 0u);
+    EXPECT_TRUE(all_finite(r.position.value) && all_finite(r.color_primary.value) &&
+                all_finite(r.color_secondary.value) && all_finite(r.fogcoord.value, 1));
+    EXPECT_EQ(r.color_primary.value[3], 1.0f) << "primary alpha";
+    EXPECT_EQ(r.color_secondary.value[3], 0.0f) << "secondary alpha";
+}
+
+// ---- Options ---------------------------------------------------------------------------------
+
+TEST(ArbProgram, EnvAndLocalVariantsGiveIdenticalResults) {
+    const Frame<float> f = frame_for(preset("hazy"), {10, -20, 300}, direction(12, 40));
+    const auto reference = parse(generate().text);
+    const Params p = parameters(f, 6.0f);
+    for (auto space : {aerial::ParameterSpace::local, aerial::ParameterSpace::env}) {
+        for (int base : {0, 11, 90}) {
+            SCOPED_TRACE("base " + std::to_string(base));
+            ArbProgramOptions o;
+            o.parameter_space = space;
+            o.parameter_base = base;
+            const auto program = parse(generate(o).text);
+            for (double d : {1.0, 300.0, 20000.0}) {
+                const glm::vec3 v = glm::vec3(f.view.eye + d * direction(3, 50));
+                const ArbResults a =
+                    aerial::run_arb_program(program, machine_with(p, o), vertex_at(v));
+                const ArbResults b =
+                    aerial::run_arb_program(reference, machine_with(p), vertex_at(v));
+                EXPECT_EQ(a.color_primary.value, b.color_primary.value);
+                EXPECT_EQ(a.color_secondary.value, b.color_secondary.value);
+                EXPECT_EQ(a.fogcoord.value[0], b.fogcoord.value[0]);
+            }
+            // It reads the space it was generated for: the other one leaves it without values.
+            ArbProgramOptions other = o;
+            other.parameter_space = space == aerial::ParameterSpace::local
+                                        ? aerial::ParameterSpace::env
+                                        : aerial::ParameterSpace::local;
+            const ArbResults wrong =
+                aerial::run_arb_program(program, machine_with(p, other), vertex_at({0, 100, 0}));
+            EXPECT_FALSE(all_finite(wrong.color_secondary.value));
+        }
+    }
+}
+
+TEST(ArbProgram, PassesThroughEachTexcoordUnitItIsAskedFor) {
+    const Frame<float> f = frame_for(Atmosphere{}, {0, 0, 10}, {0, 0, 1});
+    const Params p = parameters(f, 1.0f);
+    aerial::ArbVertex v = vertex_at({100, 200, 0});
+    for (int u = 0; u < aerial::kArbMaxTexcoordUnits; ++u) {
+        const float k = float(u);
+        v.texcoord[static_cast<std::size_t>(u)] = {k + 0.25f, -k, 2.0f * k, 1.0f + k};
+    }
+    for (int units = 0; units <= aerial::kArbMaxTexcoordUnits; ++units) {
+        SCOPED_TRACE("units " + std::to_string(units));
+        ArbProgramOptions o;
+        o.texcoord_units = units;
+        const auto program = parse(generate(o).text);
+        EXPECT_EQ(program.resources.attributes, 1 + units);
+        const ArbResults r = aerial::run_arb_program(program, machine_with(p), v);
+        for (int u = 0; u < aerial::kArbMaxTexcoordUnits; ++u) {
+            const auto& out = r.texcoord[static_cast<std::size_t>(u)];
+            if (u < units) {
+                EXPECT_EQ(out.written, 0xfu) << "unit " << u;
+                EXPECT_EQ(out.value, v.texcoord[static_cast<std::size_t>(u)]) << "unit " << u;
+            } else {
+                EXPECT_EQ(out.written, 0u) << "unit " << u;
+            }
+        }
+    }
+}
+
+TEST(ArbProgram, PositionInvariantOptionLeavesThePositionToGl) {
+    const Frame<float> f = frame_for(preset("earth"), {0, 0, 50}, direction(20, 10));
+    const Params p = parameters(f, 10.0f);
+    ArbProgramOptions invariant;
+    invariant.position_invariant = true;
+    const aerial::ArbProgram with_option = generate(invariant);
+    const aerial::ArbProgram without = generate();
+    EXPECT_NE(with_option.text.find("\nOPTION ARB_position_invariant;\n"), std::string::npos);
+    EXPECT_EQ(with_option.text.find("result.position"), std::string::npos);
+    EXPECT_EQ(with_option.text.find("state.matrix"), std::string::npos);
+    EXPECT_EQ(with_option.instruction_count, without.instruction_count - 4);
+
+    aerial::ArbMachine m = machine_with(p);
+    m.mvp = {{{0.5f, 0, 0, 1}, {0, 2, 0, -3}, {0, 0, -1, 0.5f}, {0, 0, -1, 0}}};
+    const glm::vec3 v(300, 4000, 20);
+    const ArbResults a = aerial::run_arb_program(parse(with_option.text), m, vertex_at(v));
+    const ArbResults b = aerial::run_arb_program(parse(without.text), m, vertex_at(v));
+    EXPECT_EQ(a.position.written, 0u);
+    EXPECT_EQ(b.position.written, 0xfu);
+    EXPECT_FLOAT_EQ(b.position.value[0], 0.5f * v.x + 1.0f);
+    EXPECT_FLOAT_EQ(b.position.value[1], 2.0f * v.y - 3.0f);
+    EXPECT_FLOAT_EQ(b.position.value[2], -v.z + 0.5f);
+    EXPECT_FLOAT_EQ(b.position.value[3], -v.z);
+    EXPECT_EQ(a.color_primary.value, b.color_primary.value);
+    EXPECT_EQ(a.color_secondary.value, b.color_secondary.value);
+    EXPECT_EQ(a.fogcoord.value[0], b.fogcoord.value[0]);
+}
+
+// ---- Limits and errors -----------------------------------------------------------------------
+
+TEST(ArbProgram, LimitChecksNameTheExceededLimit) {
+    struct Case {
+        const char* field;
+        const char* gl_name;
+        void (*shrink)(ArbProgramOptions&);
+    };
+    const Case cases[] = {
+        {"instructions", "MAX_PROGRAM_INSTRUCTIONS_ARB",
+         [](ArbProgramOptions& o) { o.limits.max_instructions = 20; }},
+        {"temporaries", "MAX_PROGRAM_TEMPORARIES_ARB",
+         [](ArbProgramOptions& o) { o.limits.max_temporaries = 4; }},
+        {"parameters", "MAX_PROGRAM_PARAMETERS_ARB",
+         [](ArbProgramOptions& o) { o.limits.max_parameters = 8; }},
+        {"attributes", "MAX_PROGRAM_ATTRIBS_ARB",
+         [](ArbProgramOptions& o) { o.limits.max_attributes = 1; }},
+    };
+    for (const Case& c : cases) {
+        ArbProgramOptions o;
+        c.shrink(o);
+        const auto r = aerial::generate_arb_program(o);
+        ASSERT_FALSE(r.ok()) << c.field;
+        EXPECT_EQ(r.error().field, c.field);
+        EXPECT_EQ(r.error().message.rfind(c.field, 0), 0u) << r.error().message;
+        EXPECT_NE(r.error().message.find(c.gl_name), std::string::npos) << r.error().message;
+    }
+    // The spec minimums themselves: 128 instructions fit, 129 do not; 124 with position
+    // invariance (section 2.14.4.5.1).
+    aerial::ArbResources r;
+    r.instructions = 128;
+    EXPECT_FALSE(aerial::check_arb_limits(r, {}, false).has_value());
+    r.instructions = 129;
+    ASSERT_TRUE(aerial::check_arb_limits(r, {}, false).has_value());
+    EXPECT_NE(aerial::check_arb_limits(r, {}, false)->message.find("128"), std::string::npos);
+    r.instructions = 124;
+    EXPECT_FALSE(aerial::check_arb_limits(r, {}, true).has_value());
+    r.instructions = 125;
+    const auto invariant = aerial::check_arb_limits(r, {}, true);
+    ASSERT_TRUE(invariant.has_value());
+    EXPECT_NE(invariant->message.find("ARB_position_invariant"), std::string::npos);
+    r = {};
+    r.temporaries = 13;
+    EXPECT_EQ(aerial::check_arb_limits(r, {}, false)->field, "temporaries");
+    r = {};
+    r.parameters = 97;
+    EXPECT_EQ(aerial::check_arb_limits(r, {}, false)->field, "parameters");
+    r = {};
+    r.attributes = 17;
+    EXPECT_EQ(aerial::check_arb_limits(r, {}, false)->field, "attributes");
+    // Counting a long program: 129 MOVs.
+    std::string text = "!!ARBvp1.0\nTEMP t;\n";
+    for (int i = 0; i < 129; ++i) text += "MOV t, vertex.position;\n";
+    const auto parsed = parse(text + "END\n");
+    EXPECT_EQ(parsed.resources.instructions, 129);
+    EXPECT_EQ(aerial::check_arb_limits(parsed.resources, {}, false)->field, "instructions");
+}
+
+TEST(ArbProgram, RejectsOptionsItCannotGenerate) {
+    const auto expect_field = [](const ArbProgramOptions& o, const std::string& field) {
+        const auto r = aerial::generate_arb_program(o);
+        ASSERT_FALSE(r.ok()) << field;
+        EXPECT_EQ(r.error().field, field);
+        EXPECT_EQ(r.error().message.rfind(field, 0), 0u) << r.error().message;
+        EXPECT_NE(r.error().message.find("aerial::generate_arb_program()"), std::string::npos);
+    };
+    ArbProgramOptions o;
+    o.model = Model::height;
+    expect_field(o, "model");
+    o = {};
+    o.parameter_base = -1;
+    expect_field(o, "parameter_base");
+    o.parameter_base = 91;  // 91 + 6 > 96
+    expect_field(o, "parameter_base");
+    o = {};
+    o.texcoord_units = aerial::kArbMaxTexcoordUnits + 1;
+    expect_field(o, "texcoord_units");
+    o.texcoord_units = -1;
+    expect_field(o, "texcoord_units");
+    o = {};
+    o.parameter_base = 90;  // the last six indices
+    EXPECT_TRUE(aerial::generate_arb_program(o).ok());
+}
+
+// ---- Parameters ------------------------------------------------------------------------------
+
+TEST(ArbProgramParameters, RejectWhatTheProgramCannotShow) {
+    View view;
+    const auto height = aerial::prepare_frame<float>(Atmosphere{}, view, Model::height);
+    ASSERT_TRUE(height.ok());
+    const auto r = aerial::arb_program_parameters(*height, Display{});
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().field, "frame.model");
+
+    const Frame<float> f = frame_for(Atmosphere{}, {0, 0, 2}, {0, 0, 1});
+    for (float exposure : {0.0f, -1.0f, std::nanf(""), INFINITY}) {
+        Display d;
+        d.exposure = exposure;
+        const auto e = aerial::arb_program_parameters(f, d);
+        ASSERT_FALSE(e.ok()) << exposure;
+        EXPECT_EQ(e.error().field, "display.exposure");
+    }
+    Display exponential;
+    exponential.tone = aerial::ToneCurve::exponential;
+    const auto e = aerial::arb_program_parameters(f, exponential);
+    ASSERT_FALSE(e.ok());
+    EXPECT_EQ(e.error().field, "display.tone");
+    EXPECT_EQ(e.error().message.rfind("display.tone", 0), 0u);
+}
+
+TEST(ArbProgramParameters, LayoutMatchesWhatTheProgramReads) {
+    const Frame<float> f = frame_for(preset("earth"), {5, 6, 70}, direction(25, 200));
+    const Params p = parameters(f, 12.0f);
+    ASSERT_EQ(p.size(), static_cast<std::size_t>(aerial::kArbParameterCount));
+    // The documented constants.
+    EXPECT_EQ(p[0][0], 5.0f);
+    EXPECT_EQ(p[0][2], 70.0f);
+    EXPECT_EQ(p[0][3], 1.0f - 1.0f / 1048576.0f) << "eye.w = 1 - 2^-20";
+    for (std::size_t i = 1; i <= 4; ++i) EXPECT_EQ(p[i][3], 0.0f) << "parameter " << i << ".w";
+    const float g = f.mie_g;
+    EXPECT_EQ(p[5], (std::array<float, 4>{g, 0.25f, (1.0f - g) * (1.0f - g), -1.0f}));
+    for (int c = 0; c < 3; ++c) {
+        const std::size_t i = static_cast<std::size_t>(c);
+        EXPECT_FLOAT_EQ(p[1][i], float(f.view.sun_dir[c]));
+        EXPECT_FLOAT_EQ(p[2][i], -(f.rayleigh_scattering[c] + f.mie_extinction[c]) *
+                                     float(1.0 / std::log(2.0)));
+        EXPECT_GT(p[3][i], 0.0f);
+        EXPECT_GT(p[4][i], 0.0f);
+    }
+    // Every component the program reads matters: poisoning it poisons an output.
+    const auto program = parse(generate().text);
+    const aerial::ArbVertex v = vertex_at({2000, -3000, 40});
+    const ArbResults clean = aerial::run_arb_program(program, machine_with(p), v);
+    ASSERT_TRUE(all_finite(clean.color_primary.value) && all_finite(clean.color_secondary.value));
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        for (std::size_t j = 0; j < 4; ++j) {
+            if (i == 2 && j == 3) continue;  // extinction.w: documented as unused
+            Params poisoned = p;
+            poisoned[i][j] = std::nanf("");
+            const ArbResults r = aerial::run_arb_program(program, machine_with(poisoned), v);
+            EXPECT_FALSE(all_finite(r.color_primary.value) && all_finite(r.color_secondary.value) &&
+                         all_finite(r.fogcoord.value, 1))
+                << "parameter " << i << " component " << j << " is not read";
+        }
+    }
+}
+
+TEST(ArbProgramParameters, ChannelsWithoutExtinctionStayFiniteAndMatchTheModel) {
+    Atmosphere one_dark = preset("earth");
+    one_dark.rayleigh_scattering.x = 0.0;  // red: no extinction at all
+    one_dark.mie_scattering.x = 0.0;
+    Atmosphere tiny = preset("earth");
+    tiny.rayleigh_scattering.y = 1e-20;  // green: 1e-15 of the others
+    tiny.mie_scattering.y = 1e-21;
+    Atmosphere vacuum = preset("earth");
+    vacuum.rayleigh_scattering = glm::dvec3(0.0);
+    vacuum.mie_scattering = glm::dvec3(0.0);
+    const auto program = parse(generate().text);
+    double worst_raw_lsb = 0.0;
+    for (const Atmosphere* a : {&one_dark, &tiny, &vacuum}) {
+        const Frame<float> f = frame_for(*a, {0, 0, 30}, direction(30, 0));
+        for (float exposure : {1.0f, 50.0f}) {
+            const Params p = parameters(f, exposure);
+            for (const auto& row : p) EXPECT_TRUE(all_finite(row));
+            Parity parity;
+            for (double d : kDistancesM) {
+                for (const glm::dvec3& dir : view_directions(f.view.sun_dir, 3)) {
+                    const glm::vec3 v = glm::vec3(f.view.eye + d * dir);
+                    const ArbResults r =
+                        aerial::run_arb_program(program, machine_with(p), vertex_at(v));
+                    ASSERT_TRUE(all_finite(r.color_primary.value) &&
+                                all_finite(r.color_secondary.value));
+                    compare(r, f, exposure, v, parity, "d=" + std::to_string(d));
+                    // Before rounding to 8 bits: the raised channels are off by < 0.5 LSB.
+                    const aerial::Scattering<float> cpu = aerial::scatter(f, v);
+                    for (int c = 0; c < 3; ++c) {
+                        const std::size_t i = static_cast<std::size_t>(c);
+                        Display display;
+                        display.exposure = exposure;
+                        const float lin = std::min(r.color_secondary.value[i], 1.0f);
+                        worst_raw_lsb = std::max(
+                            {worst_raw_lsb,
+                             255.0 * std::abs(r.color_primary.value[i] - cpu.extinction[c]),
+                             255.0 * std::abs(lin - aerial::display_value(display,
+                                                                          cpu.in_scattering[c]))});
+                    }
+                }
+            }
+            EXPECT_LE(std::max(parity.max_fex_lsb, parity.max_lin_lsb), 1) << parity.worst;
+        }
+    }
+    std::printf("[ info     ] channels without extinction: max error %.2g LSB before rounding\n",
+                worst_raw_lsb);
+    EXPECT_LT(worst_raw_lsb, 0.5);
+}
+
+TEST(ArbProgram, VertexAtTheEyeHasNoHazeAndNoNaN) {
+    const Frame<float> f = frame_for(preset("foggy"), {100, 200, 3}, direction(5, 0));
+    const auto program = parse(generate().text);
+    const ArbResults r = aerial::run_arb_program(program, machine_with(parameters(f, 30.0f)),
+                                                 vertex_at(glm::vec3(f.view.eye)));
+    for (std::size_t c = 0; c < 3; ++c) {
+        EXPECT_EQ(r.color_primary.value[c], 1.0f);
+        EXPECT_EQ(r.color_secondary.value[c], 0.0f);
+    }
+    EXPECT_TRUE(std::isfinite(r.fogcoord.value[0]));
+    EXPECT_LT(r.fogcoord.value[0], 1e-5f);
+}
+
+// ---- Parity with the CPU model ---------------------------------------------------------------
+
+TEST(ArbProgram, ReproducesTheCpuModelWithin1LsbOverAWideGrid) {
+    const auto program = parse(generate().text);
+    const std::vector<glm::dvec3> eyes{
+        {0, 0, 2}, {0, 0, 100}, {0, 0, 1000}, {0, 0, 10000}, {3000, -2000, 300}};
+    Parity parity;
+    for (const std::string& name : aerial::atmosphere_preset_names()) {
+        const Atmosphere a = preset(name);
+        for (const glm::dvec3& eye : eyes) {
+            for (double sun_elevation : {-5.0, 0.0, 5.0, 20.0, 45.0, 90.0}) {
+                const Frame<float> f = frame_for(a, eye, direction(sun_elevation, 30));
+                const std::vector<glm::dvec3> dirs = view_directions(f.view.sun_dir, 8);
+                for (float exposure : {1.0f, 4.0f, 16.0f, 64.0f}) {
+                    const aerial::ArbMachine m = machine_with(parameters(f, exposure));
+                    for (double d : kDistancesM) {
+                        for (const glm::dvec3& dir : dirs) {
+                            const glm::vec3 v = glm::vec3(eye + d * dir);
+                            const ArbResults r = aerial::run_arb_program(program, m, vertex_at(v));
+                            compare(r, f, exposure, v, parity,
+                                    name + " eye z=" + std::to_string(eye.z) +
+                                        " sun=" + std::to_string(sun_elevation) + " exposure=" +
+                                        std::to_string(exposure) + " d=" + std::to_string(d));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    std::printf(
+        "[ info     ] ARB program vs aerial::scatter over %ld vertices: max F_ex %d LSB, "
+        "max L_in %d LSB, %.3f%% of vertices off by one in some channel; max error before "
+        "rounding %.3f LSB\n",
+        parity.vertices, parity.max_fex_lsb, parity.max_lin_lsb,
+        100.0 * double(parity.off_by_one) / double(parity.vertices), parity.max_raw_lsb);
+    EXPECT_LE(parity.max_fex_lsb, 1) << parity.worst;
+    EXPECT_LE(parity.max_lin_lsb, 1) << parity.worst;
+}
+
+TEST(ArbProgram, ReproducesTheCpuModelForBackwardScattering) {
+    // g < 0: the sun parameter is negated and |g| enters the phase, which keeps the HG base a sum
+    // of positive terms at the anti-sun peak.
+    const auto program = parse(generate().text);
+    Parity parity;
+    for (double g : {-0.3, -0.76, -0.9}) {
+        Atmosphere a = preset("hazy");
+        a.mie_g = g;
+        const Frame<float> f = frame_for(a, {500, -700, 50}, direction(25, 60));
+        const Params p = parameters(f, 4.0f);
+        EXPECT_FLOAT_EQ(p[1][0], -float(f.view.sun_dir.x));
+        EXPECT_FLOAT_EQ(p[5][0], float(std::abs(g)));
+        const aerial::ArbMachine m = machine_with(p);
+        for (double d : kDistancesM) {
+            for (const glm::dvec3& dir : view_directions(-f.view.sun_dir, 4)) {
+                const glm::vec3 v = glm::vec3(f.view.eye + d * dir);
+                compare(aerial::run_arb_program(program, m, vertex_at(v)), f, 4.0f, v, parity,
+                        "g=" + std::to_string(g) + " d=" + std::to_string(d));
+            }
+        }
+    }
+    EXPECT_LE(std::max(parity.max_fex_lsb, parity.max_lin_lsb), 1) << parity.worst;
+    EXPECT_LT(parity.max_raw_lsb, 0.5) << parity.worst;
+}
+
+TEST(ArbProgram, ReproducesTheCpuModelInOtherEngineUnits) {
+    const auto program = parse(generate().text);
+    for (double meters_per_unit : {0.01, 0.3048, 1000.0}) {
+        Parity parity;
+        for (const std::string& name : {std::string("earth"), std::string("foggy")}) {
+            const glm::dvec3 eye = glm::dvec3(40, -25, 150) / meters_per_unit;
+            const Frame<float> f =
+                frame_for(preset(name), eye, direction(15, 100), meters_per_unit);
+            const aerial::ArbMachine m = machine_with(parameters(f, 10.0f));
+            for (double d : kDistancesM) {
+                for (const glm::dvec3& dir : view_directions(f.view.sun_dir, 4)) {
+                    const glm::vec3 v = glm::vec3(eye + d / meters_per_unit * dir);
+                    const ArbResults r = aerial::run_arb_program(program, m, vertex_at(v));
+                    compare(r, f, 10.0f, v, parity, name + " d=" + std::to_string(d));
+                    EXPECT_NEAR(r.fogcoord.value[0], d / meters_per_unit,
+                                1e-5 * d / meters_per_unit + 1e-6 * glm::length(eye))
+                        << "fog coordinate in engine units";
+                }
+            }
+        }
+        EXPECT_LE(std::max(parity.max_fex_lsb, parity.max_lin_lsb), 1)
+            << "meters_per_unit " << meters_per_unit << ": " << parity.worst;
+    }
+}
+
+// ---- Old hardware: approximate instructions with ~11 bits -----------------------------------
+
+TEST(ArbProgram, PerturbedApproximationsStayWithin1LsbPlusTheExtinctionBound) {
+    // Every combination of signs of a 2^-11 relative error e on RSQ, the three EX2 and POW.
+    // To first order, with lin = exposure L_in(infinity) along the ray and L_in = lin (1 - F):
+    //   EX2 moves F by e F: F_ex by <= 0.13 LSB, but L_in by e F lin (the cancellation in 1 - F);
+    //   POW moves L_in by e (1 - F) lin;  RSQ moves h by e, so the Mie term by 1.5 e (1 - F) lin,
+    //   and s by e, so F by e tau F.
+    // Hence |dL_in| <= e lin (F + 2.5 (1 - F) + tau F): within 1 LSB wherever that is below
+    // 1/255, i.e. where the haze at infinity is at most ~7 times display white; more towards a
+    // bright Mie lobe at a high exposure, and near the eye, where F is close to 1.
+    const auto program = parse(generate().text);
+    const int approx = aerial::count_approximate_instructions(program);
+    ASSERT_EQ(approx, 5);
+    const std::uint32_t patterns = 1u << approx;
+    const double ex2_lsb_per_lin = 255.0 * double(kOldHardwareError);
+
+    int worst_fex = 0, worst_lin = 0, worst_lin_moderate = 0;
+    double lin_at_worst = 0.0;
+    std::string worst_where;
+    long vertices = 0;
+    for (const std::string& name : aerial::atmosphere_preset_names()) {
+        const Atmosphere a = preset(name);
+        for (const glm::dvec3& eye :
+             {glm::dvec3(0, 0, 2), glm::dvec3(0, 0, 1000), glm::dvec3(0, 0, 10000)}) {
+            for (double sun_elevation : {0.0, 10.0, 45.0, 90.0}) {
+                const Frame<float> f = frame_for(a, eye, direction(sun_elevation, 30));
+                const std::vector<glm::dvec3> dirs = view_directions(f.view.sun_dir, 4);
+                for (float exposure : {1.0f, 4.0f, 16.0f}) {
+                    const aerial::ArbMachine m = machine_with(parameters(f, exposure));
+                    Display display;
+                    display.exposure = exposure;
+                    for (double d : kDistancesM) {
+                        for (const glm::dvec3& dir : dirs) {
+                            const glm::vec3 v = glm::vec3(eye + d * dir);
+                            const aerial::Scattering<float> cpu = aerial::scatter(f, v);
+                            ++vertices;
+                            for (std::uint32_t pattern = 0; pattern < patterns; ++pattern) {
+                                aerial::ArbInterpreterOptions o;
+                                o.relative_error = kOldHardwareError;
+                                o.sign_pattern = pattern;
+                                const ArbResults r =
+                                    aerial::run_arb_program(program, m, vertex_at(v), o);
+                                for (int c = 0; c < 3; ++c) {
+                                    const std::size_t i = static_cast<std::size_t>(c);
+                                    const int fex =
+                                        lsb_difference(r.color_primary.value[i], cpu.extinction[c]);
+                                    const int lin = lsb_difference(
+                                        r.color_secondary.value[i],
+                                        aerial::display_value(display, cpu.in_scattering[c]));
+                                    const double lin_inf = asymptotic_display(f, exposure, dir, c);
+                                    const double fex_c = cpu.extinction[c];
+                                    const double tau = fex_c > 0.0 ? -std::log(fex_c) : 0.0;
+                                    const double predicted =
+                                        ex2_lsb_per_lin * lin_inf *
+                                        (fex_c + 2.5 * (1.0 - fex_c) + tau * fex_c);
+                                    const int bound = 1 + int(std::floor(predicted + 0.01));
+                                    worst_fex = std::max(worst_fex, fex);
+                                    EXPECT_LE(fex, 1) << name << " d=" << d;
+                                    ASSERT_LE(lin, bound)
+                                        << name << " eye z=" << eye.z << " sun " << sun_elevation
+                                        << " exposure " << exposure << " d=" << d << " channel "
+                                        << c << " L_in(inf) " << lin_inf;
+                                    if (lin > worst_lin) {
+                                        worst_lin = lin;
+                                        lin_at_worst = lin_inf;
+                                        worst_where = name + " exposure " +
+                                                      std::to_string(exposure) +
+                                                      " d=" + std::to_string(d);
+                                    }
+                                    if (predicted <= 0.9) {
+                                        worst_lin_moderate = std::max(worst_lin_moderate, lin);
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    std::printf(
+        "[ info     ] 2^-11 on RSQ/EX2/POW, all %u sign patterns, %ld vertices: max F_ex "
+        "%d LSB; max L_in %d LSB where the first-order bound is < 0.9 LSB (exposure * "
+        "L_in(inf) <~ 7); max L_in overall %d LSB (%s, exposure * L_in(inf) = %.1f)\n",
+        patterns, vertices, worst_fex, worst_lin_moderate, worst_lin, worst_where.c_str(),
+        lin_at_worst);
+    EXPECT_LE(worst_fex, 1);
+    EXPECT_LE(worst_lin_moderate, 1);
+}
+
+TEST(ArbProgram, GuardedProgramStaysWithin1LsbWithCoarseApproximationsAtAnyExposure) {
+    // guard_coarse_ex2 clamps F_ex into its series bounds, so that EX2's error can only act
+    // where those bounds are wider than it: at most 2^-11 min(1, tau^3/6 / 2^-11) lin.
+    ArbProgramOptions guarded;
+    guarded.guard_coarse_ex2 = true;
+    const aerial::ArbProgram text = generate(guarded);
+    EXPECT_EQ(text.instruction_count, generate().instruction_count + 7);
+    const auto program = parse(text.text);
+    const int approx = aerial::count_approximate_instructions(program);
+    ASSERT_EQ(approx, 5);
+    int worst_exact = 0, worst_perturbed = 0;
+    std::string where;
+    long vertices = 0;
+    for (const std::string& name : aerial::atmosphere_preset_names()) {
+        const Atmosphere a = preset(name);
+        for (const glm::dvec3& eye : {glm::dvec3(0, 0, 2), glm::dvec3(0, 0, 3000)}) {
+            for (double sun_elevation : {10.0, 45.0}) {
+                const Frame<float> f = frame_for(a, eye, direction(sun_elevation, 30));
+                const std::vector<glm::dvec3> dirs = view_directions(f.view.sun_dir, 2);
+                for (float exposure : {1.0f, 16.0f, 256.0f, 1024.0f}) {
+                    const aerial::ArbMachine m = machine_with(parameters(f, exposure));
+                    Display display;
+                    display.exposure = exposure;
+                    for (double d = 1.0; d < 6e4; d *= 1.5) {
+                        for (const glm::dvec3& dir : dirs) {
+                            const glm::vec3 v = glm::vec3(eye + d * dir);
+                            const aerial::Scattering<float> cpu = aerial::scatter(f, v);
+                            ++vertices;
+                            for (std::uint32_t pattern = 0; pattern <= (1u << approx); ++pattern) {
+                                aerial::ArbInterpreterOptions o;  // the last run: exact
+                                o.relative_error = pattern < (1u << approx) ? kOldHardwareError : 0;
+                                o.sign_pattern = pattern;
+                                const ArbResults r =
+                                    aerial::run_arb_program(program, m, vertex_at(v), o);
+                                int worst = 0;
+                                for (int c = 0; c < 3; ++c) {
+                                    const std::size_t i = static_cast<std::size_t>(c);
+                                    worst = std::max(
+                                        {worst,
+                                         lsb_difference(r.color_primary.value[i],
+                                                        cpu.extinction[c]),
+                                         lsb_difference(r.color_secondary.value[i],
+                                                        aerial::display_value(
+                                                            display, cpu.in_scattering[c]))});
+                                }
+                                int& slot = o.relative_error > 0 ? worst_perturbed : worst_exact;
+                                if (worst > slot) {
+                                    slot = worst;
+                                    where = name + " exposure " + std::to_string(exposure) +
+                                            " d=" + std::to_string(d);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    std::printf(
+        "[ info     ] guarded program (%d instructions), %ld vertices, exposures 1 to 1024: "
+        "max %d LSB exact, max %d LSB with 2^-11 on RSQ/EX2/POW (all sign patterns)\n",
+        text.instruction_count, vertices, worst_exact, worst_perturbed);
+    EXPECT_LE(worst_exact, 1) << where;
+    EXPECT_LE(worst_perturbed, 1) << where;
+}
+
+TEST(ArbProgram, CoarseRsqIsHarmlessAtTheMiePeak) {
+    // Looking straight at the sun, where the HG lobe is steepest in cos(theta). Had the program
+    // taken 1 - cos(theta) from dot(d, sun) / s, RSQ off by 2^-11 would move it by 2^-11 and the
+    // g = 0.85 peak, where 1 + g^2 - 2g = 0.0225, by 1.5 * 2 g 2^-11 / 0.0225 = 5.5 %.
+    // w = |d / s - sun|^2 only moves by 2^-11 relative: within 1 LSB.
+    const auto program = parse(generate().text);
+    const Frame<float> f = frame_for(preset("foggy"), {0, 0, 2}, direction(10, 0));
+    const aerial::ArbMachine m = machine_with(parameters(f, 1.0f));
+    Display display;
+    int worst = 0;
+    for (double d : kDistancesM) {
+        const glm::vec3 v = glm::vec3(f.view.eye + d * f.view.sun_dir);
+        const aerial::Scattering<float> cpu = aerial::scatter(f, v);
+        for (std::uint32_t sign : {0u, 1u}) {
+            aerial::ArbInterpreterOptions o;
+            o.relative_error = kOldHardwareError;
+            o.perturbed = aerial::kArbApproxRsq;
+            o.sign_pattern = sign;
+            const ArbResults r = aerial::run_arb_program(program, m, vertex_at(v), o);
+            for (int c = 0; c < 3; ++c) {
+                worst = std::max(
+                    worst, lsb_difference(r.color_secondary.value[std::size_t(c)],
+                                          aerial::display_value(display, cpu.in_scattering[c])));
+            }
+        }
+    }
+    EXPECT_LE(worst, 1);
+}
+
+#ifdef AERIAL_EVAL_PATH
+/// Runs aerial-eval with `args`, returns its stdout and exit status.
+std::pair<std::string, int> run_aerial_eval(const std::string& args) {
+    const std::string command = std::string("'") + AERIAL_EVAL_PATH + "' " + args + " 2>/dev/null";
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return {"", -1};
+    std::string out;
+    char buffer[4096];
+    std::size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) out.append(buffer, n);
+    const int status = pclose(pipe);
+    return {out, WIFEXITED(status) ? WEXITSTATUS(status) : -1};
+}
+
+TEST(ArbProgram, AerialEvalPrintsExactlyTheGeneratedText) {
+    const auto [out, status] = run_aerial_eval("--print-arb-program");
+    EXPECT_EQ(status, 0);
+    EXPECT_EQ(out, generate().text);
+    EXPECT_EQ(run_aerial_eval("--print-arb-program --model hoffman-preetham").first, out);
+    EXPECT_EQ(run_aerial_eval("--print-arb-program --model height").second, 2)
+        << "only hoffman-preetham has a program";
+}
+#endif
+
+// ---- The interpreter itself ------------------------------------------------------------------
+
+ArbResults run_text(const std::string& body, const aerial::ArbVertex& v = {},
+                    const aerial::ArbInterpreterOptions& o = {}) {
+    aerial::ArbMachine m;
+    m.local = {{1, 2, 3, 4}, {-0.5f, 0.25f, 8, 16}};
+    return aerial::run_arb_program(parse("!!ARBvp1.0\n" + body + "END\n"), m, v, o);
+}
+
+TEST(ArbInterpreter, SwizzlesMasksAndNegationFollowTheSpec) {
+    const ArbResults r = run_text(
+        "PARAM a = program.local[0];\nTEMP t;\n"
+        "MOV t, a.wzyx;\n"
+        "MOV t.y, -a.x;\n"
+        "MOV result.color, t;\n"
+        "MOV result.color.secondary.xz, a.y;\n"
+        "SWZ result.texcoord[2], a, -w, 0, 1, x;\n");
+    EXPECT_EQ(r.color_primary.value, (std::array<float, 4>{4, -1, 2, 1}));
+    EXPECT_EQ(r.color_secondary.written, 0x5u);
+    EXPECT_EQ(r.color_secondary.value[0], 2.0f);
+    EXPECT_EQ(r.color_secondary.value[2], 2.0f);
+    EXPECT_TRUE(std::isnan(r.color_secondary.value[1]));
+    EXPECT_EQ(r.texcoord[2].value, (std::array<float, 4>{-4, 0, 1, 1}));
+}
+
+TEST(ArbInterpreter, VectorAndDotInstructions) {
+    const ArbResults r = run_text(
+        "PARAM a = program.local[0];\nPARAM b = program.local[1];\nPARAM c = {1, 0.5, 2};\n"
+        "TEMP t;\n"
+        "DP3 result.texcoord[0], a, b;\n"
+        "DP4 result.texcoord[1], a, b;\n"
+        "DPH result.texcoord[2], a, b;\n"
+        "MAD result.texcoord[3], a, b, c;\n"
+        "MIN t, a, b;\nMAX t.w, a, b;\nMOV result.texcoord[4], t;\n"
+        "SUB result.texcoord[5], a, 1.5;\n");
+    const float dp3 = 1 * -0.5f + 2 * 0.25f + 3 * 8.0f;
+    EXPECT_EQ(r.texcoord[0].value, (std::array<float, 4>{dp3, dp3, dp3, dp3}));
+    EXPECT_EQ(r.texcoord[1].value[0], dp3 + 4 * 16.0f);
+    EXPECT_EQ(r.texcoord[2].value[0], dp3 + 16.0f);
+    EXPECT_EQ(r.texcoord[3].value, (std::array<float, 4>{0.5f, 1.0f, 26.0f, 65.0f}))
+        << "constant vectors default w to 1";
+    EXPECT_EQ(r.texcoord[4].value, (std::array<float, 4>{-0.5f, 0.25f, 3.0f, 16.0f}));
+    EXPECT_EQ(r.texcoord[5].value, (std::array<float, 4>{-0.5f, 0.5f, 1.5f, 2.5f}));
+}
+
+TEST(ArbInterpreter, ScalarInstructionsReplicateAndExpLogSplitExactly) {
+    const ArbResults r = run_text(
+        "PARAM b = program.local[1];\n"
+        "RSQ result.texcoord[0], -b.w;\n"  // absolute value: 1/4
+        "RCP result.texcoord[1], b.x;\n"
+        "EX2 result.texcoord[2], b.z;\n"
+        "LG2 result.texcoord[3], b.z;\n"
+        "POW result.texcoord[4], b.z, b.y;\n"
+        "EXP result.texcoord[5], -b.x;\n"  // 0.5
+        "LOG result.texcoord[6], -b.z;\n");
+    EXPECT_EQ(r.texcoord[0].value, (std::array<float, 4>{0.25f, 0.25f, 0.25f, 0.25f}));
+    EXPECT_EQ(r.texcoord[1].value[3], -2.0f);
+    EXPECT_EQ(r.texcoord[2].value[1], 256.0f);
+    EXPECT_EQ(r.texcoord[3].value[2], 3.0f);
+    EXPECT_FLOAT_EQ(r.texcoord[4].value[0], std::pow(8.0f, 0.25f));
+    EXPECT_EQ(r.texcoord[5].value[0], 1.0f);  // 2^floor(0.5)
+    EXPECT_EQ(r.texcoord[5].value[1], 0.5f);  // fraction
+    EXPECT_FLOAT_EQ(r.texcoord[5].value[2], std::sqrt(2.0f));
+    EXPECT_EQ(r.texcoord[5].value[3], 1.0f);
+    EXPECT_EQ(r.texcoord[6].value, (std::array<float, 4>{3.0f, 1.0f, 3.0f, 1.0f}));
+}
+
+TEST(ArbInterpreter, PerturbationFollowsTheSignPatternInProgramOrder) {
+    const std::string body =
+        "PARAM b = program.local[1];\n"
+        "EX2 result.texcoord[0], b.z;\n"
+        "MOV result.texcoord[1], b;\n"
+        "RCP result.texcoord[2], b.z;\n";
+    aerial::ArbInterpreterOptions o;
+    o.relative_error = 1.0f / 2048.0f;
+    o.sign_pattern = 0b10;  // first approximate instruction down, second up
+    const ArbResults r = run_text(body, {}, o);
+    EXPECT_EQ(r.texcoord[0].value[0], 256.0f * (1.0f - 1.0f / 2048.0f));
+    EXPECT_EQ(r.texcoord[1].value[2], 8.0f) << "exact instructions are not perturbed";
+    EXPECT_EQ(r.texcoord[2].value[0], 0.125f * (1.0f + 1.0f / 2048.0f));
+    o.perturbed = aerial::kArbApproxRcp;  // only RCP counts now: it is number 0, down
+    const ArbResults only_rcp = run_text(body, {}, o);
+    EXPECT_EQ(only_rcp.texcoord[0].value[0], 256.0f);
+    EXPECT_EQ(only_rcp.texcoord[2].value[0], 0.125f * (1.0f - 1.0f / 2048.0f));
+}
+
+TEST(ArbInterpreter, ParseErrorsGiveTheLine) {
+    struct Case {
+        std::string text;
+        std::string field;
+        std::string says;
+    };
+    const std::vector<Case> cases{
+        {"!!ARBfp1.0\nEND\n", "line 1", "!!ARBvp1.0"},
+        {"!!ARBvp1.0\nTEMP t;\nFOO t, t;\nEND\n", "line 3", "FOO"},
+        {"!!ARBvp1.0\nMOV result.color, x;\nEND\n", "line 2", "'x' is not declared"},
+        {"!!ARBvp1.0\nTEMP t;\nMOV t.yx, vertex.position;\nEND\n", "line 3", "write mask"},
+        {"!!ARBvp1.0\nTEMP t;\nRSQ t, vertex.position;\nEND\n", "line 3", "scalar"},
+        {"!!ARBvp1.0\nTEMP t;\nMOV t, vertex.position.xy;\nEND\n", "line 3", "swizzle"},
+        {"!!ARBvp1.0\nTEMP t;\nMOV t, vertex.position;\n", "line 4", "END"},
+        {"!!ARBvp1.0\nATTRIB p = vertex.position;\nMOV p, p;\nEND\n", "line 3", "read-only"},
+        {"!!ARBvp1.0\nTEMP t, t;\nEND\n", "line 2", "already declared"},
+        {"!!ARBvp1.0\nTEMP result;\nEND\n", "line 2", "reserved"},
+        {"!!ARBvp1.0\nOPTION ARB_position_invariant;\nMOV result.position, vertex.position;\nEND\n",
+         "line 3", "ARB_position_invariant"},
+        {"!!ARBvp1.0\nPARAM m[4] = { state.matrix.mvp };\nMOV result.color, m[4];\nEND\n", "line 3",
+         "out of range"},
+        {"!!ARBvp1.0\nTEMP t;\nMOV t, vertex.normal;\nEND\n", "line 3", "vertex.normal"},
+        {"!!ARBvp1.0\nADDRESS a;\nEND\n", "line 2", "ADDRESS"},
+    };
+    for (const Case& c : cases) {
+        const auto r = aerial::parse_arb_program(c.text);
+        ASSERT_FALSE(r.ok()) << c.text;
+        EXPECT_EQ(r.error().field, c.field) << r.error().message;
+        EXPECT_EQ(r.error().message.rfind(c.field, 0), 0u) << r.error().message;
+        EXPECT_NE(r.error().message.find(c.says), std::string::npos) << r.error().message;
+    }
+}
+
+}  // namespace

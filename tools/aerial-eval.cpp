@@ -32,10 +32,10 @@ constexpr const char* kDescription =
 int main(int argc, char** argv) {
     using namespace aerial;
     CLI::App app{kDescription, kTool};
-    std::string preset, atmosphere_file, eye_text, sun_text, up_text = "0,0,1", model_text = "height",
-                                                                     points_file;
-    auto* preset_opt = app.add_option("--preset", preset,
-                                      "Atmosphere preset: earth, hp2002, hazy, foggy, mars");
+    std::string preset, atmosphere_file, eye_text, sun_text, up_text = "0,0,1",
+                                                             model_text = "height", points_file;
+    auto* preset_opt =
+        app.add_option("--preset", preset, "Atmosphere preset: earth, hp2002, hazy, foggy, mars");
     auto* file_opt = app.add_option("--atmosphere", atmosphere_file, "Atmosphere JSON file");
     preset_opt->excludes(file_opt);
     // --eye and --sun are required unless --print-arb-program is given (checked below).

@@ -39,14 +39,15 @@ std::optional<double> parse_number(std::string_view text) {
     char* end = nullptr;
     errno = 0;
     const double value = std::strtod(s.c_str(), &end);
-    if (end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(value)) return std::nullopt;
+    if (end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(value))
+        return std::nullopt;
     return value;
 }
 
 Result<glm::dvec3> parse_vec3(std::string_view text, const std::string& flag) {
     if (auto v = parse_triple(text)) return *v;
-    return Error{flag, flag + ": expected three finite numbers X,Y,Z, got '" + std::string(text) +
-                           "'"};
+    return Error{flag,
+                 flag + ": expected three finite numbers X,Y,Z, got '" + std::string(text) + "'"};
 }
 
 Result<glm::dvec3> parse_direction(std::string_view text, const std::string& flag) {
@@ -54,7 +55,8 @@ Result<glm::dvec3> parse_direction(std::string_view text, const std::string& fla
     if (!v) return v;
     const double length = glm::length(*v);
     if (!(length > 1e-12) || !std::isfinite(length)) {
-        return Error{flag, flag + ": expected a non-zero direction, got '" + std::string(text) + "'"};
+        return Error{flag,
+                     flag + ": expected a non-zero direction, got '" + std::string(text) + "'"};
     }
     return *v / length;
 }

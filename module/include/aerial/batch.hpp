@@ -77,10 +77,10 @@ inline std::uint8_t to_unorm8(float v) {
 
 /// Per-vertex lighting for the lit variant.
 struct Lighting {
-    const float* normals = nullptr;   ///< unit normals, x, y, z floats at the start of each record
+    const float* normals = nullptr;  ///< unit normals, x, y, z floats at the start of each record
     std::size_t normal_stride_bytes = 0;  ///< 0 means tightly packed (12)
-    glm::vec3 ambient{0.0f};          ///< sky irradiance added to the sun term (linear RGB)
-    glm::vec3 albedo{1.0f};           ///< multiplies the lit colour (1 when the texture has it)
+    glm::vec3 ambient{0.0f};              ///< sky irradiance added to the sun term (linear RGB)
+    glm::vec3 albedo{1.0f};               ///< multiplies the lit colour (1 when the texture has it)
 };
 
 /// Where results go. Null pointers are skipped; strides of 0 mean tightly packed (4 bytes for
@@ -102,9 +102,9 @@ struct BatchOutputs {
 
 /// Which implementation computes the model.
 enum class Kernel {
-    simd,         ///< Highway SIMD (hoffman-preetham, height), accurate exp/log: within 0.5 LSB
-    simd_fast,    ///< Highway SIMD with polynomial exp2/log2: faster, error measured (< 1 LSB)
-    scalar,       ///< plain loop over scatter<float> with std::exp; the only one for `reference`
+    simd,       ///< Highway SIMD (hoffman-preetham, height), accurate exp/log: within 0.5 LSB
+    simd_fast,  ///< Highway SIMD with polynomial exp2/log2: faster, error measured (< 1 LSB)
+    scalar,     ///< plain loop over scatter<float> with std::exp; the only one for `reference`
 };
 
 struct BatchSettings {

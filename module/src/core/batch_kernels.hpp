@@ -29,7 +29,7 @@ struct KernelBlock {
     const float* x = nullptr;
     const float* y = nullptr;
     const float* z = nullptr;
-    std::size_t count = 0;  ///< <= kBlockSize
+    std::size_t count = 0;                                   ///< <= kBlockSize
     float* extinction[3] = {nullptr, nullptr, nullptr};      ///< F_ex per channel
     float* in_scattering[3] = {nullptr, nullptr, nullptr};   ///< L_in per channel
     float* sun_irradiance[3] = {nullptr, nullptr, nullptr};  ///< E_sun at the vertex per channel

@@ -22,6 +22,7 @@
 
 #include "aerial/aerial.hpp"
 #include "batch_kernels.hpp"
+#include "extreme_sampler.hpp"
 
 namespace aerial::detail {
 // Test hooks defined in batch_simd.cpp: the dispatched target's vector building blocks.
@@ -41,6 +42,8 @@ using aerial::View;
 using aerial::detail::kBlockSize;
 using aerial::detail::KernelBlock;
 using aerial::detail::KernelPrecision;
+using aerial::testing::ExtremeSampler;
+using aerial::testing::Random;
 using glm::dvec3;
 
 constexpr double kLsb = 255.0;
@@ -122,35 +125,6 @@ Shaded shade(KernelKind kernel, const Frame<float>& frame, const Vertices& v) {
 }
 
 // ---- (1) Accuracy over realistic scenes --------------------------------------------------------
-
-class Random {
-  public:
-    explicit Random(unsigned seed) : rng_(seed) {}
-    double uniform(double lo, double hi) {
-        return std::uniform_real_distribution<double>(lo, hi)(rng_);
-    }
-    double log_uniform(double lo, double hi) {
-        return std::exp(uniform(std::log(lo), std::log(hi)));
-    }
-    bool chance(double p) { return uniform(0.0, 1.0) < p; }
-    template <class T, size_t N>
-    T pick(const T (&values)[N]) {
-        return values[std::uniform_int_distribution<size_t>(0, N - 1)(rng_)];
-    }
-    dvec3 unit() {
-        std::normal_distribution<double> n;
-        dvec3 v;
-        do v = {n(rng_), n(rng_), n(rng_)};
-        while (glm::length(v) < 1e-6);
-        return glm::normalize(v);
-    }
-
-  protected:
-    std::mt19937_64& engine() { return rng_; }
-
-  private:
-    std::mt19937_64 rng_;
-};
 
 /// A point at distance `distance_m` from the eye (on the up axis, at `eye_altitude_m`) and at
 /// `altitude_m` above the sphere, in the direction `azimuth_rad` (up = +Z).
@@ -297,75 +271,6 @@ TEST(BatchKernelAccuracy, HeightAccurateIsWithinHalfAnLsbAndFastWithinOneLsb) {
 
 // ---- (2) Stability over extreme ranges ----------------------------------------------------------
 
-/// Extreme atmospheres, views and points, like test_stability.cpp, plus points that are not
-/// positions (NaN, Inf, beyond kMaxDistanceM).
-class ExtremeSampler : public Random {
-  public:
-    using Random::Random;
-
-    double coefficient() {
-        if (chance(0.25)) return pick({0.0, 1e-30, 1e-20, 1e-12, 1.0});
-        return log_uniform(1e-9, 1e-1);
-    }
-    dvec3 coefficients() { return {coefficient(), coefficient(), coefficient()}; }
-
-    Atmosphere atmosphere() {
-        Atmosphere a;
-        if (chance(0.2)) return a;
-        a.rayleigh_scattering = coefficients();
-        a.mie_scattering = coefficients();
-        a.mie_absorption = chance(0.5) ? dvec3(0.0) : coefficients();
-        a.mie_g = chance(0.5) ? pick({-0.999, -0.9, 0.0, 0.76, 0.9, 0.99, 0.999})
-                              : uniform(-0.999, 0.999);
-        a.rayleigh_scale_height_m = chance(0.2) ? pick({1.0, 1e6}) : log_uniform(1.0, 1e6);
-        a.mie_scale_height_m = chance(0.2) ? pick({1.0, 1e6}) : log_uniform(1.0, 1e6);
-        a.planet_radius_m =
-            chance(0.5) ? pick({6360e3, 3389.5e3, 1e3, 1e8}) : log_uniform(1e3, 1e8);
-        a.atmosphere_radius_m = a.planet_radius_m + log_uniform(1.0, 1e6);
-        a.sun_irradiance = {uniform(0, 10), uniform(0, 10), chance(0.1) ? 0.0 : uniform(0, 10)};
-        return a;
-    }
-
-    View view(const Atmosphere& a) {
-        View v;
-        v.up = chance(0.5) ? pick({dvec3(0, 0, 1), dvec3(0, 1, 0), dvec3(-1, 0, 0)}) : unit();
-        const double top = a.atmosphere_radius_m - a.planet_radius_m;
-        const double altitude =
-            pick({-5000.0, -100.0, 0.0, 2.0, 1000.0, 10000.0, top, top + 1e5, 1e7});
-        const dvec3 sideways = glm::normalize(glm::cross(v.up, unit()));
-        v.eye = v.up * (chance(0.8) ? altitude : uniform(-5000.0, 1e5)) +
-                sideways * (chance(0.5) ? 0.0 : log_uniform(1.0, 1e6));
-        const int kind = std::uniform_int_distribution<int>(0, 4)(engine());
-        if (kind == 0)
-            v.sun_dir = v.up;
-        else if (kind == 1)
-            v.sun_dir = -v.up;
-        else if (kind == 2)
-            v.sun_dir = sideways;
-        else if (kind == 3)
-            v.sun_dir = glm::normalize(sideways - v.up * uniform(0.001, 0.3));
-        else
-            v.sun_dir = unit();
-        if (chance(0.1)) v.meters_per_unit = pick({1e-3, 0.3048, 1e3});
-        return v;
-    }
-
-    /// A point in engine units; about 2 % are not positions.
-    glm::vec3 point(const View& v) {
-        constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-        constexpr float kInf = std::numeric_limits<float>::infinity();
-        if (chance(0.02)) {
-            const glm::vec3 bad[] = {{kNaN, 0, 0},  {0, kInf, 0},       {0, 0, -kInf},
-                                     {1e30f, 0, 0}, {0, -3e38f, 3e38f}, {2e12f, 0, 0}};
-            return pick(bad);
-        }
-        const double s = chance(0.1) ? pick({0.0, 1e-6, 1e7}) : log_uniform(1e-3, 1e7);
-        const int kind = std::uniform_int_distribution<int>(0, 3)(engine());
-        const dvec3 dir = kind == 0 ? v.sun_dir : kind == 1 ? -v.sun_dir : unit();
-        return glm::vec3(v.eye + dir * (s / v.meters_per_unit));
-    }
-};
-
 bool physical(const Shaded& s, std::size_t i) {
     for (int c = 0; c < 3; ++c) {
         const float f = s.extinction[c][i], l = s.in_scattering[c][i], e = s.sun_irradiance[c][i];
@@ -384,7 +289,7 @@ void sweep(Model model, unsigned seed, int frames, int points) {
         const auto frame = aerial::prepare_frame<float>(a, v, model);
         ASSERT_TRUE(frame.ok()) << "frame " << f << ": " << frame.error().message;
         Vertices vertices;
-        for (int p = 0; p < points; ++p) vertices.push(sampler.point(v));
+        for (int p = 0; p < points; ++p) vertices.push(glm::vec3(sampler.point(v)));
         for (KernelKind k : kSimdKernels) {
             const int slot = k == KernelKind::simd_fast ? 1 : 0;
             const Shaded s = shade(k, *frame, vertices);

@@ -54,21 +54,11 @@ struct Plan {
 #error "store_rgba8 packs R, G, B, A into little-endian 32-bit words"
 #endif
 
-/// floor(clamp(v, 0, 1) * 255 + 0.5) for the finite values the kernels produce, written so the
-/// compiler vectorises it (to_unorm8 additionally maps NaN to 0).
-inline std::uint32_t unorm8_bits(float v) {
-    v = v > 0.0f ? v : 0.0f;
-    v = v < 1.0f ? v : 1.0f;
-    return static_cast<std::uint32_t>(static_cast<int>(v * 255.0f + 0.5f));
-}
-
+/// Writes RGBA8 codes of value * scale (the 8-bit rule, see batch.hpp) for n vertices.
 void store_rgba8(std::uint8_t* base, std::size_t stride, std::size_t first, std::size_t n,
-                 const float (&value)[3][kBlockSize]) {
+                 const float (&value)[3][kBlockSize], float scale = 1.0f) {
     alignas(64) std::uint32_t packed[kBlockSize];  // R, G, B, A bytes in memory order
-    for (std::size_t i = 0; i < n; ++i) {
-        packed[i] = unorm8_bits(value[0][i]) | unorm8_bits(value[1][i]) << 8 |
-                    unorm8_bits(value[2][i]) << 16 | 0xFF000000u;
-    }
+    detail::pack_rgba8(value[0], value[1], value[2], n, scale, packed);
     if (stride == 4) {
         std::memcpy(base + first * 4, packed, n * 4);
         return;
@@ -87,20 +77,18 @@ void store_rgb(float* base, std::size_t stride_bytes, std::size_t first, std::si
     }
 }
 
-/// Maps a block of linear radiance through the display into [0, 1], in place.
-void apply_display(const Display& display, std::size_t n, float (&value)[3][kBlockSize]) {
-    const float exposure = display.exposure;
-    for (int c = 0; c < 3; ++c) {
-        float* v = value[c];
-        if (display.tone == ToneCurve::clamp) {
-            for (std::size_t i = 0; i < n; ++i) {
-                const float x = exposure * v[i];
-                v[i] = x < 1.0f ? (x > 0.0f ? x : 0.0f) : 1.0f;  // vectorises
-            }
-        } else {
-            for (std::size_t i = 0; i < n; ++i) v[i] = display_value(display, v[i]);
-        }
+/// Writes RGBA8 codes of display_value(display, value): the clamp curve is the packer's scale
+/// and clamp; the exponential curve is applied first, in place.
+void store_display_rgba8(const Display& display, std::uint8_t* base, std::size_t stride,
+                         std::size_t first, std::size_t n, float (&value)[3][kBlockSize]) {
+    if (display.tone == ToneCurve::clamp) {
+        store_rgba8(base, stride, first, n, value, display.exposure);
+        return;
     }
+    for (int c = 0; c < 3; ++c) {
+        for (std::size_t i = 0; i < n; ++i) value[c][i] = display_value(display, value[c][i]);
+    }
+    store_rgba8(base, stride, first, n, value);
 }
 
 /// Shades vertices [first, last) block by block; returns the invalid-vertex count.
@@ -151,9 +139,8 @@ std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
                         scratch.extinction);
         }
         if (out.in_scattering_rgba8) {
-            apply_display(plan.settings.display, n, scratch.in_scattering);
-            store_rgba8(out.in_scattering_rgba8, plan.in_scattering_rgba8_stride, begin, n,
-                        scratch.in_scattering);
+            store_display_rgba8(plan.settings.display, out.in_scattering_rgba8,
+                                plan.in_scattering_rgba8_stride, begin, n, scratch.in_scattering);
         }
         if (out.lit_rgba8) {
             // F_ex x albedo x (E_sun max(N.L, 0) + ambient), written over the sun scratch.
@@ -169,8 +156,8 @@ std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
                         (scratch.sun_irradiance[c][i] * n_dot_l + light.ambient[c]);
                 }
             }
-            apply_display(plan.settings.display, n, scratch.sun_irradiance);
-            store_rgba8(out.lit_rgba8, plan.lit_rgba8_stride, begin, n, scratch.sun_irradiance);
+            store_display_rgba8(plan.settings.display, out.lit_rgba8, plan.lit_rgba8_stride, begin,
+                                n, scratch.sun_irradiance);
         }
     }
     return invalid;

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "aerial/scattering.hpp"
 
@@ -43,6 +44,11 @@ struct KernelBlock {
 std::size_t shade_block_scalar(const Frame<float>& frame, const KernelBlock& block);
 std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block,
                              KernelPrecision precision);
+
+/// RGBA8 words (R in the lowest byte, A = 255) of n vertices: each channel times `scale`, then
+/// floor(clamp(v, 0, 1) * 255 + 0.5), bit-identical to to_unorm8(v * scale) for finite v.
+void pack_rgba8(const float* r, const float* g, const float* b, std::size_t n, float scale,
+                std::uint32_t* out);
 
 /// Name of the SIMD target the dispatcher picked on this CPU ("AVX2", "AVX3", "SSE4", ...).
 const char* simd_target_name();

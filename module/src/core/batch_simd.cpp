@@ -17,6 +17,7 @@
 // FrameConstants::shadow_*), and 1 / tau_total for subnormal depths.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -761,6 +762,39 @@ void FastLog2Array(const float* in, float* out, std::size_t n) {
     ApplyToArray(in, out, n, [](VF x) { return FastLog2(x); });
 }
 
+/// RGBA8 words (R in the lowest byte, A = 255) of three channels, each scaled by `scale` then
+/// coded by the batch API's 8-bit rule floor(clamp(v, 0, 1) * 255 + 0.5), with the same float
+/// operations as to_unorm8 (a multiply then an add, no fused multiply-add) so both agree bit for
+/// bit. Inputs are the kernels' finite outputs.
+void PackRgba8(const float* HWY_RESTRICT r, const float* HWY_RESTRICT g,
+               const float* HWY_RESTRICT b, std::size_t n, float scale,
+               std::uint32_t* HWY_RESTRICT out) {
+    const DF d;
+    const hn::RebindToSigned<DF> di;
+    const hn::RebindToUnsigned<DF> du;
+    const std::size_t lanes = hn::Lanes(d);
+    const VF vscale = hn::Set(d, scale), zero = hn::Zero(d), one = hn::Set(d, 1.0f);
+    const VF v255 = hn::Set(d, 255.0f), half = hn::Set(d, 0.5f);
+    const auto alpha = hn::Set(du, 0xFF000000u);
+    auto code = [&](const float* p) {
+        const VF v = hn::Min(hn::Max(hn::Mul(hn::LoadU(d, p), vscale), zero), one);
+        return hn::BitCast(du, hn::ConvertTo(di, hn::Add(hn::Mul(v, v255), half)));
+    };
+    std::size_t i = 0;
+    for (; i + lanes <= n; i += lanes) {
+        const auto word = hn::Or(hn::Or(code(r + i), hn::ShiftLeft<8>(code(g + i))),
+                                 hn::Or(hn::ShiftLeft<16>(code(b + i)), alpha));
+        hn::StoreU(word, du, out + i);
+    }
+    for (; i < n; ++i) {
+        auto scalar_code = [scale](float v) {
+            v = std::min(std::max(v * scale, 0.0f), 1.0f);
+            return static_cast<std::uint32_t>(static_cast<int>(v * 255.0f + 0.5f));
+        };
+        out[i] = scalar_code(r[i]) | scalar_code(g[i]) << 8 | scalar_code(b[i]) << 16 | 0xFF000000u;
+    }
+}
+
 // NOLINTNEXTLINE(google-readability-namespace-comments)
 }  // namespace HWY_NAMESPACE
 }  // namespace aerial::detail
@@ -772,6 +806,7 @@ namespace aerial::detail {
 
 HWY_EXPORT(ShadeBlockSimd);
 HWY_EXPORT(TargetName);
+HWY_EXPORT(PackRgba8);
 HWY_EXPORT(ErfcxArray);
 HWY_EXPORT(FastExp2Array);
 HWY_EXPORT(FastLog2Array);
@@ -785,6 +820,11 @@ std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block
 }
 
 const char* simd_target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
+
+void pack_rgba8(const float* r, const float* g, const float* b, std::size_t n, float scale,
+                std::uint32_t* out) {
+    HWY_DYNAMIC_DISPATCH(PackRgba8)(r, g, b, n, scale, out);
+}
 
 // Test hooks (declared by tests/core/test_batch_kernels.cpp): the dispatched target's building
 // blocks applied to arrays, for accuracy tests against the standard library in double.

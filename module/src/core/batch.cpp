@@ -100,15 +100,22 @@ std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
     const detail::KernelPrecision precision = plan.settings.kernel == Kernel::simd_fast
                                                   ? detail::KernelPrecision::fast
                                                   : detail::KernelPrecision::accurate;
+    // Tightly packed x, y, z records (the common AoS layout) are split with SIMD loads.
+    const bool packed_xyz =
+        pos.stride_bytes == 3 * sizeof(float) && pos.y == pos.x + 1 && pos.z == pos.x + 2;
     BlockScratch scratch;
     std::size_t invalid = 0;
     for (std::size_t begin = first; begin < last; begin += kBlockSize) {
         const std::size_t n = std::min(kBlockSize, last - begin);
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::size_t offset = (begin + i) * pos.stride_bytes;
-            scratch.x[i] = *advance(pos.x, offset);
-            scratch.y[i] = *advance(pos.y, offset);
-            scratch.z[i] = *advance(pos.z, offset);
+        if (packed_xyz) {
+            detail::deinterleave3(pos.x + 3 * begin, n, scratch.x, scratch.y, scratch.z);
+        } else {
+            for (std::size_t i = 0; i < n; ++i) {
+                const std::size_t offset = (begin + i) * pos.stride_bytes;
+                scratch.x[i] = *advance(pos.x, offset);
+                scratch.y[i] = *advance(pos.y, offset);
+                scratch.z[i] = *advance(pos.z, offset);
+            }
         }
         detail::KernelBlock block;
         block.x = scratch.x;

@@ -50,6 +50,9 @@ std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block
 void pack_rgba8(const float* r, const float* g, const float* b, std::size_t n, float scale,
                 std::uint32_t* out);
 
+/// Splits n tightly packed x, y, z float triples into three arrays.
+void deinterleave3(const float* xyz, std::size_t n, float* x, float* y, float* z);
+
 /// Name of the SIMD target the dispatcher picked on this CPU ("AVX2", "AVX3", "SSE4", ...).
 const char* simd_target_name();
 

@@ -795,6 +795,26 @@ void PackRgba8(const float* HWY_RESTRICT r, const float* HWY_RESTRICT g,
     }
 }
 
+/// Splits n tightly packed x, y, z float triples into three arrays.
+void Deinterleave3(const float* HWY_RESTRICT xyz, std::size_t n, float* HWY_RESTRICT x,
+                   float* HWY_RESTRICT y, float* HWY_RESTRICT z) {
+    const DF d;
+    const std::size_t lanes = hn::Lanes(d);
+    std::size_t i = 0;
+    for (; i + lanes <= n; i += lanes) {
+        VF vx, vy, vz;
+        hn::LoadInterleaved3(d, xyz + 3 * i, vx, vy, vz);
+        hn::StoreU(vx, d, x + i);
+        hn::StoreU(vy, d, y + i);
+        hn::StoreU(vz, d, z + i);
+    }
+    for (; i < n; ++i) {
+        x[i] = xyz[3 * i];
+        y[i] = xyz[3 * i + 1];
+        z[i] = xyz[3 * i + 2];
+    }
+}
+
 // NOLINTNEXTLINE(google-readability-namespace-comments)
 }  // namespace HWY_NAMESPACE
 }  // namespace aerial::detail
@@ -807,6 +827,7 @@ namespace aerial::detail {
 HWY_EXPORT(ShadeBlockSimd);
 HWY_EXPORT(TargetName);
 HWY_EXPORT(PackRgba8);
+HWY_EXPORT(Deinterleave3);
 HWY_EXPORT(ErfcxArray);
 HWY_EXPORT(FastExp2Array);
 HWY_EXPORT(FastLog2Array);
@@ -824,6 +845,10 @@ const char* simd_target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
 void pack_rgba8(const float* r, const float* g, const float* b, std::size_t n, float scale,
                 std::uint32_t* out) {
     HWY_DYNAMIC_DISPATCH(PackRgba8)(r, g, b, n, scale, out);
+}
+
+void deinterleave3(const float* xyz, std::size_t n, float* x, float* y, float* z) {
+    HWY_DYNAMIC_DISPATCH(Deinterleave3)(xyz, n, x, y, z);
 }
 
 // Test hooks (declared by tests/core/test_batch_kernels.cpp): the dispatched target's building

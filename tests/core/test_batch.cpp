@@ -178,7 +178,7 @@ TEST(Batch, SmallBatchesStayOnTheCallersThread) {
     EXPECT_EQ(stats->threads_used, 1u);
 }
 
-TEST(Batch, SoaAndAosLayoutsAgree) {
+TEST(Batch, SoaStridedAndPackedAosLayoutsAgree) {
     const auto v = random_scene(777, 4);
     std::vector<float> x, y, z;
     for (const auto& p : v) {
@@ -199,6 +199,15 @@ TEST(Batch, SoaAndAosLayoutsAgree) {
                     frame, aerial::Positions::soa(x.data(), y.data(), z.data(), x.size()), out_b)
                     .ok());
     EXPECT_EQ(a, b);
+    // Tightly packed records take the SIMD deinterleaving path.
+    std::vector<float> packed;
+    for (const auto& p : v) packed.insert(packed.end(), p.position, p.position + 3);
+    std::vector<std::uint8_t> c(4 * v.size());
+    aerial::BatchOutputs out_c;
+    out_c.in_scattering_rgba8 = c.data();
+    ASSERT_TRUE(
+        aerial::shade_into(frame, aerial::Positions::aos(packed.data(), v.size()), out_c).ok());
+    EXPECT_EQ(a, c);
 }
 
 TEST(Batch, StridedOutputsLeaveTheGapsAlone) {

@@ -73,14 +73,7 @@ int main(int argc, char** argv) {
     app.add_option("--repetitions", repetitions, "Runs per figure; the best is kept (default 7)");
     app.add_option("--model", model_text, "hoffman-preetham (default) or height");
     app.add_option("--preset", preset, "Atmosphere preset (default earth)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp&) {
-        std::printf("%s", app.help().c_str());
-        return 0;
-    } catch (const CLI::ParseError& e) {
-        return aerial::tools::fail(kTool, std::string(e.what()) + " (see --help)");
-    }
+    if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
     if (!cpu_throughput) return aerial::tools::fail(kTool, "nothing to do: give --cpu-throughput");
     if (vertices < 1 || vertices > 200'000'000) {
         return aerial::tools::fail(

@@ -49,16 +49,7 @@ int main(int argc, char** argv) {
                  "Print the ARB vertex program (hoffman-preetham) as loaded into GL, and exit");
     app.add_option("--up", up_text, "World up axis X,Y,Z (normalised; default 0,0,1)");
     app.add_option("--points", points_file, "File of points x,y,z (default: stdin)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return 0;
-    } catch (const CLI::ParseError& e) {
-        std::string what = e.what();
-        if (what.empty()) what = e.get_name();
-        return tools::fail(kTool, what + " (see --help)");
-    }
+    if (auto status = tools::parse_command_line(app, argc, argv, kTool)) return *status;
 
     if (print_arb_program) {
         if (model_opt->count() > 0 && model_text != model_name(Model::hoffman_preetham)) {

@@ -84,6 +84,20 @@ Result<std::vector<glm::dvec3>> parse_points(std::string_view text, const std::s
     return points;
 }
 
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv, std::string_view tool) {
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp&) {
+        std::cout << app.help();
+        return 0;
+    } catch (const CLI::ParseError& e) {
+        std::string what = e.what();
+        if (what.empty()) what = e.get_name();
+        return fail(tool, what + " (see --help)");
+    }
+    return std::nullopt;
+}
+
 int fail(std::string_view tool, std::string_view message) {
     std::cerr << tool << ": " << message << '\n';
     return kExitBadInput;

@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include <CLI/CLI.hpp>
 #include <glm/vec3.hpp>
 
 #include "aerial/error.hpp"
@@ -31,5 +32,10 @@ Result<std::vector<glm::dvec3>> parse_points(std::string_view text, const std::s
 
 /// Prints "tool: message" on stderr and returns kExitBadInput.
 int fail(std::string_view tool, std::string_view message);
+
+/// Parses the command line with CLI11 the tools' way: --help prints the help and gives exit
+/// status 0; any parse error prints one line "tool: what (see --help)" and gives
+/// kExitBadInput. Returns nullopt when parsing succeeded and the tool should go on.
+std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv, std::string_view tool);
 
 }  // namespace aerial::tools

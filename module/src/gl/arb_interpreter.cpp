@@ -200,6 +200,7 @@ class Parser {
     // Declarations.
     std::optional<Error> declare(const std::string& name, std::size_t offset, Symbol symbol);
     std::optional<Error> parse_attrib_binding(int& slot);
+    std::optional<Error> parse_texcoord_unit(const char* binding, std::size_t at, int& unit);
     std::optional<Error> parse_result_binding(int& slot);
     std::optional<Error> parse_param_single(int& binding);
     std::optional<Error> parse_param_multiple(std::vector<int>& bindings);
@@ -380,19 +381,27 @@ std::optional<Error> Parser::parse_attrib_binding(int& slot) {
         slot = kAttribPosition;
     } else if (item == "texcoord") {
         int unit = 0;
-        if (accept("[")) {
-            if (auto e = expect_integer(unit)) return e;
-            if (auto e = expect("]")) return e;
-        }
-        if (unit >= kArbMaxTexcoordUnits) {
-            return error_at(at, "vertex.texcoord[" + std::to_string(unit) + "]: at most " +
-                                    std::to_string(kArbMaxTexcoordUnits) + " units");
-        }
+        if (auto e = parse_texcoord_unit("vertex", at, unit)) return e;
         slot = kAttribTexcoord0 + unit;
     } else {
         return error_at(at, "vertex." + item + " is not supported by this interpreter");
     }
     attributes_.insert(slot);
+    return std::nullopt;
+}
+
+/// The optional "[unit]" after "<binding>.texcoord" (unit 0 when absent), within the units the
+/// interpreter models.
+std::optional<Error> Parser::parse_texcoord_unit(const char* binding, std::size_t at, int& unit) {
+    unit = 0;
+    if (accept("[")) {
+        if (auto e = expect_integer(unit)) return e;
+        if (auto e = expect("]")) return e;
+    }
+    if (unit >= kArbMaxTexcoordUnits) {
+        return error_at(at, std::string(binding) + ".texcoord[" + std::to_string(unit) +
+                                "]: at most " + std::to_string(kArbMaxTexcoordUnits) + " units");
+    }
     return std::nullopt;
 }
 
@@ -423,14 +432,7 @@ std::optional<Error> Parser::parse_result_binding(int& slot) {
         slot = kOutFog;
     } else if (item == "texcoord") {
         int unit = 0;
-        if (accept("[")) {
-            if (auto e = expect_integer(unit)) return e;
-            if (auto e = expect("]")) return e;
-        }
-        if (unit >= kArbMaxTexcoordUnits) {
-            return error_at(at, "result.texcoord[" + std::to_string(unit) + "]: at most " +
-                                    std::to_string(kArbMaxTexcoordUnits) + " units");
-        }
+        if (auto e = parse_texcoord_unit("result", at, unit)) return e;
         slot = kOutTexcoord0 + unit;
     } else {
         return error_at(at, "result." + item + " is not supported by this interpreter");

@@ -65,6 +65,10 @@ struct Scattering {
     glm::vec<3, T> sun_irradiance{0, 0, 0};  ///< sun irradiance reaching the vertex in this model
 };
 
+/// Altitudes below this (m) are treated as this for density: deep enough for any real terrain,
+/// shallow enough that exp(-h/H) stays finite in float for every valid scale height >= 1 m.
+inline constexpr double kMinAltitudeM = -5000.0;
+
 /// Per-frame constants of one (atmosphere, view, model), ready for many `scatter` calls.
 /// Plain data; built by prepare_frame, which is where all validation happens.
 template <class T>
@@ -77,13 +81,18 @@ struct Frame {
     glm::vec<3, T> up{0, 0, 1};
     T meters_per_unit = 1;
     T planet_radius_m = 0;
-    T eye_altitude_m = 0;  ///< above the sphere, clamped to kMinAltitudeM
+    T eye_altitude_m = 0;  ///< above the sphere, clamped to min_altitude_m
     glm::vec<3, T> rayleigh_scattering{0};
     glm::vec<3, T> mie_scattering{0};
     glm::vec<3, T> mie_extinction{0};
     T mie_g = 0;
-    T inv_rayleigh_scale_height = 0;       ///< 1/m
-    T inv_mie_scale_height = 0;            ///< 1/m
+    T inv_rayleigh_scale_height = 0;  ///< 1/m
+    T inv_mie_scale_height = 0;       ///< 1/m
+    T rayleigh_scale_height_m = 0;
+    T mie_scale_height_m = 0;
+    /// Altitudes below this are treated as this for density: kMinAltitudeM, or higher when a
+    /// scale height is so short that exp(-h/H) would leave float range (at most exp(40)).
+    T min_altitude_m = T(kMinAltitudeM);
     glm::vec<3, T> sun_irradiance_top{0};  ///< E_sun0
     glm::vec<3, T> sun_irradiance_eye{0};  ///< E_sun0 * T_sun(eye), exact (2002 model's E_sun)
     /// log(H Ch) of each component at the eye for the `height` model's sun transmittance (see
@@ -92,9 +101,9 @@ struct Frame {
     T eye_log_chapman_mie = 0;
 };
 
-/// Altitudes below this (m) are treated as this for density: deep enough for any real terrain,
-/// shallow enough that exp(-h/H) stays finite in float for every valid scale height >= 1 m.
-inline constexpr double kMinAltitudeM = -5000.0;
+/// The altitude below which density is clamped for this atmosphere (Frame::min_altitude_m):
+/// kMinAltitudeM, or -40 times the shorter scale height when that is higher.
+double min_density_altitude_m(const Atmosphere& atmosphere);
 
 /// Validates atmosphere and view, then does the per-frame work. T is float or double.
 template <class T>

@@ -120,9 +120,7 @@ inline FrameConstants make_frame_constants(const Frame<float>& f) {
     k.two_radius_m = 2.0f * f.planet_radius_m;
     k.inv_two_radius = 1.0f / (2.0f * f.planet_radius_m);
     k.eye_altitude_m = f.eye_altitude_m;
-    const float min_scale_height =
-        1.0f / std::max(f.inv_rayleigh_scale_height, f.inv_mie_scale_height);
-    k.min_altitude_m = std::max(float(kMinAltitudeM), -40.0f * min_scale_height);
+    k.min_altitude_m = f.min_altitude_m;
     k.inv_hr = f.inv_rayleigh_scale_height;
     k.inv_hm = f.inv_mie_scale_height;
     k.log_hr = std::log(1.0f / f.inv_rayleigh_scale_height);

@@ -51,8 +51,7 @@ struct Medium {
         : atmosphere(a),
           constant_density(constant),
           steps_per_efold(std::max(steps, 0.25)),
-          min_altitude_m(std::max(
-              kMinAltitudeM, -40.0 * std::min(a.rayleigh_scale_height_m, a.mie_scale_height_m))),
+          min_altitude_m(min_density_altitude_m(a)),
           rayleigh(a.rayleigh_scattering),
           mie_extinction(a.mie_extinction()),
           mie_scattering(a.mie_scattering) {}

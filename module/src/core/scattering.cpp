@@ -132,13 +132,6 @@ Vec3<T> transmittance_from_log_factors(const Frame<T>& f, T h, T log_factor_r, T
     return glm::exp(-(f.rayleigh_scattering * column_r + f.mie_extinction * column_m));
 }
 
-template <class T>
-T min_density_altitude(const Frame<T>& f) {
-    // Clamp so that exp(-h/H) <= exp(40) for either component: finite in float.
-    const T min_scale_height = T(1) / std::max(f.inv_rayleigh_scale_height, f.inv_mie_scale_height);
-    return std::max(T(kMinAltitudeM), T(-40) * min_scale_height);
-}
-
 /// Cosine between the sun and the local zenith at a point (metres, world frame).
 template <class T>
 T sun_cos_zenith_at(const Frame<T>& f, const Vec3<T>& p_m) {
@@ -151,13 +144,12 @@ T sun_cos_zenith_at(const Frame<T>& f, const Vec3<T>& p_m) {
 
 template <class T>
 Vec3<T> sun_transmittance_chapman(const Frame<T>& f, T altitude_m, T cos_zenith) {
-    const T min_h = min_density_altitude(f);
+    const T min_h = f.min_altitude_m;
     const T h = std::max(altitude_m, min_h);
     return transmittance_from_log_factors(
         f, h,
-        log_chapman_factor(h, cos_zenith, f.planet_radius_m, T(1) / f.inv_rayleigh_scale_height,
-                           min_h),
-        log_chapman_factor(h, cos_zenith, f.planet_radius_m, T(1) / f.inv_mie_scale_height, min_h));
+        log_chapman_factor(h, cos_zenith, f.planet_radius_m, f.rayleigh_scale_height_m, min_h),
+        log_chapman_factor(h, cos_zenith, f.planet_radius_m, f.mie_scale_height_m, min_h));
 }
 
 template <class T>
@@ -213,7 +205,7 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
     const Vec3<T> d = p_m - f.eye_m;
     const T s = glm::length(d);
     const T cos_theta = s > T(0) ? glm::dot(d, f.sun_dir) / s : T(1);
-    const T min_h = min_density_altitude(f);
+    const T min_h = f.min_altitude_m;
     const T h0 = f.eye_altitude_m;
     const T h1 = std::max(altitude_above_sphere(p_m, f.up, f.planet_radius_m), min_h);
     const T rise = h1 - h0;
@@ -233,10 +225,10 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
 
     Scattering<T> out;
     // Sun at the vertex, and the log Chapman factors at both ends of the segment.
-    const T min_h_r = T(1) / f.inv_rayleigh_scale_height, min_h_m = T(1) / f.inv_mie_scale_height;
     const T mu1 = sun_cos_zenith_at(f, p_m);
-    const T lf_r1 = log_chapman_factor(h1, mu1, f.planet_radius_m, min_h_r, min_h);
-    const T lf_m1 = log_chapman_factor(h1, mu1, f.planet_radius_m, min_h_m, min_h);
+    const T lf_r1 =
+        log_chapman_factor(h1, mu1, f.planet_radius_m, f.rayleigh_scale_height_m, min_h);
+    const T lf_m1 = log_chapman_factor(h1, mu1, f.planet_radius_m, f.mie_scale_height_m, min_h);
     out.sun_irradiance = f.sun_irradiance_top * transmittance_from_log_factors(f, h1, lf_r1, lf_m1);
     // A blocked end borrows the other end's factor; the shadow itself is tested per node below.
     const bool lit0 = f.eye_log_chapman_rayleigh < T(kBlockedLogColumn);
@@ -318,6 +310,12 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
 
 }  // namespace
 
+double min_density_altitude_m(const Atmosphere& a) {
+    // exp(-h/H) <= exp(40) for either component: finite in float.
+    return std::max(kMinAltitudeM,
+                    -40.0 * std::min(a.rayleigh_scale_height_m, a.mie_scale_height_m));
+}
+
 template <class T>
 Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, Model model) {
     if (auto e = validate(atmosphere)) return *e;
@@ -340,16 +338,19 @@ Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, M
     f.mie_g = T(atmosphere.mie_g);
     f.inv_rayleigh_scale_height = T(1.0 / atmosphere.rayleigh_scale_height_m);
     f.inv_mie_scale_height = T(1.0 / atmosphere.mie_scale_height_m);
+    f.rayleigh_scale_height_m = T(atmosphere.rayleigh_scale_height_m);
+    f.mie_scale_height_m = T(atmosphere.mie_scale_height_m);
+    f.min_altitude_m = T(min_density_altitude_m(atmosphere));
     f.sun_irradiance_top = Vec3<T>(atmosphere.sun_irradiance);
 
     const double eye_altitude = altitude_above_sphere(eye_m, f.view.up, atmosphere.planet_radius_m);
-    f.eye_altitude_m = std::max(T(eye_altitude), min_density_altitude(f));
+    f.eye_altitude_m = std::max(T(eye_altitude), f.min_altitude_m);
     const glm::dvec3 eye_from_centre = eye_m + f.view.up * atmosphere.planet_radius_m;
     const double eye_cos_zenith =
         glm::dot(eye_from_centre, f.view.sun_dir) / glm::length(eye_from_centre);
     f.sun_irradiance_eye = Vec3<T>(atmosphere.sun_irradiance *
                                    sun_transmittance(atmosphere, eye_altitude, eye_cos_zenith));
-    const T min_h = min_density_altitude(f);
+    const T min_h = f.min_altitude_m;
     f.eye_log_chapman_rayleigh =
         log_chapman_factor(f.eye_altitude_m, T(eye_cos_zenith), f.planet_radius_m,
                            T(atmosphere.rayleigh_scale_height_m), min_h);

@@ -19,6 +19,11 @@ PACKAGES=(
     libcli11-dev
     libgtest-dev
     libpng-dev
+    libgl-dev
+    libosmesa6-dev
+    libegl-dev
+    libegl-mesa0
+    liblcms2-dev
     python3
 )
 

@@ -1,0 +1,314 @@
+// Off-screen contexts (aerial/headless.hpp): OSMesa and EGL surfaceless, both opened with dlopen.
+#include "aerial/headless.hpp"
+
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/osmesa.h>
+#include <dlfcn.h>
+
+#include <cstring>
+#include <utility>
+
+namespace aerial::headless {
+
+const char* backend_name(Backend backend) { return backend == Backend::osmesa ? "osmesa" : "egl"; }
+
+std::optional<Backend> parse_backend(std::string_view name) {
+    if (name == "osmesa") return Backend::osmesa;
+    if (name == "egl") return Backend::egl;
+    return std::nullopt;
+}
+
+namespace {
+
+constexpr int kMaxSize = 8192;
+
+// The OSMesa entry points the context uses (libOSMesa.so.8).
+struct OsmesaLibrary {
+    void* handle = nullptr;
+    OSMesaContext (*CreateContextAttribs)(const int*, OSMesaContext) = nullptr;
+    GLboolean (*MakeCurrent)(OSMesaContext, void*, GLenum, GLsizei, GLsizei) = nullptr;
+    void (*DestroyContext)(OSMesaContext) = nullptr;
+    OSMESAproc (*GetProcAddress)(const char*) = nullptr;
+};
+
+// The EGL entry points the context uses (libEGL.so.1).
+struct EglLibrary {
+    void* handle = nullptr;
+    PFNEGLGETPROCADDRESSPROC GetProcAddress = nullptr;
+    PFNEGLQUERYSTRINGPROC QueryString = nullptr;
+    PFNEGLGETPLATFORMDISPLAYEXTPROC GetPlatformDisplay = nullptr;
+    PFNEGLINITIALIZEPROC Initialize = nullptr;
+    PFNEGLTERMINATEPROC Terminate = nullptr;
+    PFNEGLBINDAPIPROC BindAPI = nullptr;
+    PFNEGLCHOOSECONFIGPROC ChooseConfig = nullptr;
+    PFNEGLCREATECONTEXTPROC CreateContext = nullptr;
+    PFNEGLDESTROYCONTEXTPROC DestroyContext = nullptr;
+    PFNEGLMAKECURRENTPROC MakeCurrent = nullptr;
+    PFNEGLGETERRORPROC GetError = nullptr;
+};
+
+template <class F>
+bool load_symbol(void* handle, const char* name, F& out) {
+    out = reinterpret_cast<F>(dlsym(handle, name));
+    return out != nullptr;
+}
+
+void* osmesa_loader(void* user, const char* name) {
+    auto* lib = static_cast<OsmesaLibrary*>(user);
+    return reinterpret_cast<void*>(lib->GetProcAddress(name));
+}
+
+void* egl_loader(void* user, const char* name) {
+    auto* lib = static_cast<EglLibrary*>(user);
+    return reinterpret_cast<void*>(lib->GetProcAddress(name));
+}
+
+std::string egl_error_text(EGLint code) {
+    char text[32];
+    std::snprintf(text, sizeof text, "EGL error 0x%04X", static_cast<unsigned>(code));
+    return text;
+}
+
+}  // namespace
+
+struct Context::Impl {
+    Backend backend = Backend::osmesa;
+    int width = 0;
+    int height = 0;
+    gl::Api api;
+
+    // OSMesa
+    OsmesaLibrary osmesa;
+    OSMesaContext osmesa_context = nullptr;
+    std::vector<std::uint8_t> osmesa_buffer;
+
+    // EGL
+    EglLibrary egl;
+    EGLDisplay egl_display = EGL_NO_DISPLAY;
+    EGLContext egl_context = EGL_NO_CONTEXT;
+    GLuint framebuffer = 0;
+    GLuint renderbuffers[2] = {0, 0};
+
+    ~Impl() {
+        if (backend == Backend::osmesa) {
+            if (osmesa_context) osmesa.DestroyContext(osmesa_context);
+            if (osmesa.handle) dlclose(osmesa.handle);
+            return;
+        }
+        if (egl_context != EGL_NO_CONTEXT) {
+            if (egl.MakeCurrent(egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_context) &&
+                framebuffer != 0) {
+                api.BindFramebuffer(GL_FRAMEBUFFER, 0);
+                api.DeleteFramebuffers(1, &framebuffer);
+                api.DeleteRenderbuffers(2, renderbuffers);
+            }
+            egl.MakeCurrent(egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+            egl.DestroyContext(egl_display, egl_context);
+        }
+        if (egl_display != EGL_NO_DISPLAY) egl.Terminate(egl_display);
+        // libEGL is left loaded: Mesa's EGL driver registers thread-exit handlers that must
+        // outlive the context, and unloading it is not safe while other contexts may exist.
+    }
+
+    std::optional<Error> make_current() {
+        if (backend == Backend::osmesa) {
+            if (!osmesa.MakeCurrent(osmesa_context, osmesa_buffer.data(), GL_UNSIGNED_BYTE, width,
+                                    height)) {
+                return Error{"OSMesaMakeCurrent", "OSMesaMakeCurrent: failed"};
+            }
+            return std::nullopt;
+        }
+        if (!egl.MakeCurrent(egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_context)) {
+            return Error{"eglMakeCurrent",
+                         "eglMakeCurrent: failed (" + egl_error_text(egl.GetError()) + ")"};
+        }
+        if (framebuffer != 0) api.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+        return std::nullopt;
+    }
+
+    std::optional<Error> create_osmesa() {
+        osmesa.handle = dlopen("libOSMesa.so.8", RTLD_NOW | RTLD_LOCAL);
+        if (!osmesa.handle) osmesa.handle = dlopen("libOSMesa.so", RTLD_NOW | RTLD_LOCAL);
+        if (!osmesa.handle) {
+            return Error{"libOSMesa",
+                         "libOSMesa: cannot open libOSMesa.so.8 (install Debian's libosmesa6)"};
+        }
+        if (!load_symbol(osmesa.handle, "OSMesaCreateContextAttribs",
+                         osmesa.CreateContextAttribs) ||
+            !load_symbol(osmesa.handle, "OSMesaMakeCurrent", osmesa.MakeCurrent) ||
+            !load_symbol(osmesa.handle, "OSMesaDestroyContext", osmesa.DestroyContext) ||
+            !load_symbol(osmesa.handle, "OSMesaGetProcAddress", osmesa.GetProcAddress)) {
+            return Error{"libOSMesa", "libOSMesa: missing OSMesa 11.2 entry points"};
+        }
+        const int attributes[] = {OSMESA_FORMAT,
+                                  OSMESA_RGBA,
+                                  OSMESA_DEPTH_BITS,
+                                  24,
+                                  OSMESA_STENCIL_BITS,
+                                  8,
+                                  OSMESA_PROFILE,
+                                  OSMESA_COMPAT_PROFILE,
+                                  0};
+        osmesa_context = osmesa.CreateContextAttribs(attributes, nullptr);
+        if (!osmesa_context) {
+            return Error{"OSMesaCreateContextAttribs",
+                         "OSMesaCreateContextAttribs: no RGBA compatibility context"};
+        }
+        osmesa_buffer.assign(static_cast<std::size_t>(width) * height * 4, 0);
+        if (auto e = make_current()) return e;
+        auto loaded = gl::load_api(osmesa_loader, &osmesa);
+        if (!loaded) return loaded.error();
+        api = std::move(loaded.value());
+        return std::nullopt;
+    }
+
+    std::optional<Error> create_egl() {
+        egl.handle = dlopen("libEGL.so.1", RTLD_NOW | RTLD_LOCAL);
+        if (!egl.handle) {
+            return Error{"libEGL",
+                         "libEGL: cannot open libEGL.so.1 (install Debian's libegl1 "
+                         "and libegl-mesa0)"};
+        }
+        if (!load_symbol(egl.handle, "eglGetProcAddress", egl.GetProcAddress) ||
+            !load_symbol(egl.handle, "eglQueryString", egl.QueryString) ||
+            !load_symbol(egl.handle, "eglInitialize", egl.Initialize) ||
+            !load_symbol(egl.handle, "eglTerminate", egl.Terminate) ||
+            !load_symbol(egl.handle, "eglBindAPI", egl.BindAPI) ||
+            !load_symbol(egl.handle, "eglChooseConfig", egl.ChooseConfig) ||
+            !load_symbol(egl.handle, "eglCreateContext", egl.CreateContext) ||
+            !load_symbol(egl.handle, "eglDestroyContext", egl.DestroyContext) ||
+            !load_symbol(egl.handle, "eglMakeCurrent", egl.MakeCurrent) ||
+            !load_symbol(egl.handle, "eglGetError", egl.GetError)) {
+            return Error{"libEGL", "libEGL: missing EGL 1.4 entry points"};
+        }
+        const char* client = egl.QueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+        if (!client || !std::strstr(client, "EGL_MESA_platform_surfaceless")) {
+            return Error{"EGL_MESA_platform_surfaceless",
+                         "EGL_MESA_platform_surfaceless: not offered by libEGL (install "
+                         "Debian's libegl-mesa0)"};
+        }
+        egl.GetPlatformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
+            egl.GetProcAddress("eglGetPlatformDisplayEXT"));
+        if (!egl.GetPlatformDisplay) {
+            return Error{"eglGetPlatformDisplayEXT", "eglGetPlatformDisplayEXT: not found"};
+        }
+        egl_display =
+            egl.GetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        EGLint major = 0, minor = 0;
+        if (egl_display == EGL_NO_DISPLAY || !egl.Initialize(egl_display, &major, &minor)) {
+            egl_display = EGL_NO_DISPLAY;
+            return Error{"eglInitialize", "eglInitialize: the surfaceless display failed (" +
+                                              egl_error_text(egl.GetError()) + ")"};
+        }
+        const char* display_extensions = egl.QueryString(egl_display, EGL_EXTENSIONS);
+        if (!display_extensions ||
+            !std::strstr(display_extensions, "EGL_KHR_surfaceless_context")) {
+            return Error{"EGL_KHR_surfaceless_context",
+                         "EGL_KHR_surfaceless_context: not offered by the display"};
+        }
+        if (!egl.BindAPI(EGL_OPENGL_API)) {
+            return Error{"eglBindAPI", "eglBindAPI: desktop OpenGL is not available"};
+        }
+        const EGLint config_attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE,
+                                            0, EGL_NONE};
+        EGLConfig config = nullptr;
+        EGLint count = 0;
+        if (!egl.ChooseConfig(egl_display, config_attributes, &config, 1, &count) || count < 1) {
+            return Error{"eglChooseConfig", "eglChooseConfig: no desktop OpenGL config"};
+        }
+        // No attributes: a compatibility-profile context, which keeps the fixed pipeline.
+        egl_context = egl.CreateContext(egl_display, config, EGL_NO_CONTEXT, nullptr);
+        if (egl_context == EGL_NO_CONTEXT) {
+            return Error{"eglCreateContext",
+                         "eglCreateContext: failed (" + egl_error_text(egl.GetError()) + ")"};
+        }
+        if (auto e = make_current()) return e;
+        auto loaded = gl::load_api(egl_loader, &egl);
+        if (!loaded) return loaded.error();
+        api = std::move(loaded.value());
+        if (!api.caps.framebuffer_object) {
+            return Error{"framebuffer", "framebuffer: the EGL context has no framebuffer objects"};
+        }
+        api.GenRenderbuffers(2, renderbuffers);
+        api.BindRenderbuffer(GL_RENDERBUFFER, renderbuffers[0]);
+        api.RenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+        api.BindRenderbuffer(GL_RENDERBUFFER, renderbuffers[1]);
+        api.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, width, height);
+        api.BindRenderbuffer(GL_RENDERBUFFER, 0);
+        api.GenFramebuffers(1, &framebuffer);
+        api.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+        api.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                    renderbuffers[0]);
+        api.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                    renderbuffers[1]);
+        api.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_STENCIL_ATTACHMENT, GL_RENDERBUFFER,
+                                    renderbuffers[1]);
+        const GLenum status = api.CheckFramebufferStatus(GL_FRAMEBUFFER);
+        if (status != GL_FRAMEBUFFER_COMPLETE) {
+            char text[96];
+            std::snprintf(text, sizeof text, "framebuffer: incomplete (status 0x%04X)",
+                          static_cast<unsigned>(status));
+            return Error{"framebuffer", text};
+        }
+        api.Viewport(0, 0, width, height);
+        return std::nullopt;
+    }
+};
+
+Context::Context(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Context::Context(Context&&) noexcept = default;
+Context& Context::operator=(Context&&) noexcept = default;
+Context::~Context() = default;
+
+Result<Context> Context::create(const ContextOptions& options) {
+    if (options.width < 1 || options.width > kMaxSize) {
+        return Error{"width",
+                     "width: expected 1 .. 8192 pixels, got " + std::to_string(options.width)};
+    }
+    if (options.height < 1 || options.height > kMaxSize) {
+        return Error{"height",
+                     "height: expected 1 .. 8192 pixels, got " + std::to_string(options.height)};
+    }
+    auto impl = std::make_unique<Impl>();
+    impl->backend = options.backend;
+    impl->width = options.width;
+    impl->height = options.height;
+    std::optional<Error> error =
+        options.backend == Backend::osmesa ? impl->create_osmesa() : impl->create_egl();
+    if (error) return *error;
+    return Context(std::move(impl));
+}
+
+std::optional<Error> Context::make_current() { return impl_->make_current(); }
+const gl::Api& Context::api() const { return impl_->api; }
+gl::LoadFunction Context::loader() const {
+    return impl_->backend == Backend::osmesa ? osmesa_loader : egl_loader;
+}
+void* Context::loader_user() const {
+    return impl_->backend == Backend::osmesa ? static_cast<void*>(&impl_->osmesa)
+                                             : static_cast<void*>(&impl_->egl);
+}
+Backend Context::backend() const { return impl_->backend; }
+int Context::width() const { return impl_->width; }
+int Context::height() const { return impl_->height; }
+
+std::vector<std::uint8_t> Context::read_rgba8() const {
+    const gl::Api& gl = impl_->api;
+    const std::size_t row = static_cast<std::size_t>(impl_->width) * 4;
+    std::vector<std::uint8_t> bottom_up(row * impl_->height);
+    GLint alignment = 4;
+    gl.GetIntegerv(GL_PACK_ALIGNMENT, &alignment);
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+    gl.Finish();
+    gl.ReadPixels(0, 0, impl_->width, impl_->height, GL_RGBA, GL_UNSIGNED_BYTE, bottom_up.data());
+    gl.PixelStorei(GL_PACK_ALIGNMENT, alignment);
+    std::vector<std::uint8_t> top_down(bottom_up.size());
+    for (int y = 0; y < impl_->height; ++y) {
+        std::memcpy(top_down.data() + row * y, bottom_up.data() + row * (impl_->height - 1 - y),
+                    row);
+    }
+    return top_down;
+}
+
+}  // namespace aerial::headless

@@ -1,0 +1,130 @@
+// aerial/gl.hpp — F_ex and L_in applied by the fixed pipeline of the engine's GL context: the
+// fixed-function paths for colours computed on the CPU (aerial/batch.hpp), and the ARB vertex
+// program backend (aerial/arb_program.hpp) loaded into GL.
+//
+// How to use this (CPU colours):
+//   1. Once per context: `auto api = aerial::gl::load_api(loader, user);` (aerial/gl_api.hpp).
+//   2. Once: `auto path = aerial::gl::choose_path(api->caps, aerial::gl::Path::automatic);` —
+//      secondary colour where the context has it, else the combiner path, else two passes.
+//   3. Per frame and mesh: shade the vertices into RGBA8 arrays with aerial::shade_into, then
+//        aerial::gl::draw_with_colours(*api, {*path}, colours, [&] { engine_draw_mesh(); });
+//      The callback binds the engine's own vertex and texcoord arrays and texture (unit 0, or
+//      ApplyOptions::texture_unit) and issues its draw call; two-pass calls it twice.
+//
+// How to use this (ARB vertex program):
+//   1. Once: `auto program = aerial::gl::ArbVertexProgram::create(*api, generated);` with the
+//      text from aerial::generate_arb_program. A rejected program is an error that gives
+//      GL_PROGRAM_ERROR_POSITION_ARB and the driver's error string.
+//   2. Per frame: `program->set_parameters(aerial::arb_program_parameters(...).value())`.
+//   3. Per mesh: `program->draw([&] { engine_draw_mesh(); });`
+//
+// Every call saves the GL state it changes and restores it before returning (also on error),
+// leaves the engine's bindings as it found them, and never creates or owns a context. The state
+// each path touches is listed at Path. The engine's GL error flag is not read or cleared.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "aerial/arb_program.hpp"
+#include "aerial/error.hpp"
+
+namespace aerial::gl {
+
+struct Api;   // aerial/gl_api.hpp
+struct Caps;  // aerial/gl_api.hpp
+
+/// How the fixed pipeline combines texture, F_ex and L_in: colour = texture × F_ex + L_in.
+enum class Path {
+    automatic,        ///< the first available of secondary_color, combiner, two_pass
+    secondary_color,  ///< one pass: texture MODULATE primary colour (F_ex), L_in as the secondary
+                      ///< colour with COLOR_SUM (GL 1.4 or EXT_secondary_color)
+    combiner,         ///< one pass without secondary colour: texture combiners
+                      ///< (ARB_texture_env_combine + multitexture) add L_in on a second unit
+    two_pass,         ///< GL 1.1: pass 1 texture × F_ex; pass 2 L_in with ONE/ONE blending,
+                      ///< depth EQUAL, depth writes off, fog colour black
+};
+
+/// "automatic", "secondary-color", "combiner", "two-pass".
+const char* path_name(Path path);
+std::optional<Path> parse_path(std::string_view name);
+
+/// The path to use for `requested` on a context with `caps`: `automatic` picks the first available;
+/// a forced path the context lacks is an error naming the missing version or extension.
+Result<Path> choose_path(const Caps& caps, Path requested);
+
+/// Per-vertex colours in caller memory, one RGBA8 record per vertex of the engine's draw (in
+/// the order the engine's arrays have them), e.g. from aerial::shade_into.
+struct VertexColours {
+    const std::uint8_t* primary = nullptr;    ///< F_ex, or F_ex × lit colour (lit_rgba8)
+    const std::uint8_t* secondary = nullptr;  ///< L_in after exposure
+    std::size_t primary_stride_bytes = 0;     ///< 0: tightly packed (4)
+    std::size_t secondary_stride_bytes = 0;   ///< 0: tightly packed (4)
+    std::size_t vertex_count = 0;             ///< records in each array
+};
+
+struct ApplyOptions {
+    Path path = Path::automatic;
+    /// The texture unit holding the engine's texture (the one F_ex modulates). The combiner
+    /// path uses the next unit as well.
+    int texture_unit = 0;
+    /// False when the engine draws untextured: the colour is then F_ex + L_in (a white texel).
+    bool textured = true;
+};
+
+/// What a draw did, for the engine's statistics.
+struct ApplyStats {
+    Path path = Path::automatic;  ///< the path used (never automatic)
+    int passes = 0;               ///< times the callback was called
+};
+
+/// Draws the engine's geometry (the callback) with F_ex and L_in applied along options.path.
+/// Errors (nothing drawn, state unchanged): a null colour array, a forced path the context lacks,
+/// a texture unit outside the context's range.
+Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options,
+                                     const VertexColours& colours,
+                                     const std::function<void()>& draw);
+
+/// A GL program object holding a generated ARB vertex program. Move-only; the destructor deletes
+/// the program object (the context and `api` must still be alive then). Keeps a pointer to `api`.
+class ArbVertexProgram {
+  public:
+    /// Loads `program` into a new program object. Errors: field "GL_ARB_vertex_program" when
+    /// the context lacks it; the exceeded limit ("instructions", ...) against the driver's
+    /// MAX_PROGRAM_NATIVE_* values; field "program" with GL_PROGRAM_ERROR_POSITION_ARB and
+    /// GL_PROGRAM_ERROR_STRING_ARB when the driver rejects the text, or when it says the program
+    /// is not native (GL_PROGRAM_UNDER_NATIVE_LIMITS_ARB false).
+    static Result<ArbVertexProgram> create(const Api& api, const ArbProgram& program);
+
+    ArbVertexProgram(ArbVertexProgram&& other) noexcept;
+    ArbVertexProgram& operator=(ArbVertexProgram&& other) noexcept;
+    ArbVertexProgram(const ArbVertexProgram&) = delete;
+    ArbVertexProgram& operator=(const ArbVertexProgram&) = delete;
+    ~ArbVertexProgram();
+
+    /// Uploads one frame's parameters (from aerial::arb_program_parameters with the same
+    /// options) to program.local or program.env as the program's options say. Error when the
+    /// count is not kArbParameterCount for the program's model.
+    std::optional<Error> set_parameters(const std::vector<std::array<float, 4>>& parameters);
+
+    /// Draws the engine's geometry with the program bound and enabled, texture MODULATE on
+    /// ApplyOptions::texture_unit and COLOR_SUM on; restores everything after.
+    Result<ApplyStats> draw(const std::function<void()>& draw, const ApplyOptions& options = {});
+
+    unsigned id() const { return id_; }  ///< the GL program name
+    const ArbProgram& program() const { return program_; }
+
+  private:
+    ArbVertexProgram(const Api* api, unsigned id, ArbProgram program);
+    const Api* api_ = nullptr;
+    unsigned id_ = 0;
+    ArbProgram program_;
+};
+
+}  // namespace aerial::gl

@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "aerial/aerial.hpp"
+#include "common/png.hpp"
 #include "output.hpp"
 #include "render.hpp"
 
@@ -133,8 +134,9 @@ int main(int argc, char** argv) {
     auto image = sample::render(settings);
     if (!image) return fail(image.error().message);
 
-    if (auto error = sample::write_png(out, image->width, image->height,
-                                       sample::encode_srgb8(*image, exposure))) {
+    const aerial::tools::Rgb8Image png{image->width, image->height,
+                                       sample::encode_srgb8(*image, exposure)};
+    if (auto error = aerial::tools::write_png(out, png)) {
         return fail("--out " + *error);
     }
     if (!csv.empty()) {

@@ -3,11 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <memory>
-#include <system_error>
 
-#include <png.h>
+#include "common/png.hpp"
 
 namespace sample {
 namespace {
@@ -15,16 +13,6 @@ namespace {
 /// sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
 double srgb_encode(double linear) {
     return linear <= 0.0031308 ? 12.92 * linear : 1.055 * std::pow(linear, 1.0 / 2.4) - 0.055;
-}
-
-std::optional<std::string> make_parent_directories(const std::string& path) {
-    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-    if (parent.empty()) return std::nullopt;
-    std::error_code error;
-    std::filesystem::create_directories(parent, error);
-    if (error)
-        return path + ": cannot create directory " + parent.string() + ": " + error.message();
-    return std::nullopt;
 }
 
 const char* surface_name(Surface surface) {
@@ -54,25 +42,9 @@ std::vector<std::uint8_t> encode_srgb8(const Image& image, double exposure) {
     return rgb;
 }
 
-std::optional<std::string> write_png(const std::string& path, int width, int height,
-                                     const std::vector<std::uint8_t>& rgb) {
-    if (auto error = make_parent_directories(path)) return error;
-    png_image png{};
-    png.version = PNG_IMAGE_VERSION;
-    png.width = png_uint_32(width);
-    png.height = png_uint_32(height);
-    png.format = PNG_FORMAT_RGB;
-    if (png_image_write_to_file(&png, path.c_str(), 0, rgb.data(), 0, nullptr) == 0) {
-        const std::string message = path + ": cannot write PNG: " + png.message;
-        png_image_free(&png);
-        return message;
-    }
-    return std::nullopt;
-}
-
 std::optional<std::string> write_csv(const std::string& path, const Image& image,
                                      int columns_per_row) {
-    if (auto error = make_parent_directories(path)) return error;
+    if (auto error = aerial::tools::make_parent_directories(path)) return error;
     const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "w"),
                                                                &std::fclose);
     if (!file) return path + ": cannot open for writing";

@@ -3,8 +3,8 @@
 // How to use this:
 //   1. `encode_srgb8(image, exposure)` maps each pixel's radiance through 1 - exp(-k x) into
 //      [0, 1] (k = exposure), then the sRGB transfer curve, to 8-bit RGB.
-//   2. `write_png(path, width, height, rgb)` and `write_csv(path, image, columns_per_row)` write
-//      the results; both return an error message, or nothing on success.
+//   2. `aerial::tools::write_png` (tools/common/png.hpp) and `write_csv(path, image,
+//      columns_per_row)` write the results; both return an error message, or nothing on success.
 #pragma once
 
 #include <cstdint>
@@ -21,10 +21,6 @@ inline constexpr double kDefaultExposure = 10.0;
 
 /// 8-bit sRGB, 3 bytes per pixel, row-major, top row first.
 std::vector<std::uint8_t> encode_srgb8(const Image& image, double exposure);
-
-/// Writes an 8-bit RGB PNG (libpng). Creates missing parent directories.
-std::optional<std::string> write_png(const std::string& path, int width, int height,
-                                     const std::vector<std::uint8_t>& rgb);
 
 /// Writes, for every image row, `columns_per_row` evenly spaced pixels as CSV with the header
 /// x,y,surface,distance_m,fex_r,fex_g,fex_b,lin_r,lin_g,lin_b,esun_r,esun_g,esun_b

@@ -61,6 +61,27 @@ Result<glm::dvec3> parse_direction(std::string_view text, const std::string& fla
     return *v / length;
 }
 
+Result<std::pair<int, int>> parse_size(std::string_view text, const std::string& flag,
+                                       int max_side) {
+    const size_t x = text.find('x');
+    const auto side = [&](std::string_view part) -> int {
+        if (part.empty() || part.size() > 6) return 0;
+        int v = 0;
+        for (char c : part) {
+            if (c < '0' || c > '9') return 0;
+            v = v * 10 + (c - '0');
+        }
+        return v;
+    };
+    const int w = x == std::string_view::npos ? 0 : side(text.substr(0, x));
+    const int h = x == std::string_view::npos ? 0 : side(text.substr(x + 1));
+    if (w < 1 || h < 1 || w > max_side || h > max_side) {
+        return Error{flag, flag + ": expected WxH with W and H in 1.." + std::to_string(max_side) +
+                               ", got '" + std::string(text) + "'"};
+    }
+    return std::pair<int, int>{w, h};
+}
+
 Result<std::vector<glm::dvec3>> parse_points(std::string_view text, const std::string& source) {
     std::vector<glm::dvec3> points;
     size_t line_number = 0;

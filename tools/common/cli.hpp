@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -25,6 +26,10 @@ Result<glm::dvec3> parse_vec3(std::string_view text, const std::string& flag);
 
 /// Parses "X,Y,Z" and normalises it; the zero vector is an error naming `flag`.
 Result<glm::dvec3> parse_direction(std::string_view text, const std::string& flag);
+
+/// Parses an image size "WxH" with both sides in 1 .. max_side; the error names `flag`.
+Result<std::pair<int, int>> parse_size(std::string_view text, const std::string& flag,
+                                       int max_side = 8192);
 
 /// Reads points "x,y,z", one per line; blank lines and '#' comments (whole-line or trailing)
 /// are skipped. Errors name `source` and the 1-based line number.

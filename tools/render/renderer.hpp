@@ -1,0 +1,73 @@
+// Renders a scene (render/scene.hpp) with one of aerial-render's backends into the current
+// headless context.
+//
+// How to use this:
+//   1. Create an aerial::headless::Context of the image size; it is current.
+//   2. `auto image = aerial::render::render_scene(context, scene, options);` gives the RGBA8
+//      image (top row first) and what the frame took.
+//
+// Backends (colour = texture × F_ex + L_in, L_in through scene.display, 8-bit rule of
+// aerial/batch.hpp):
+//   cpu       aerial::shade_into per vertex → RGBA8 colours → aerial::gl::draw_with_colours
+//             along options.path (automatic, secondary-color, combiner, two-pass)
+//   arb       aerial::generate_arb_program + aerial::gl::ArbVertexProgram (GPU per vertex)
+//   perpixel  the scene drawn textured only, its depth read back, each pixel's world position
+//             reconstructed through the inverse view-projection and shaded with shade_into in
+//             float, composited on the CPU: the image without interpolation error
+//   fog       plain GL_FOG, GL_EXP: one density (the green channel's extinction of the model at
+//             the eye) and one fog colour (the in-scattering of an infinitely long ray with the
+//             phase functions averaged over the sphere, through scene.display) — the baseline
+//             Hoffman & Preetham compared against
+//   none      the texture alone
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "aerial/error.hpp"
+#include "aerial/gl.hpp"
+#include "aerial/headless.hpp"
+#include "render/scene.hpp"
+
+namespace aerial::render {
+
+enum class Backend { cpu, arb, perpixel, fog, none };
+
+/// "cpu", "arb", "perpixel", "fog", "none".
+const char* backend_name(Backend backend);
+std::optional<Backend> parse_backend(std::string_view name);
+
+struct RenderOptions {
+    Backend backend = Backend::cpu;
+    gl::Path path = gl::Path::automatic;  ///< cpu backend only
+};
+
+struct RenderedImage {
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> rgba;  ///< top row first
+    double milliseconds = 0.0;       ///< shading, drawing, glFinish (and read-back for perpixel)
+    gl::Path path_used = gl::Path::automatic;  ///< cpu backend: the path draw_with_colours took
+};
+
+/// Whether the backend can render this scene at all, before any context exists: the ARB program
+/// needs a model it has a program for (hoffman-preetham) and the clamp tone curve; --path is for
+/// the cpu backend only. The error names "--backend" or "--path".
+std::optional<Error> check_backend(const Scene& scene, const RenderOptions& options,
+                                   bool path_given);
+
+/// Renders one frame. Errors: the backend cannot run this scene or context (the ARB program
+/// needs hoffman-preetham and the clamp tone; a forced path the context lacks), or GL failed.
+Result<RenderedImage> render_scene(const headless::Context& context, const Scene& scene,
+                                   const RenderOptions& options);
+
+/// GL fog parameters of the fog backend: density per engine unit and the fog colour in [0, 1].
+struct FogParameters {
+    float density = 0.0f;
+    float colour[4] = {0, 0, 0, 1};
+};
+FogParameters fog_parameters(const Frame<float>& frame, const Display& display);
+
+}  // namespace aerial::render

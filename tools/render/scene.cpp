@@ -1,0 +1,587 @@
+#include "render/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <initializer_list>
+#include <iterator>
+#include <map>
+
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+namespace aerial::render {
+namespace {
+
+using Json = nlohmann::json;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegree = kPi / 180.0;
+
+std::string describe(const Json& j) { return std::string(j.type_name()) + " " + j.dump(); }
+
+Error bad(const std::string& field, const std::string& what) {
+    return Error{field, field + ": " + what};
+}
+
+/// The fields of one JSON object, each read at most once; anything left over is unknown.
+class Object {
+  public:
+    Object(const Json& j, std::string path) : json_(j), path_(std::move(path)) {}
+
+    /// Null when absent.
+    const Json* get(const char* key) const {
+        const auto it = json_.find(key);
+        return it == json_.end() ? nullptr : &*it;
+    }
+    std::string field(const char* key) const { return path_.empty() ? key : path_ + "." + key; }
+
+    /// The first key not in `known`, as an error listing the known ones.
+    std::optional<Error> check_known(std::initializer_list<const char*> known) const {
+        for (const auto& item : json_.items()) {
+            if (std::find_if(known.begin(), known.end(),
+                             [&](const char* k) { return item.key() == k; }) != known.end()) {
+                continue;
+            }
+            std::string list;
+            for (const char* k : known) list += std::string(list.empty() ? "" : ", ") + k;
+            const std::string name = field(item.key().c_str());
+            return bad(name, "unknown field (known here: " + list + ")");
+        }
+        return std::nullopt;
+    }
+
+  private:
+    const Json& json_;
+    std::string path_;
+};
+
+std::optional<Error> expect_object(const Json& j, const std::string& field) {
+    if (!j.is_object()) return bad(field, "must be an object, got " + describe(j));
+    return std::nullopt;
+}
+
+/// A finite number in [lo, hi] (bounds inclusive unless open_lo / open_hi).
+std::optional<Error> read_number(const Json& j, const std::string& field, double& out, double lo,
+                                 double hi, bool open_lo = false, bool open_hi = false) {
+    if (!j.is_number()) return bad(field, "must be a number, got " + describe(j));
+    const double v = j.get<double>();
+    const bool low = open_lo ? v <= lo : v < lo;
+    const bool high = open_hi ? v >= hi : v > hi;
+    if (!std::isfinite(v) || low || high) {
+        auto bound = [](double b) { return std::isinf(b) ? std::string("inf") : Json(b).dump(); };
+        return bad(field, "must be in " + std::string(open_lo ? "(" : "[") + bound(lo) + ", " +
+                              bound(hi) + (open_hi ? ")" : "]") + ", got " + j.dump());
+    }
+    out = v;
+    return std::nullopt;
+}
+
+std::optional<Error> read_int(const Json& j, const std::string& field, int& out, int lo, int hi) {
+    if (!j.is_number_integer()) return bad(field, "must be an integer, got " + describe(j));
+    const auto v = j.get<long long>();
+    if (v < lo || v > hi) {
+        return bad(field, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                              "], got " + j.dump());
+    }
+    out = int(v);
+    return std::nullopt;
+}
+
+std::optional<Error> read_seed(const Json& j, const std::string& field, std::uint32_t& out) {
+    if (!j.is_number_integer() || j.get<long long>() < 0 || j.get<long long>() > 0xffffffffLL) {
+        return bad(field, "must be an integer in [0, 4294967295], got " + describe(j));
+    }
+    out = std::uint32_t(j.get<long long>());
+    return std::nullopt;
+}
+
+template <int N>
+std::optional<Error> read_vector(const Json& j, const std::string& field, glm::vec<N, double>& out,
+                                 double lo = -INFINITY, double hi = INFINITY) {
+    if (!j.is_array() || j.size() != N) {
+        return bad(field, "must be an array of " + std::to_string(N) + " numbers, got " + j.dump());
+    }
+    for (int i = 0; i < N; ++i) {
+        if (auto e = read_number(j[std::size_t(i)], field + "[" + std::to_string(i) + "]", out[i],
+                                 lo, hi)) {
+            return e;
+        }
+    }
+    return std::nullopt;
+}
+
+std::optional<Error> read_colour(const Json& j, const std::string& field, glm::dvec3& out) {
+    return read_vector<3>(j, field, out, 0.0, 1.0);
+}
+
+std::optional<Error> read_camera(const Json& j, Camera& camera) {
+    if (auto e = expect_object(j, "camera")) return e;
+    const Object o(j, "camera");
+    if (auto e = o.check_known({"eye", "look_at", "direction", "up", "fov_y_deg", "near", "far"}))
+        return e;
+    if (const Json* v = o.get("eye")) {
+        if (auto e = read_vector<3>(*v, o.field("eye"), camera.eye)) return e;
+    }
+    const Json* look_at = o.get("look_at");
+    const Json* direction = o.get("direction");
+    if ((look_at == nullptr) == (direction == nullptr)) {
+        return bad("camera.look_at", "give exactly one of camera.look_at and camera.direction");
+    }
+    if (look_at) {
+        if (auto e = read_vector<3>(*look_at, o.field("look_at"), camera.target)) return e;
+        if (glm::length(camera.target - camera.eye) == 0.0)
+            return bad("camera.look_at", "must differ from camera.eye");
+    } else {
+        glm::dvec3 d;
+        if (auto e = read_vector<3>(*direction, o.field("direction"), d)) return e;
+        if (glm::length(d) == 0.0) return bad("camera.direction", "must not be the zero vector");
+        camera.target = camera.eye + glm::normalize(d);
+    }
+    if (const Json* v = o.get("up")) {
+        if (auto e = read_vector<3>(*v, o.field("up"), camera.up)) return e;
+    }
+    const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
+    if (glm::length(glm::cross(forward, camera.up)) < 1e-6 * glm::length(camera.up)) {
+        return bad("camera.up", "must not be zero or parallel to the view direction");
+    }
+    if (const Json* v = o.get("fov_y_deg")) {
+        double deg = 0.0;
+        if (auto e = read_number(*v, o.field("fov_y_deg"), deg, 0.0, 180.0, true, true)) return e;
+        camera.fov_y_rad = deg * kDegree;
+    }
+    if (const Json* v = o.get("near")) {
+        if (auto e = read_number(*v, o.field("near"), camera.near_units, 0.0, INFINITY, true))
+            return e;
+    }
+    if (const Json* v = o.get("far")) {
+        if (auto e = read_number(*v, o.field("far"), camera.far_units, 0.0, INFINITY, true))
+            return e;
+    }
+    if (!(camera.far_units > camera.near_units)) {
+        return bad("camera.far", "must be greater than camera.near (" +
+                                     Json(camera.near_units).dump() + "), got " +
+                                     Json(camera.far_units).dump());
+    }
+    return std::nullopt;
+}
+
+std::optional<Error> read_sun(const Json& j, glm::dvec3& sun_dir) {
+    if (auto e = expect_object(j, "sun")) return e;
+    const Object o(j, "sun");
+    if (auto e = o.check_known({"direction", "elevation_deg", "azimuth_deg"})) return e;
+    const Json* direction = o.get("direction");
+    const Json* elevation = o.get("elevation_deg");
+    const Json* azimuth = o.get("azimuth_deg");
+    if (direction) {
+        if (elevation || azimuth) {
+            return bad("sun.direction",
+                       "give sun.direction or sun.elevation_deg and "
+                       "sun.azimuth_deg, not both");
+        }
+        glm::dvec3 d;
+        if (auto e = read_vector<3>(*direction, "sun.direction", d)) return e;
+        if (glm::length(d) == 0.0) return bad("sun.direction", "must not be the zero vector");
+        sun_dir = glm::normalize(d);
+        return std::nullopt;
+    }
+    if (!elevation || !azimuth) {
+        return bad(elevation ? "sun.azimuth_deg" : "sun.elevation_deg",
+                   "required (or give sun.direction)");
+    }
+    double el = 0.0, az = 0.0;
+    if (auto e = read_number(*elevation, "sun.elevation_deg", el, -90.0, 90.0)) return e;
+    if (auto e = read_number(*azimuth, "sun.azimuth_deg", az, -360.0, 360.0)) return e;
+    sun_dir = {std::sin(az * kDegree) * std::cos(el * kDegree),
+               std::cos(az * kDegree) * std::cos(el * kDegree), std::sin(el * kDegree)};
+    return std::nullopt;
+}
+
+std::optional<Error> read_atmosphere(const Json& j, Atmosphere& atmosphere) {
+    if (j.is_string()) {
+        auto a = atmosphere_preset(j.get<std::string>());
+        if (!a) return bad("atmosphere", a.error().message);
+        atmosphere = *a;
+        return std::nullopt;
+    }
+    if (!j.is_object()) {
+        return bad("atmosphere", "must be a preset name or an object, got " + describe(j));
+    }
+    auto a = atmosphere_from_json(j.dump());
+    if (!a) return Error{"atmosphere." + a.error().field, "atmosphere." + a.error().message};
+    atmosphere = *a;
+    return std::nullopt;
+}
+
+std::optional<Error> read_display(const Json& j, Display& display) {
+    if (auto e = expect_object(j, "display")) return e;
+    const Object o(j, "display");
+    if (auto e = o.check_known({"exposure", "tone"})) return e;
+    if (const Json* v = o.get("exposure")) {
+        double exposure = 0.0;
+        if (auto e = read_number(*v, "display.exposure", exposure, 0.0, 1e30, true)) return e;
+        display.exposure = float(exposure);
+    }
+    if (const Json* v = o.get("tone")) {
+        if (*v == "clamp") {
+            display.tone = ToneCurve::clamp;
+        } else if (*v == "exponential") {
+            display.tone = ToneCurve::exponential;
+        } else {
+            return bad("display.tone", "must be \"clamp\" or \"exponential\", got " + v->dump());
+        }
+    }
+    return std::nullopt;
+}
+
+std::optional<Error> read_texture(const Json& j, TextureSpec& t) {
+    if (auto e = expect_object(j, "texture")) return e;
+    const Object o(j, "texture");
+    if (auto e = o.check_known({"kind", "size", "cells", "colors", "seed"})) return e;
+    if (const Json* v = o.get("kind")) {
+        if (*v == "checker") {
+            t.kind = TextureKind::checker;
+        } else if (*v == "noise") {
+            t.kind = TextureKind::noise;
+        } else {
+            return bad("texture.kind", "must be \"checker\" or \"noise\", got " + v->dump());
+        }
+    }
+    if (const Json* v = o.get("size")) {
+        if (auto e = read_int(*v, "texture.size", t.size, 2, 1024)) return e;
+        if ((t.size & (t.size - 1)) != 0)
+            return bad("texture.size", "must be a power of two, got " + v->dump());
+    }
+    if (const Json* v = o.get("cells")) {
+        if (auto e = read_int(*v, "texture.cells", t.cells, 1, 1024)) return e;
+    }
+    if (t.size % t.cells != 0) {
+        return bad("texture.cells", "must divide texture.size (" + std::to_string(t.size) +
+                                        "), got " + std::to_string(t.cells));
+    }
+    if (const Json* v = o.get("colors")) {
+        if (!v->is_array() || v->size() != 2)
+            return bad("texture.colors", "must be an array of 2 colours, got " + v->dump());
+        for (std::size_t i = 0; i < 2; ++i) {
+            if (auto e = read_colour((*v)[i], "texture.colors[" + std::to_string(i) + "]",
+                                     t.colors[i])) {
+                return e;
+            }
+        }
+    }
+    if (const Json* v = o.get("seed")) {
+        if (auto e = read_seed(*v, "texture.seed", t.seed)) return e;
+    }
+    return std::nullopt;
+}
+
+std::optional<Error> read_terrain(const Json& j, TerrainSpec& t) {
+    if (auto e = expect_object(j, "terrain")) return e;
+    const Object o(j, "terrain");
+    if (auto e = o.check_known({"center", "size", "resolution", "height_amplitude", "feature_size",
+                                "seed", "texture_repeat"})) {
+        return e;
+    }
+    if (const Json* v = o.get("center")) {
+        if (auto e = read_vector<2>(*v, "terrain.center", t.center)) return e;
+    }
+    if (const Json* v = o.get("size")) {
+        if (auto e = read_number(*v, "terrain.size", t.size, 0.0, INFINITY, true)) return e;
+    }
+    if (const Json* v = o.get("resolution")) {
+        if (auto e = read_int(*v, "terrain.resolution", t.resolution, 1, 1024)) return e;
+    }
+    if (const Json* v = o.get("height_amplitude")) {
+        if (auto e = read_number(*v, "terrain.height_amplitude", t.height_amplitude, 0.0, INFINITY))
+            return e;
+    }
+    if (const Json* v = o.get("feature_size")) {
+        if (auto e = read_number(*v, "terrain.feature_size", t.feature_size, 0.0, INFINITY, true))
+            return e;
+    }
+    if (const Json* v = o.get("seed")) {
+        if (auto e = read_seed(*v, "terrain.seed", t.seed)) return e;
+    }
+    if (const Json* v = o.get("texture_repeat")) {
+        if (auto e =
+                read_number(*v, "terrain.texture_repeat", t.texture_repeat, 0.0, INFINITY, true)) {
+            return e;
+        }
+    }
+    return std::nullopt;
+}
+
+std::optional<Error> read_box(const Json& j, const std::string& path, BoxSpec& box) {
+    if (auto e = expect_object(j, path)) return e;
+    const Object o(j, path);
+    if (auto e = o.check_known({"center", "size", "subdivisions"})) return e;
+    const Json* center = o.get("center");
+    const Json* size = o.get("size");
+    if (!center) return bad(o.field("center"), "required");
+    if (!size) return bad(o.field("size"), "required");
+    if (auto e = read_vector<3>(*center, o.field("center"), box.center)) return e;
+    if (auto e = read_vector<3>(*size, o.field("size"), box.size, 0.0)) return e;
+    if (box.size.x <= 0.0 || box.size.y <= 0.0 || box.size.z <= 0.0)
+        return bad(o.field("size"), "every side must be > 0, got " + size->dump());
+    if (const Json* v = o.get("subdivisions")) {
+        if (auto e = read_int(*v, o.field("subdivisions"), box.subdivisions, 1, 64)) return e;
+    }
+    return std::nullopt;
+}
+
+std::optional<Error> read_scene(const Json& root, Scene& s) {
+    if (!root.is_object()) return bad("scene", "must be a JSON object, got " + describe(root));
+    const Object o(root, "");
+    if (auto e = o.check_known({"camera", "sun", "atmosphere", "model", "display",
+                                "meters_per_unit", "background", "texture", "terrain", "boxes"})) {
+        return e;
+    }
+    const Json* camera = o.get("camera");
+    if (!camera) return bad("camera", "required");
+    if (auto e = read_camera(*camera, s.camera)) return e;
+    const Json* sun = o.get("sun");
+    if (!sun) return bad("sun", "required");
+    if (auto e = read_sun(*sun, s.sun_dir)) return e;
+    if (const Json* v = o.get("atmosphere")) {
+        if (auto e = read_atmosphere(*v, s.atmosphere)) return e;
+    }
+    if (const Json* v = o.get("model")) {
+        if (!v->is_string()) return bad("model", "must be a string, got " + describe(*v));
+        auto m = parse_model(v->get<std::string>());
+        if (!m) return bad("model", m.error().message);
+        if (*m == Model::reference)
+            return bad("model", "reference is too slow to render; use hoffman-preetham or height");
+        s.model = *m;
+    }
+    if (const Json* v = o.get("display")) {
+        if (auto e = read_display(*v, s.display)) return e;
+    }
+    if (const Json* v = o.get("meters_per_unit")) {
+        if (auto e = read_number(*v, "meters_per_unit", s.meters_per_unit, 0.0, INFINITY, true))
+            return e;
+    }
+    if (const Json* v = o.get("background")) {
+        if (auto e = read_colour(*v, "background", s.background)) return e;
+    }
+    if (const Json* v = o.get("texture")) {
+        if (auto e = read_texture(*v, s.texture)) return e;
+    }
+    if (const Json* v = o.get("terrain")) {
+        s.terrain.emplace();
+        if (auto e = read_terrain(*v, *s.terrain)) return e;
+    }
+    if (const Json* v = o.get("boxes")) {
+        if (!v->is_array()) return bad("boxes", "must be an array, got " + describe(*v));
+        for (std::size_t i = 0; i < v->size(); ++i) {
+            BoxSpec box;
+            if (auto e = read_box((*v)[i], "boxes[" + std::to_string(i) + "]", box)) return e;
+            s.boxes.push_back(box);
+        }
+    }
+    if (!s.terrain && s.boxes.empty())
+        return bad("terrain",
+                   "the scene has no geometry: give "
+                   "terrain or boxes");
+    if (auto e = validate(s.view())) return e;
+    return std::nullopt;
+}
+
+// ---- Procedural content ---------------------------------------------------------------------
+
+/// A 32-bit integer hash (lowbias32) of a lattice point and a seed.
+std::uint32_t hash(std::int64_t x, std::int64_t y, std::uint32_t seed) {
+    std::uint32_t h =
+        seed * 0x9E3779B9u ^ std::uint32_t(x) * 0x85EBCA6Bu ^ std::uint32_t(y) * 0xC2B2AE35u;
+    h ^= h >> 16;
+    h *= 0x7FEB352Du;
+    h ^= h >> 15;
+    h *= 0x846CA68Bu;
+    h ^= h >> 16;
+    return h;
+}
+
+double lattice(std::int64_t x, std::int64_t y, std::uint32_t seed) {
+    return double(hash(x, y, seed) >> 8) / double(1u << 24);
+}
+
+/// Value noise in [0, 1] with smoothstep interpolation; with period > 0 the lattice repeats
+/// every `period` cells (a seamless tile).
+double value_noise(double x, double y, std::uint32_t seed, std::int64_t period = 0) {
+    const double fx = std::floor(x), fy = std::floor(y);
+    const auto ix = std::int64_t(fx), iy = std::int64_t(fy);
+    const double tx = x - fx, ty = y - fy;
+    const double sx = tx * tx * (3.0 - 2.0 * tx), sy = ty * ty * (3.0 - 2.0 * ty);
+    const auto wrap = [period](std::int64_t i) { return period > 0 ? i % period : i; };
+    const double a = lattice(wrap(ix), wrap(iy), seed), b = lattice(wrap(ix + 1), wrap(iy), seed);
+    const double c = lattice(wrap(ix), wrap(iy + 1), seed);
+    const double d = lattice(wrap(ix + 1), wrap(iy + 1), seed);
+    return (a + (b - a) * sx) + ((c + (d - c) * sx) - (a + (b - a) * sx)) * sy;
+}
+
+/// Five octaves of value noise, normalised to [0, 1].
+double fractal_noise(double x, double y, std::uint32_t seed) {
+    double sum = 0.0, weight = 1.0, total = 0.0;
+    for (int octave = 0; octave < 5; ++octave) {
+        sum += weight * value_noise(x, y, seed + std::uint32_t(octave));
+        total += weight;
+        weight *= 0.5;
+        x *= 2.0;
+        y *= 2.0;
+    }
+    return sum / total;
+}
+
+void add_terrain(const TerrainSpec& t, Mesh& mesh) {
+    const int n = t.resolution;
+    const auto base = std::uint32_t(mesh.vertex_count());
+    for (int j = 0; j <= n; ++j) {
+        for (int i = 0; i <= n; ++i) {
+            const double x = t.center.x + t.size * (double(i) / n - 0.5);
+            const double y = t.center.y + t.size * (double(j) / n - 0.5);
+            // Fractal noise mostly lies in [0.25, 0.75]: stretch it to [0, 1] and square it,
+            // for flat valley floors between steeper hills.
+            const double noise = fractal_noise(x / t.feature_size, y / t.feature_size, t.seed);
+            const double u = std::clamp((noise - 0.25) / 0.5, 0.0, 1.0);
+            const double z = t.height_amplitude * u * u;
+            mesh.positions.insert(mesh.positions.end(), {float(x), float(y), float(z)});
+            mesh.texcoords.insert(mesh.texcoords.end(),
+                                  {float(x / t.texture_repeat), float(y / t.texture_repeat)});
+        }
+    }
+    const auto row = std::uint32_t(n + 1);
+    for (std::uint32_t j = 0; j < std::uint32_t(n); ++j) {
+        for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
+            const std::uint32_t a = base + j * row + i, b = a + 1, c = a + row, d = c + 1;
+            mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
+        }
+    }
+}
+
+void add_box(const BoxSpec& box, double texture_repeat, Mesh& mesh) {
+    const int n = box.subdivisions;
+    const glm::dvec3 half = 0.5 * box.size;
+    // Each face: an outward axis and two in-plane axes that make a counter-clockwise quad.
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int sign = -1; sign <= 1; sign += 2) {
+            const int u_axis = (axis + 1) % 3, v_axis = (axis + 2) % 3;
+            const auto base = std::uint32_t(mesh.vertex_count());
+            for (int j = 0; j <= n; ++j) {
+                for (int i = 0; i <= n; ++i) {
+                    glm::dvec3 p = box.center;
+                    p[axis] += sign * half[axis];
+                    p[u_axis] += half[u_axis] * (2.0 * i / n - 1.0);
+                    p[v_axis] += half[v_axis] * (2.0 * j / n - 1.0);
+                    mesh.positions.insert(mesh.positions.end(),
+                                          {float(p.x), float(p.y), float(p.z)});
+                    mesh.texcoords.insert(
+                        mesh.texcoords.end(),
+                        {float(p[u_axis] / texture_repeat), float(p[v_axis] / texture_repeat)});
+                }
+            }
+            const auto row = std::uint32_t(n + 1);
+            for (std::uint32_t j = 0; j < std::uint32_t(n); ++j) {
+                for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
+                    const std::uint32_t a = base + j * row + i, b = a + 1, c = a + row, d = c + 1;
+                    if (sign > 0) {
+                        mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
+                    } else {
+                        mesh.indices.insert(mesh.indices.end(), {a, d, b, a, c, d});
+                    }
+                }
+            }
+        }
+    }
+}
+
+}  // namespace
+
+View Scene::view() const {
+    View v;
+    v.eye = camera.eye;
+    v.sun_dir = sun_dir;
+    v.up = {0.0, 0.0, 1.0};
+    v.meters_per_unit = meters_per_unit;
+    return v;
+}
+
+Result<Scene> scene_from_json(std::string_view json_text) {
+    Json root;
+    try {
+        root = Json::parse(json_text.begin(), json_text.end());
+    } catch (const Json::exception& e) {
+        std::string what = e.what();
+        const auto bracket = what.find("] ");
+        if (bracket != std::string::npos) what = what.substr(bracket + 2);
+        return Error{"json", "JSON: " + what};
+    }
+    Scene scene;
+    if (auto e = read_scene(root, scene)) return *e;
+    return scene;
+}
+
+Result<Scene> load_scene(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    if (!file) return Error{path, path + ": cannot open file"};
+    const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+    if (file.bad()) return Error{path, path + ": cannot read file"};
+    auto scene = scene_from_json(text);
+    if (!scene) return Error{scene.error().field, path + ": " + scene.error().message};
+    return scene;
+}
+
+Mesh build_geometry(const Scene& scene) {
+    Mesh mesh;
+    const double repeat =
+        scene.terrain ? scene.terrain->texture_repeat : TerrainSpec{}.texture_repeat;
+    if (scene.terrain) add_terrain(*scene.terrain, mesh);
+    for (const BoxSpec& box : scene.boxes) add_box(box, repeat, mesh);
+    return mesh;
+}
+
+Texture build_texture(const TextureSpec& spec) {
+    Texture texture;
+    Texture::Level level;
+    level.size = spec.size;
+    level.rgb.resize(std::size_t(spec.size) * std::size_t(spec.size) * 3);
+    const int cell = spec.size / spec.cells;
+    for (int y = 0; y < spec.size; ++y) {
+        for (int x = 0; x < spec.size; ++x) {
+            double t = 0.0;
+            if (spec.kind == TextureKind::checker) {
+                t = ((x / cell + y / cell) % 2) ? 1.0 : 0.0;
+            } else {
+                // Tiles seamlessly: the noise lattice repeats every `cells` cells.
+                const double scale = double(spec.cells) / spec.size;
+                t = value_noise(x * scale, y * scale, spec.seed, spec.cells);
+            }
+            const glm::dvec3 c = spec.colors[0] + (spec.colors[1] - spec.colors[0]) * t;
+            for (int k = 0; k < 3; ++k) {
+                level.rgb[(std::size_t(y) * spec.size + x) * 3 + k] = to_unorm8(float(c[k]));
+            }
+        }
+    }
+    texture.levels.push_back(std::move(level));
+    while (texture.levels.back().size > 1) {
+        const Texture::Level& fine = texture.levels.back();
+        Texture::Level coarse;
+        coarse.size = fine.size / 2;
+        coarse.rgb.resize(std::size_t(coarse.size) * std::size_t(coarse.size) * 3);
+        for (int y = 0; y < coarse.size; ++y) {
+            for (int x = 0; x < coarse.size; ++x) {
+                for (int k = 0; k < 3; ++k) {
+                    auto at = [&](int fx, int fy) {
+                        return int(fine.rgb[(std::size_t(fy) * fine.size + fx) * 3 + k]);
+                    };
+                    const int sum = at(2 * x, 2 * y) + at(2 * x + 1, 2 * y) + at(2 * x, 2 * y + 1) +
+                                    at(2 * x + 1, 2 * y + 1);
+                    coarse.rgb[(std::size_t(y) * coarse.size + x) * 3 + k] =
+                        std::uint8_t((sum + 2) / 4);
+                }
+            }
+        }
+        texture.levels.push_back(std::move(coarse));
+    }
+    return texture;
+}
+
+}  // namespace aerial::render

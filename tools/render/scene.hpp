@@ -1,0 +1,148 @@
+// The scene file of aerial-render: a camera, a sun, an atmosphere, a model, a display, and
+// procedural geometry (a textured terrain height field and boxes), all deterministic, so that a
+// scene file plus a backend gives the same image on every run (the golden images rely on it).
+//
+// How to use this:
+//   1. `auto scene = aerial::render::load_scene(path);` (or scene_from_json(text)); the error
+//      names the field ("camera.fov_y_deg", "terrain.resolution", ...) and the bad value.
+//   2. `build_geometry(*scene)` gives one indexed triangle mesh (positions in engine units,
+//      texture coordinates) and `build_texture(scene->texture)` its RGB8 texture with mipmaps.
+//
+// The format (JSON object; every field optional unless marked; unknown fields are errors):
+//   "camera": {
+//     "eye": [x, y, z]             engine units; default [0, 0, 300]
+//     "look_at": [x, y, z]         a point to look at, or
+//     "direction": [x, y, z]       a direction to look in (exactly one of the two; required)
+//     "up": [x, y, z]              default [0, 0, 1]
+//     "fov_y_deg": 50              vertical field of view, degrees, (0, 180)
+//     "near": 10, "far": 100000    clip planes, engine units, 0 < near < far
+//   }
+//   "sun": {"direction": [x, y, z]}  towards the sun (normalised), or
+//          {"elevation_deg": e, "azimuth_deg": a}  azimuth clockwise from +y towards +x
+//          (required)
+//   "atmosphere": "earth"          a preset name (earth, hp2002, hazy, foggy, mars), or an object
+//                                  with the atmosphere JSON fields (missing ones are earth's);
+//                                  default "earth"
+//   "model": "hoffman-preetham"    or "height" (reference is far too slow per pixel)
+//   "display": {"exposure": 8, "tone": "clamp" | "exponential"}  L_in times exposure, then the
+//                                  tone curve (aerial::Display); default 8, clamp
+//   "meters_per_unit": 1           engine units to metres, > 0
+//   "background": [r, g, b]        clear colour in [0, 1] where no geometry is; default 0, 0, 0
+//   "texture": {
+//     "kind": "checker" | "noise"  default "checker"
+//     "size": 64                   texels per side, a power of two 2 .. 1024
+//     "cells": 8                   checker cells per side (a divisor of size)
+//     "colors": [[r, g, b], [r, g, b]]  the two colours in [0, 1] (8-bit sRGB display values)
+//     "seed": 1                    noise seed, integer >= 0
+//   }
+//   "terrain": {                   a height field on the z = 0 plane (z up); absent: none
+//     "center": [x, y]             default [0, 0]
+//     "size": 20000                side of the square, engine units, > 0
+//     "resolution": 64             cells per side, 1 .. 1024
+//     "height_amplitude": 300      largest height, engine units, >= 0 (0: a flat ground plane);
+//                                  the ground is at z = 0 in the valleys
+//     "feature_size": 5000         size of the largest hills, engine units, > 0
+//     "seed": 1                    integer >= 0
+//     "texture_repeat": 2000       engine units per repetition of the texture, > 0
+//   }
+//   "boxes": [{"center": [x, y, z], "size": [sx, sy, sz], "subdivisions": 4}, ...]
+//                                  axis-aligned, textured with the same texture, each face split
+//                                  into subdivisions × subdivisions quads (1 .. 64)
+// The world's up axis is +z and sea level is z = 0 (aerial::View's defaults). Later scene
+// graphs will add fields; files written for this version stay valid.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "aerial/atmosphere.hpp"
+#include "aerial/batch.hpp"
+#include "aerial/error.hpp"
+#include "aerial/scattering.hpp"
+
+namespace aerial::render {
+
+struct Camera {
+    glm::dvec3 eye{0.0, 0.0, 300.0};
+    glm::dvec3 target{0.0, 1.0, 300.0};  ///< a point looked at (from look_at or direction)
+    glm::dvec3 up{0.0, 0.0, 1.0};
+    double fov_y_rad = 0.8726646259971648;  // 50 deg
+    double near_units = 10.0;
+    double far_units = 100000.0;
+};
+
+enum class TextureKind { checker, noise };
+
+struct TextureSpec {
+    TextureKind kind = TextureKind::checker;
+    int size = 64;
+    int cells = 8;
+    glm::dvec3 colors[2] = {{0.32, 0.42, 0.22}, {0.55, 0.52, 0.40}};
+    std::uint32_t seed = 1;
+};
+
+struct TerrainSpec {
+    glm::dvec2 center{0.0, 0.0};
+    double size = 20000.0;
+    int resolution = 64;
+    double height_amplitude = 300.0;
+    double feature_size = 5000.0;
+    std::uint32_t seed = 1;
+    double texture_repeat = 2000.0;
+};
+
+struct BoxSpec {
+    glm::dvec3 center{0.0};
+    glm::dvec3 size{100.0};
+    int subdivisions = 4;
+};
+
+struct Scene {
+    Camera camera;
+    glm::dvec3 sun_dir{0.0, 0.0, 1.0};  ///< unit, towards the sun
+    Atmosphere atmosphere;
+    Model model = Model::hoffman_preetham;
+    Display display{8.0f, ToneCurve::clamp};
+    double meters_per_unit = 1.0;
+    glm::dvec3 background{0.0};
+    TextureSpec texture;
+    std::optional<TerrainSpec> terrain;
+    std::vector<BoxSpec> boxes;
+
+    /// The aerial::View of this scene (world up +z).
+    View view() const;
+};
+
+/// Parses a scene; errors name the field (dotted path, "boxes[1].size") and the value.
+Result<Scene> scene_from_json(std::string_view json_text);
+/// Reads and parses a file; errors start with the path.
+Result<Scene> load_scene(const std::string& path);
+
+/// One indexed triangle mesh, ready for glVertexPointer / glTexCoordPointer / glDrawElements.
+struct Mesh {
+    std::vector<float> positions;  ///< x, y, z per vertex, engine units
+    std::vector<float> texcoords;  ///< s, t per vertex
+    std::vector<std::uint32_t> indices;
+    std::size_t vertex_count() const { return positions.size() / 3; }
+};
+
+/// The terrain and the boxes of the scene as one mesh.
+Mesh build_geometry(const Scene& scene);
+
+/// An RGB8 texture and its mipmap chain (level 0 first, down to 1×1, box-filtered).
+struct Texture {
+    struct Level {
+        int size = 0;
+        std::vector<std::uint8_t> rgb;
+    };
+    std::vector<Level> levels;
+};
+Texture build_texture(const TextureSpec& spec);
+
+}  // namespace aerial::render

@@ -3,6 +3,7 @@
 #
 #   tools/aerial.sh run    installs what is missing, builds, renders the sample headless into build/out/
 #   tools/aerial.sh test   installs what is missing, builds, runs the whole test suite (CTest)
+#   tools/aerial.sh goldens  re-renders the golden images of tests/golden/ (never run by tests)
 #
 # Works from any directory. Needs Debian (apt) for the install step; root or sudo to install.
 set -euo pipefail
@@ -42,6 +43,11 @@ Commands:
                   see $BUILD_DIR/bin/aerial-sample --help).
   test            install, configure and build as above, then run the whole suite:
                   ctest --test-dir $BUILD_DIR --output-on-failure -j2
+  goldens         install and configure as above, build aerial-render, and re-render every
+                  golden image listed in tests/golden/goldens.txt with the settings listed
+                  there (OSMesa, llvmpipe, LP_NUM_THREADS pinned); records GL_RENDERER and
+                  the settings in tests/golden/RENDERER.txt. Review the images before
+                  committing them: the tests compare against whatever is there.
   -h, --help      print this help
 
 Packages installed when missing (apt-get, needs root or sudo):
@@ -121,6 +127,47 @@ setup() {
     build
 }
 
+# Re-renders the goldens of tests/golden/goldens.txt (its format is described in the file).
+render_goldens() {
+    local dir=tests/golden size="" gl="" envs=() kind a b c name line renderer="" count=0
+    say "building aerial-render"
+    cmake --build "$BUILD_DIR" --target aerial-render
+    while read -r kind a b c; do
+        case $kind in
+            setting)
+                case $a in
+                    size) size=$b ;;
+                    gl) gl=$b ;;
+                    env) envs+=("$b") ;;
+                    *) die "$dir/goldens.txt: unknown setting '$a'" ;;
+                esac
+                ;;
+            golden)
+                name="$a-$b${c:+-$c}"
+                line=$(env "${envs[@]}" "$BUILD_DIR/bin/aerial-render" --scene "$dir/scenes/$a.json" \
+                    --backend "$b" ${c:+--path "$c"} --gl "$gl" --size "$size" \
+                    --out "$dir/$name.png") || die "rendering $name failed"
+                say "$name: $line"
+                if [[ -z $renderer ]]; then
+                    renderer=${line#*renderer=}
+                elif [[ ${line#*renderer=} != "$renderer" ]]; then
+                    die "$name was rendered by ${line#*renderer=}, the others by $renderer"
+                fi
+                count=$((count + 1))
+                ;;
+        esac
+    done < <(grep -Ev '^[[:space:]]*(#|$)' "$dir/goldens.txt")
+    {
+        printf 'Golden images of tests/golden/ (%d), made by: tools/aerial.sh goldens\n' "$count"
+        printf 'GL_RENDERER: %s\n' "$renderer"
+        printf 'Mesa: libosmesa6 %s\n' "$(dpkg-query -W -f='${Version}' libosmesa6 2>/dev/null || echo unknown)"
+        printf 'Context: --gl %s, --size %s\n' "$gl" "$size"
+        printf 'Environment: %s\n' "${envs[*]}"
+        printf 'CPU: %s\n' "$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n1)"
+    } >"$dir/RENDERER.txt"
+    say "wrote $count goldens and $dir/RENDERER.txt"
+}
+
 main() {
     local command=${1:-}
     case $command in
@@ -128,26 +175,32 @@ main() {
             usage
             return 0
             ;;
-        run | test) shift ;;
+        run | test | goldens) shift ;;
         "")
             usage >&2
-            printf '\naerial.sh: missing command (run or test)\n' >&2
+            printf '\naerial.sh: missing command (run, test or goldens)\n' >&2
             exit 2
             ;;
         *)
-            printf 'aerial.sh: unknown command %q (expected run or test; see --help)\n' \
+            printf 'aerial.sh: unknown command %q (expected run, test or goldens; see --help)\n' \
                 "$command" >&2
             exit 2
             ;;
     esac
-    if [[ $command == test && $# -gt 0 ]]; then
-        printf 'aerial.sh: test takes no arguments, got %q (see --help)\n' "$1" >&2
+    if [[ $command != run && $# -gt 0 ]]; then
+        printf 'aerial.sh: %s takes no arguments, got %q (see --help)\n' "$command" "$1" >&2
         exit 2
     fi
 
     # Everything below runs from the repository root, whatever the caller's directory.
     cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.."
 
+    if [[ $command == goldens ]]; then
+        install_missing_packages
+        configure
+        render_goldens
+        return
+    fi
     setup
     if [[ $command == run ]]; then
         mkdir -p "$OUT_DIR"

@@ -2,30 +2,25 @@
 // redirected to files in a per-test temporary directory, and pins the command-line contract:
 // --help, the CSV it prints, the ways points and atmospheres reach it, and for every kind of bad
 // input exit status 2, empty stdout and exactly one stderr line naming the culprit.
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <initializer_list>
-#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "tool_runner.hpp"
+
 namespace {
 
-namespace fs = std::filesystem;
+using aerial::test::RunResult;
 
 constexpr const char* kBinary = AERIAL_EVAL_PATH;
 constexpr const char* kHeader = "x,y,z,fex_r,fex_g,fex_b,lin_r,lin_g,lin_b,esun_r,esun_g,esun_b";
 constexpr size_t kColumns = 12;
-constexpr int kExitBadInput = 2;
 /// Relative tolerance between runs that should agree up to rounding of the printed digits
 /// (%.9g) and of a different but equivalent order of operations.
 constexpr double kSameResultTolerance = 1e-7;
@@ -52,28 +47,6 @@ constexpr const char* kPoints =
     "-7000,-7000,0\n"
     "0,20000,10000\n";
 constexpr size_t kPointCount = 6;
-
-struct RunResult {
-    int exit_code = -1;
-    std::string out;
-    std::string err;
-};
-
-std::string shell_quote(const std::string& s) {
-    std::string quoted = "'";
-    for (char c : s) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return quoted + "'";
-}
-
-std::string read_text(const fs::path& path) {
-    std::ifstream file(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-}
-
-void write_text(const fs::path& path, const std::string& text) {
-    std::ofstream file(path, std::ios::binary);
-    file << text;
-}
 
 std::vector<std::string> split(const std::string& text, char separator) {
     std::vector<std::string> parts;
@@ -161,75 +134,17 @@ struct Csv {
     return ::testing::AssertionSuccess();
 }
 
-/// The contract for bad input: exit status 2, nothing on stdout (no partial CSV), exactly one
-/// line on stderr, "aerial-eval: ..." containing every expected piece.
+/// The bad-input contract of DESIGN.md §3 for aerial-eval (tool_runner.hpp).
 ::testing::AssertionResult rejected_naming(const RunResult& run,
                                            std::initializer_list<const char*> expected) {
-    if (run.exit_code != kExitBadInput) {
-        return ::testing::AssertionFailure() << "exit status " << run.exit_code << ", expected "
-                                             << kExitBadInput << "; stderr: '" << run.err << "'";
-    }
-    if (!run.out.empty()) {
-        return ::testing::AssertionFailure() << "stdout is not empty: '" << run.out << "'";
-    }
-    const size_t newlines = static_cast<size_t>(std::count(run.err.begin(), run.err.end(), '\n'));
-    if (newlines != 1 || run.err.back() != '\n') {
-        return ::testing::AssertionFailure() << "stderr is not exactly one line (" << newlines
-                                             << " newlines): '" << run.err << "'";
-    }
-    if (run.err.rfind("aerial-eval: ", 0) != 0) {
-        return ::testing::AssertionFailure()
-               << "stderr does not start with 'aerial-eval: ': '" << run.err << "'";
-    }
-    for (const char* piece : expected) {
-        if (run.err.find(piece) == std::string::npos) {
-            return ::testing::AssertionFailure()
-                   << "stderr does not mention '" << piece << "': '" << run.err << "'";
-        }
-    }
-    return ::testing::AssertionSuccess();
+    return aerial::test::rejected_naming(run, "aerial-eval", expected);
 }
 
-class AerialEval : public ::testing::Test {
+class AerialEval : public aerial::test::ToolTest {
   protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() /
-               ("aerial-eval-test-" + std::to_string(::getpid()) + "-" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-
-    // Kept after a failure, so that the inputs and outputs can be inspected.
-    void TearDown() override {
-        if (!HasFailure()) fs::remove_all(dir_);
-    }
-
-    /// A path in the test's directory.
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
-
-    /// Writes a file in the test's directory and returns its path.
-    std::string file(const std::string& name, const std::string& text) const {
-        write_text(dir_ / name, text);
-        return (dir_ / name).string();
-    }
-
     /// Runs aerial-eval with `args`, `input` on stdin.
     RunResult run(const std::vector<std::string>& args, const std::string& input = "") {
-        const std::string stem = "run" + std::to_string(++runs_);
-        const fs::path in = dir_ / (stem + ".stdin"), out = dir_ / (stem + ".stdout"),
-                       err = dir_ / (stem + ".stderr");
-        write_text(in, input);
-        std::string command = shell_quote(kBinary);
-        for (const std::string& arg : args) command += " " + shell_quote(arg);
-        command += " <" + shell_quote(in.string()) + " >" + shell_quote(out.string()) + " 2>" +
-                   shell_quote(err.string());
-        const int status = std::system(command.c_str());
-        RunResult result;
-        result.exit_code = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        result.out = read_text(out);
-        result.err = read_text(err);
-        return result;
+        return ToolTest::run(kBinary, args, input);
     }
 
     /// A successful run: exit 0, nothing on stderr, a well-formed CSV.
@@ -252,10 +167,6 @@ class AerialEval : public ::testing::Test {
     const std::vector<std::string> earth_{"--preset", "earth", "--eye=0,0,100", "--sun=0,0.6,0.8"};
     /// The same without an atmosphere.
     const std::vector<std::string> view_{"--eye=0,0,100", "--sun=0,0.6,0.8"};
-
-  private:
-    fs::path dir_;
-    int runs_ = 0;
 };
 
 // ---- --help ----------------------------------------------------------------------------------

@@ -142,7 +142,7 @@ std::optional<Error> read_camera(const Json& j, Camera& camera) {
         if (auto e = read_vector<3>(*v, o.field("up"), camera.up)) return e;
     }
     const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
-    if (glm::length(glm::cross(forward, camera.up)) < 1e-6 * glm::length(camera.up)) {
+    if (!(glm::length(glm::cross(forward, camera.up)) > 1e-6 * glm::length(camera.up))) {
         return bad("camera.up", "must not be zero or parallel to the view direction");
     }
     if (const Json* v = o.get("fov_y_deg")) {

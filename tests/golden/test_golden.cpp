@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <ostream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -44,6 +45,8 @@ struct Cross {
     std::string scene;
     int max_lsb = 0, p99_lsb = 0;
 };
+
+void PrintTo(const Cross& c, std::ostream* os) { *os << c.scene; }
 
 struct GoldenList {
     std::string size, gl;
@@ -147,6 +150,8 @@ struct GoldenCase {
     Golden golden;
     std::string gl;
 };
+
+void PrintTo(const GoldenCase& c, std::ostream* os) { *os << c.golden.name() << " on " << c.gl; }
 
 class GoldenImage : public ::testing::TestWithParam<GoldenCase> {};
 

@@ -157,6 +157,8 @@ render_goldens() {
                 ;;
         esac
     done < <(grep -Ev '^[[:space:]]*(#|$)' "$dir/goldens.txt")
+    renderer=${renderer#\"}
+    renderer=${renderer%\"}
     {
         printf 'Golden images of tests/golden/ (%d), made by: tools/aerial.sh goldens\n' "$count"
         printf 'GL_RENDERER: %s\n' "$renderer"

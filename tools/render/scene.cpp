@@ -3,10 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <functional>
 #include <initializer_list>
 #include <iterator>
-#include <map>
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>

@@ -34,8 +34,9 @@ constexpr int kGoldenMaxLsb = 2;
 constexpr double kGoldenMaxOver1 = 0.001;
 /// On EGL (an FBO with its own depth buffer) the goldens made on OSMesa may differ in a handful
 /// of pixels as well: at most this fraction off by more than 2 steps, with no bound on how far.
-/// Seen: the two-pass path misses its second pass (depth EQUAL) in one silhouette pixel of
-/// mountains_height on EGL, 55 steps, and nowhere on OSMesa.
+/// Seen: on EGL the two-pass path adds L_in twice in one silhouette pixel of mountains_height
+/// (55 steps), where a ridge's front and back triangles get the same depth value and both pass
+/// depth EQUAL; on OSMesa they do not.
 constexpr double kEglMaxOver2 = 0.0005;
 /// Plain fog is visibly different from the per-pixel model: its worst 1 % of pixels are off by
 /// at least this many steps.

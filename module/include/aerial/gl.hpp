@@ -69,13 +69,45 @@ struct VertexColours {
     std::size_t vertex_count = 0;             ///< records in each array
 };
 
+/// The combiner path's GL resources: a 2×2×2 RGBA8 identity 3D texture (texel (i, j, k) =
+/// (i, j, k) × 255, GL_LINEAR, CLAMP_TO_EDGE) and the scratch buffer of float texture
+/// coordinates 0.25 + 0.5 L_in that sample it. Create one per context and pass it in
+/// ApplyOptions::combiner; without it each combiner draw creates and deletes a texture.
+/// Move-only; the destructor deletes the texture (the context and `api` must still be alive).
+class CombinerTexture {
+  public:
+    /// Errors: field "combiner" naming the missing GL 1.2 3D textures. Leaves the engine's
+    /// texture bindings, active unit and pixel-unpack state as it found them.
+    static Result<CombinerTexture> create(const Api& api);
+
+    CombinerTexture(CombinerTexture&& other) noexcept;
+    CombinerTexture& operator=(CombinerTexture&& other) noexcept;
+    CombinerTexture(const CombinerTexture&) = delete;
+    CombinerTexture& operator=(const CombinerTexture&) = delete;
+    ~CombinerTexture();
+
+    unsigned id() const { return id_; }  ///< the GL texture name
+    /// The texture coordinates (3 floats a vertex, tightly packed) that make the texture return
+    /// `colours.secondary` (L_in); valid until the next call.
+    const float* texcoords_for(const VertexColours& colours);
+
+  private:
+    CombinerTexture(const Api* api, unsigned id) : api_(api), id_(id) {}
+    const Api* api_ = nullptr;
+    unsigned id_ = 0;
+    std::vector<float> texcoords_;
+};
+
 struct ApplyOptions {
     Path path = Path::automatic;
     /// The texture unit holding the engine's texture (the one F_ex modulates). The combiner
     /// path uses the next unit as well.
     int texture_unit = 0;
     /// False when the engine draws untextured: the colour is then F_ex + L_in (a white texel).
+    /// The paths then disable texturing on texture_unit while they draw.
     bool textured = true;
+    /// The combiner path's texture (see CombinerTexture); null: a temporary one per draw.
+    CombinerTexture* combiner = nullptr;
 };
 
 /// What a draw did, for the engine's statistics.
@@ -111,11 +143,14 @@ class ArbVertexProgram {
     /// Uploads one frame's parameters (from aerial::arb_program_parameters with the same
     /// options) to program.local or program.env as the program's options say. Error when the
     /// count is not kArbParameterCount for the program's model.
-    std::optional<Error> set_parameters(const std::vector<std::array<float, 4>>& parameters);
+    /// Const like draw(): neither changes the C++ object (only GL state), so both work through
+    /// Result's const operator->.
+    std::optional<Error> set_parameters(const std::vector<std::array<float, 4>>& parameters) const;
 
     /// Draws the engine's geometry with the program bound and enabled, texture MODULATE on
     /// ApplyOptions::texture_unit and COLOR_SUM on; restores everything after.
-    Result<ApplyStats> draw(const std::function<void()>& draw, const ApplyOptions& options = {});
+    Result<ApplyStats> draw(const std::function<void()>& draw,
+                            const ApplyOptions& options = {}) const;
 
     unsigned id() const { return id_; }  ///< the GL program name
     const ArbProgram& program() const { return program_; }

@@ -1,0 +1,509 @@
+// The fixed-function paths (aerial::gl::draw_with_colours) on a headless context: each path
+// against the others on a textured mesh shaded by aerial::shade_into, two passes against one,
+// why the second pass needs black fog, every path leaving the GL state as it found it
+// (aerial/gl_state.hpp), and path selection with and without the extensions.
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include "aerial/aerial.hpp"
+#include "aerial/gl.hpp"
+#include "aerial/gl_api.hpp"
+#include "aerial/gl_state.hpp"
+#include "aerial/headless.hpp"
+#include "gl_test_context.hpp"
+
+namespace {
+
+using aerial::gl::Api;
+using aerial::gl::ApplyOptions;
+using aerial::gl::Path;
+using aerial::headless::Context;
+
+constexpr int kSize = 64;    // pixels, square
+constexpr int kGrid = 12;    // vertices per side of the mesh
+constexpr int kTexels = 16;  // texture size, square
+
+// A terrain-like mesh in front of the eye: screen positions for GL, world positions (metres)
+// for the model, texture coordinates, and F_ex / L_in from aerial::shade_into.
+struct Scene {
+    std::vector<float> screen;  // x, y, z in NDC (identity matrices), z from -0.9 to -0.1
+    std::vector<float> world;   // x, y, z metres
+    std::vector<float> texcoords;
+    std::vector<unsigned short> indices;
+    std::vector<std::uint8_t> fex, lin;
+    std::vector<std::uint8_t> texels;
+};
+
+Scene make_scene(const std::string& preset, double sun_elevation_deg) {
+    Scene s;
+    for (int j = 0; j < kGrid; ++j) {
+        for (int i = 0; i < kGrid; ++i) {
+            const float u = float(i) / float(kGrid - 1), v = float(j) / float(kGrid - 1);
+            s.screen.insert(s.screen.end(), {-0.95f + 1.9f * u, -0.95f + 1.9f * v,
+                                             -0.9f + 0.8f * v + 0.03f * std::sin(7.0f * u)});
+            s.world.insert(s.world.end(),
+                           {-8000.0f + 16000.0f * u, 300.0f + 30000.0f * v * v,
+                            20.0f + 400.0f * std::sin(3.0f * u) * std::sin(2.0f * v)});
+            s.texcoords.insert(s.texcoords.end(), {1.7f * u, 1.3f * v});
+        }
+    }
+    for (int j = 0; j + 1 < kGrid; ++j) {
+        for (int i = 0; i + 1 < kGrid; ++i) {
+            const auto a = static_cast<unsigned short>(j * kGrid + i);
+            const auto b = static_cast<unsigned short>(a + 1);
+            const auto c = static_cast<unsigned short>(a + kGrid);
+            const auto d = static_cast<unsigned short>(c + 1);
+            s.indices.insert(s.indices.end(), {a, b, d, a, d, c});
+        }
+    }
+    for (int t = 0; t < kTexels * kTexels; ++t) {
+        const int x = t % kTexels, y = t / kTexels;
+        s.texels.insert(s.texels.end(),
+                        {static_cast<std::uint8_t>(60 + (x * 37 + y * 11) % 190),
+                         static_cast<std::uint8_t>(80 + (x * 13 + y * 29) % 170),
+                         static_cast<std::uint8_t>(40 + (x * 7 + y * 23) % 210), 255});
+    }
+
+    auto atmosphere = aerial::atmosphere_preset(preset);
+    EXPECT_TRUE(atmosphere.ok()) << preset;
+    aerial::View view;
+    view.eye = {0.0, 0.0, 150.0};
+    const double e = sun_elevation_deg * aerial::kPi / 180.0;
+    view.sun_dir = glm::normalize(glm::dvec3(0.3 * std::cos(e), std::cos(e), std::sin(e)));
+    auto frame = aerial::prepare_frame<float>(*atmosphere, view, aerial::Model::hoffman_preetham);
+    EXPECT_TRUE(frame.ok());
+    const std::size_t n = s.world.size() / 3;
+    // The primary colour is F_ex × 0.75 (a lit colour, as lit_rgba8 gives), and the exposure
+    // keeps 0.75 F_ex + L_in <= 0.98 at every vertex (and the brightest L_in <= 0.9): where the
+    // sum passes 1, GL clamps it at different stages in the different paths (colour sum, texture
+    // combiner, framebuffer), which fog then shows; that is not what these tests measure.
+    constexpr float kPrimaryScale = 0.75f;
+    std::vector<float> fex_rgb(3 * n), lin_rgb(3 * n);
+    aerial::BatchOutputs raw;
+    raw.extinction_rgb = fex_rgb.data();
+    raw.in_scattering_rgb = lin_rgb.data();
+    EXPECT_TRUE(aerial::shade_into(*frame, aerial::Positions::aos(s.world.data(), n), raw).ok());
+    float brightest = 1e-6f, exposure = 1e30f;
+    for (std::size_t i = 0; i < 3 * n; ++i) {
+        brightest = std::max(brightest, lin_rgb[i]);
+        if (lin_rgb[i] > 0.0f) {
+            exposure = std::min(exposure, (0.98f - kPrimaryScale * fex_rgb[i]) / lin_rgb[i]);
+        }
+    }
+    exposure = std::min(exposure, 0.9f / brightest);
+    s.fex.resize(4 * n);
+    s.lin.resize(4 * n);
+    aerial::BatchOutputs out;
+    out.in_scattering_rgba8 = s.lin.data();
+    aerial::BatchSettings settings;
+    settings.display.exposure = exposure;
+    EXPECT_TRUE(
+        aerial::shade_into(*frame, aerial::Positions::aos(s.world.data(), n), out, settings).ok());
+    for (std::size_t v = 0; v < n; ++v) {
+        for (std::size_t c = 0; c < 3; ++c) {
+            s.fex[4 * v + c] = aerial::to_unorm8(kPrimaryScale * fex_rgb[3 * v + c]);
+        }
+        s.fex[4 * v + 3] = 255;
+    }
+    return s;
+}
+
+enum class Fog { off, on };
+
+// The engine: its texture on unit 0, its arrays, depth test, optional fog with its own colour.
+class Engine {
+  public:
+    explicit Engine(const Api& gl, const Scene& scene) : gl_(gl), scene_(scene) {
+        gl_.GenTextures(1, &texture_);
+        gl_.BindTexture(GL_TEXTURE_2D, texture_);
+        gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, kTexels, kTexels, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                       scene_.texels.data());
+    }
+    ~Engine() { gl_.DeleteTextures(1, &texture_); }
+
+    void set_up(Fog fog, bool textured = true) {
+        gl_.Viewport(0, 0, kSize, kSize);
+        gl_.MatrixMode(GL_PROJECTION);
+        gl_.LoadIdentity();
+        gl_.MatrixMode(GL_MODELVIEW);
+        gl_.LoadIdentity();
+        gl_.ClearColor(0.1f, 0.2f, 0.3f, 1.0f);
+        gl_.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        gl_.Enable(GL_DEPTH_TEST);
+        gl_.DepthFunc(GL_LESS);
+        if (gl_.ActiveTexture) gl_.ActiveTexture(GL_TEXTURE0);
+        if (gl_.ClientActiveTexture) gl_.ClientActiveTexture(GL_TEXTURE0);
+        gl_.BindTexture(GL_TEXTURE_2D, texture_);
+        (textured ? gl_.Enable : gl_.Disable)(GL_TEXTURE_2D);
+        gl_.EnableClientState(GL_VERTEX_ARRAY);
+        gl_.VertexPointer(3, GL_FLOAT, 0, scene_.screen.data());
+        gl_.EnableClientState(GL_TEXTURE_COORD_ARRAY);
+        gl_.TexCoordPointer(2, GL_FLOAT, 0, scene_.texcoords.data());
+        if (fog == Fog::on) {
+            // Linear fog over the mesh's depth: f from 0.95 (near) to 0.5 (far), a warm colour.
+            static constexpr GLfloat kFogColour[4] = {0.9f, 0.55f, 0.3f, 1.0f};
+            gl_.Enable(GL_FOG);
+            gl_.Fogi(GL_FOG_MODE, GL_LINEAR);
+            gl_.Fogf(GL_FOG_START, -0.9f);
+            gl_.Fogf(GL_FOG_END, 1.9f);
+            gl_.Fogfv(GL_FOG_COLOR, kFogColour);
+        } else {
+            gl_.Disable(GL_FOG);
+        }
+    }
+
+    void draw() const {
+        gl_.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(scene_.indices.size()),
+                         GL_UNSIGNED_SHORT, scene_.indices.data());
+    }
+
+    aerial::gl::VertexColours colours() const {
+        aerial::gl::VertexColours c;
+        c.primary = scene_.fex.data();
+        c.secondary = scene_.lin.data();
+        c.vertex_count = scene_.fex.size() / 4;
+        return c;
+    }
+
+  private:
+    const Api& gl_;
+    const Scene& scene_;
+    GLuint texture_ = 0;
+};
+
+class FixedFunction : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        auto ctx = Context::create({aerial_test::backend_from_environment(), kSize, kSize});
+        ASSERT_TRUE(ctx.ok()) << ctx.error().message;
+        ctx_.emplace(std::move(ctx).value());
+        RecordProperty("GL_RENDERER", ctx_->api().caps.renderer);
+    }
+    const Api& gl() const { return ctx_->api(); }
+
+    // Renders the scene along `path`; fails the test if the path cannot run here.
+    std::vector<std::uint8_t> render(const Scene& scene, Path path, Fog fog, bool textured = true) {
+        Engine engine(gl(), scene);
+        engine.set_up(fog, textured);
+        ApplyOptions options;
+        options.path = path;
+        options.textured = textured;
+        auto stats =
+            aerial::gl::draw_with_colours(gl(), options, engine.colours(), [&] { engine.draw(); });
+        EXPECT_TRUE(stats.ok()) << (stats.ok() ? "" : stats.error().message);
+        if (stats.ok()) {
+            EXPECT_EQ(stats->passes, path == Path::two_pass ? 2 : 1);
+            EXPECT_EQ(stats->path, path);
+        }
+        EXPECT_EQ(gl().GetError(), static_cast<GLenum>(GL_NO_ERROR)) << aerial::gl::path_name(path);
+        return ctx_->read_rgba8();
+    }
+
+    bool offers(Path path) const { return aerial::gl::choose_path(gl().caps, path).ok(); }
+
+    std::optional<Context> ctx_;
+};
+
+TEST_F(FixedFunction, PathsAgreeWithin1LsbOnATexturedMesh) {
+    // The reference is the secondary-colour path where the context has it, else two passes.
+    const Path reference = offers(Path::secondary_color) ? Path::secondary_color : Path::two_pass;
+    std::vector<Path> others;
+    for (Path p : {Path::combiner, Path::two_pass}) {
+        if (p != reference && offers(p)) others.push_back(p);
+    }
+    ASSERT_FALSE(others.empty()) << "nothing to compare on " << gl().caps.version;
+    std::array<int, 4> worst{};
+    for (const char* preset : {"earth", "hazy", "foggy"}) {
+        for (double sun : {5.0, 40.0}) {
+            const Scene scene = make_scene(preset, sun);
+            for (Fog fog : {Fog::off, Fog::on}) {
+                for (bool textured : {true, false}) {
+                    const std::string where = std::string(preset) + " sun " + std::to_string(sun) +
+                                              (fog == Fog::on ? " fog" : "") +
+                                              (textured ? " textured" : " untextured");
+                    const auto expected = render(scene, reference, fog, textured);
+                    for (Path p : others) {
+                        const auto image = render(scene, p, fog, textured);
+                        const auto d = aerial_test::compare_rgb(expected, image);
+                        int& w = worst[static_cast<std::size_t>(p)];
+                        w = std::max(w, d.max_lsb);
+                        EXPECT_LE(d.max_lsb, 1)
+                            << where << ": " << aerial::gl::path_name(p) << " "
+                            << aerial_test::pixel_text(image, d.pixel) << " vs "
+                            << aerial::gl::path_name(reference) << " "
+                            << aerial_test::pixel_text(expected, d.pixel) << " at pixel " << d.pixel
+                            << " (" << d.over1 << " pixels over 1 LSB)";
+                    }
+                }
+            }
+        }
+    }
+    for (Path p : others) {
+        std::printf("[ info     ] %s: max |%s - %s| = %d LSB over 24 renderings\n",
+                    aerial_test::context_label(*ctx_).c_str(), aerial::gl::path_name(p),
+                    aerial::gl::path_name(reference), worst[static_cast<std::size_t>(p)]);
+        RecordProperty(std::string(aerial::gl::path_name(p)) + "_max_lsb",
+                       worst[static_cast<std::size_t>(p)]);
+    }
+}
+
+TEST_F(FixedFunction, SecondPassWithTheEnginesFogColourIsVisiblyWrong) {
+    // The two-pass path with the second pass fogged towards the engine's colour, as a naive
+    // implementation would do it: the fog colour is added twice.
+    if (!offers(Path::secondary_color)) GTEST_SKIP() << "no secondary colour";
+    const Scene scene = make_scene("earth", 20.0);
+    const auto single = render(scene, Path::secondary_color, Fog::on);
+    const auto ours = render(scene, Path::two_pass, Fog::on);
+
+    Engine engine(gl(), scene);
+    engine.set_up(Fog::on);
+    gl().TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+    gl().EnableClientState(GL_COLOR_ARRAY);
+    gl().ColorPointer(4, GL_UNSIGNED_BYTE, 0, scene.fex.data());
+    engine.draw();
+    gl().Disable(GL_TEXTURE_2D);
+    gl().ColorPointer(4, GL_UNSIGNED_BYTE, 0, scene.lin.data());
+    gl().Enable(GL_BLEND);
+    gl().BlendFunc(GL_ONE, GL_ONE);
+    gl().DepthFunc(GL_EQUAL);
+    gl().DepthMask(GL_FALSE);
+    engine.draw();
+    const auto naive = ctx_->read_rgba8();
+    gl().DepthMask(GL_TRUE);
+    gl().DepthFunc(GL_LESS);
+    gl().Disable(GL_BLEND);
+    gl().DisableClientState(GL_COLOR_ARRAY);
+
+    const auto d_ours = aerial_test::compare_rgb(single, ours);
+    const auto d_naive = aerial_test::compare_rgb(single, naive);
+    std::printf(
+        "[ info     ] %s: two-pass vs single pass with fog: %d LSB with black fog in pass "
+        "2, %d LSB with the engine's fog colour left on\n",
+        aerial_test::context_label(*ctx_).c_str(), d_ours.max_lsb, d_naive.max_lsb);
+    EXPECT_LE(d_ours.max_lsb, 1);
+    EXPECT_GT(d_naive.max_lsb, 8) << "the fog colour added twice should show";
+}
+
+// ---- State -------------------------------------------------------------------------------------
+
+// Engine state that differs from GL's defaults in everything a path touches, so that a path
+// that forgot to restore something shows in the snapshot.
+void unusual_engine_state(const Api& gl, const Scene& scene, std::vector<GLuint>& textures) {
+    gl.Enable(GL_FOG);
+    static constexpr GLfloat kFogColour[4] = {0.25f, 0.5f, 0.75f, 1.0f};
+    gl.Fogfv(GL_FOG_COLOR, kFogColour);
+    gl.Enable(GL_BLEND);
+    gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.Enable(GL_LIGHTING);
+    gl.ShadeModel(GL_FLAT);
+    gl.ColorMask(GL_TRUE, GL_FALSE, GL_TRUE, GL_TRUE);
+    gl.Color4f(0.5f, 0.25f, 0.125f, 0.75f);
+    const Api& a = gl;
+    textures.resize(4);
+    gl.GenTextures(4, textures.data());
+    const int units = std::min(a.caps.max_texture_units, 3);
+    for (int u = 0; u < units; ++u) {
+        if (a.ActiveTexture) a.ActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + u));
+        gl.BindTexture(GL_TEXTURE_2D, textures[static_cast<std::size_t>(u)]);
+        gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, kTexels, kTexels, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                      scene.texels.data());
+        gl.Enable(GL_TEXTURE_2D);
+        gl.TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, u == 1 ? GL_DECAL : GL_REPLACE);
+        if (a.ClientActiveTexture) a.ClientActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + u));
+        gl.EnableClientState(GL_TEXTURE_COORD_ARRAY);
+        gl.TexCoordPointer(2, GL_FLOAT, 8 + 4 * u, scene.texcoords.data());
+    }
+    if (a.caps.texture_3d && units > 1) {
+        a.ActiveTexture(GL_TEXTURE1);
+        gl.BindTexture(GL_TEXTURE_3D, textures[3]);
+    }
+    if (a.ActiveTexture) a.ActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(units - 1));
+    if (a.ClientActiveTexture) a.ClientActiveTexture(GL_TEXTURE0);
+    gl.EnableClientState(GL_VERTEX_ARRAY);
+    gl.VertexPointer(3, GL_FLOAT, 0, scene.screen.data());
+    gl.ColorPointer(3, GL_FLOAT, 12, scene.world.data());  // disabled, but pointed somewhere
+}
+
+TEST_F(FixedFunction, EveryPathLeavesTheGlStateAsItFoundIt) {
+    const Scene scene = make_scene("earth", 20.0);
+    std::vector<GLuint> textures;
+    unusual_engine_state(gl(), scene, textures);
+    aerial::gl::CombinerTexture* none = nullptr;
+    auto combiner = aerial::gl::CombinerTexture::create(gl());
+    for (Path path : {Path::secondary_color, Path::combiner, Path::two_pass}) {
+        if (!offers(path)) continue;
+        for (bool textured : {true, false}) {
+            for (aerial::gl::CombinerTexture* c :
+                 {none, combiner.ok() ? &combiner.value() : none}) {
+                const auto before = aerial::gl::capture_state(gl());
+                ASSERT_GT(before.entries.size(), 50u);
+                ApplyOptions options;
+                options.path = path;
+                options.textured = textured;
+                options.combiner = c;
+                aerial::gl::VertexColours colours;
+                colours.primary = scene.fex.data();
+                colours.secondary = scene.lin.data();
+                colours.vertex_count = scene.fex.size() / 4;
+                auto stats = aerial::gl::draw_with_colours(gl(), options, colours, [&] {
+                    gl().DrawElements(GL_TRIANGLES, static_cast<GLsizei>(scene.indices.size()),
+                                      GL_UNSIGNED_SHORT, scene.indices.data());
+                });
+                ASSERT_TRUE(stats.ok()) << stats.error().message;
+                const auto changed =
+                    aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
+                std::string list;
+                for (const std::string& line : changed) list += "\n  " + line;
+                EXPECT_TRUE(changed.empty())
+                    << aerial::gl::path_name(path) << (textured ? "" : " untextured")
+                    << (c ? " with a CombinerTexture" : "") << " changed:" << list;
+                EXPECT_EQ(gl().GetError(), static_cast<GLenum>(GL_NO_ERROR));
+            }
+        }
+    }
+    gl().DeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
+}
+
+TEST_F(FixedFunction, SnapshotNamesWhatChanged) {
+    const auto before = aerial::gl::capture_state(gl());
+    gl().Enable(GL_BLEND);
+    gl().BlendFunc(GL_ONE, GL_ONE);
+    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
+    ASSERT_FALSE(changed.empty());
+    EXPECT_EQ(changed[0], "GL_BLEND: GL_FALSE -> GL_TRUE");
+    bool named_blend_dst = false;
+    for (const auto& line : changed) named_blend_dst |= line.find("GL_BLEND_DST") == 0;
+    EXPECT_TRUE(named_blend_dst);
+    gl().Disable(GL_BLEND);
+    gl().BlendFunc(GL_ONE, GL_ZERO);
+}
+
+// ---- Errors and path selection ---------------------------------------------------------------
+
+TEST_F(FixedFunction, BadInputIsAnErrorAndDrawsNothing) {
+    const Scene scene = make_scene("earth", 20.0);
+    Engine engine(gl(), scene);
+    engine.set_up(Fog::off);
+    int calls = 0;
+    auto count = [&] { ++calls; };
+    aerial::gl::VertexColours colours = engine.colours();
+    ApplyOptions options;
+
+    colours.primary = nullptr;
+    auto r = aerial::gl::draw_with_colours(gl(), options, colours, count);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().field, "colours.primary");
+    colours = engine.colours();
+    colours.secondary_stride_bytes = 3;
+    r = aerial::gl::draw_with_colours(gl(), options, colours, count);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().field, "colours.secondary_stride_bytes");
+    EXPECT_EQ(r.error().message.rfind("colours.secondary_stride_bytes: ", 0), 0u);
+    colours = engine.colours();
+    options.texture_unit = gl().caps.max_texture_units;
+    r = aerial::gl::draw_with_colours(gl(), options, colours, count);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().field, "texture_unit");
+    options.texture_unit = gl().caps.max_texture_units - 1;
+    options.path = Path::combiner;
+    r = aerial::gl::draw_with_colours(gl(), options, colours, count);
+    ASSERT_FALSE(r.ok()) << "the combiner path needs the unit after texture_unit";
+    EXPECT_EQ(r.error().field, "texture_unit");
+    r = aerial::gl::draw_with_colours(gl(), ApplyOptions{}, colours, {});
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().field, "draw");
+    EXPECT_EQ(calls, 0);
+}
+
+TEST_F(FixedFunction, AutomaticChoiceFollowsTheContext) {
+    const aerial::gl::Caps& caps = gl().caps;
+    auto path = aerial::gl::choose_path(caps, Path::automatic);
+    ASSERT_TRUE(path.ok());
+    const Path expected = caps.secondary_color                            ? Path::secondary_color
+                          : (caps.texture_env_combine && caps.texture_3d) ? Path::combiner
+                                                                          : Path::two_pass;
+    EXPECT_EQ(*path, expected) << caps.version;
+    std::printf(
+        "[ info     ] %s, GL %s: automatic path %s (secondary colour %s: GL >= 1.4 %s, "
+        "GL_EXT_secondary_color %s)\n",
+        aerial_test::context_label(*ctx_).c_str(), caps.version.c_str(),
+        aerial::gl::path_name(*path), caps.secondary_color ? "yes" : "no",
+        caps.at_least(1, 4) ? "yes" : "no",
+        caps.has_extension("GL_EXT_secondary_color") ? "listed" : "not listed");
+    // Whatever it chose draws.
+    const Scene scene = make_scene("earth", 20.0);
+    Engine engine(gl(), scene);
+    engine.set_up(Fog::off);
+    auto stats = aerial::gl::draw_with_colours(gl(), ApplyOptions{}, engine.colours(),
+                                               [&] { engine.draw(); });
+    ASSERT_TRUE(stats.ok()) << stats.error().message;
+    EXPECT_EQ(stats->path, expected);
+    // A forced path the context lacks is an error naming what is missing, and draws nothing.
+    if (!caps.secondary_color) {
+        ApplyOptions forced;
+        forced.path = Path::secondary_color;
+        int calls = 0;
+        auto r = aerial::gl::draw_with_colours(gl(), forced, engine.colours(), [&] { ++calls; });
+        ASSERT_FALSE(r.ok());
+        EXPECT_EQ(r.error().field, "GL_EXT_secondary_color");
+        EXPECT_EQ(calls, 0);
+    }
+}
+
+aerial::gl::Caps caps_of(int major, int minor, const std::string& extensions) {
+    aerial::gl::Caps caps;
+    caps.version_major = major;
+    caps.version_minor = minor;
+    caps.extensions = extensions;
+    return caps;
+}
+
+TEST(ChoosePath, FollowsVersionThenExtensions) {
+    // What load_api derives from version and extension string (see gl_api.cpp).
+    aerial::gl::Caps gl11 = caps_of(1, 1, "");
+    auto p = aerial::gl::choose_path(gl11, Path::automatic);
+    ASSERT_TRUE(p.ok());
+    EXPECT_EQ(*p, Path::two_pass);
+    for (Path forced : {Path::secondary_color, Path::combiner}) {
+        auto r = aerial::gl::choose_path(gl11, forced);
+        ASSERT_FALSE(r.ok()) << aerial::gl::path_name(forced);
+        EXPECT_EQ(r.error().message.rfind(r.error().field + ": ", 0), 0u) << r.error().message;
+    }
+    EXPECT_EQ(aerial::gl::choose_path(gl11, Path::secondary_color).error().field,
+              "GL_EXT_secondary_color");
+    EXPECT_EQ(aerial::gl::choose_path(gl11, Path::combiner).error().field, "GL_ARB_multitexture");
+
+    aerial::gl::Caps gl13 = caps_of(1, 3, "GL_ARB_multitexture GL_ARB_texture_env_combine");
+    gl13.multitexture = gl13.texture_env_combine = gl13.texture_3d = true;
+    gl13.max_texture_units = 4;
+    EXPECT_EQ(*aerial::gl::choose_path(gl13, Path::automatic), Path::combiner);
+    gl13.texture_3d = false;
+    EXPECT_EQ(aerial::gl::choose_path(gl13, Path::combiner).error().field, "GL_EXT_texture3D");
+    EXPECT_EQ(*aerial::gl::choose_path(gl13, Path::automatic), Path::two_pass);
+
+    aerial::gl::Caps gl14 = gl13;
+    gl14.secondary_color = true;  // core in 1.4, whatever the extension string says
+    EXPECT_EQ(*aerial::gl::choose_path(gl14, Path::automatic), Path::secondary_color);
+    EXPECT_EQ(*aerial::gl::choose_path(gl14, Path::two_pass), Path::two_pass);
+}
+
+TEST(ChoosePath, NamesParseBack) {
+    for (Path p : {Path::automatic, Path::secondary_color, Path::combiner, Path::two_pass}) {
+        auto parsed = aerial::gl::parse_path(aerial::gl::path_name(p));
+        ASSERT_TRUE(parsed.has_value()) << aerial::gl::path_name(p);
+        EXPECT_EQ(*parsed, p);
+    }
+    EXPECT_FALSE(aerial::gl::parse_path("secondary_color").has_value());
+}
+
+}  // namespace

@@ -34,7 +34,8 @@ inline std::string context_label(const aerial::headless::Context& ctx) {
 struct ImageDifference {
     int max_lsb = 0;
     std::size_t pixel = 0;
-    std::size_t over1 = 0;  ///< pixels off by more than 1 step
+    std::size_t over1 = 0;   ///< pixels off by more than 1 step
+    std::size_t differ = 0;  ///< pixels that differ at all
 };
 
 inline ImageDifference compare_rgb(const std::vector<std::uint8_t>& a,
@@ -47,6 +48,7 @@ inline ImageDifference compare_rgb(const std::vector<std::uint8_t>& a,
             worst = std::max(worst, std::abs(int(a[4 * p + c]) - int(b[4 * p + c])));
         }
         if (worst > 1) ++d.over1;
+        if (worst > 0) ++d.differ;
         if (worst > d.max_lsb) {
             d.max_lsb = worst;
             d.pixel = p;

@@ -69,16 +69,28 @@ struct VertexColours {
     std::size_t vertex_count = 0;             ///< records in each array
 };
 
-/// The combiner path's GL resources: a 2×2×2 RGBA8 identity 3D texture (texel (i, j, k) =
-/// (i, j, k) × 255, GL_LINEAR, CLAMP_TO_EDGE) and the scratch buffer of float texture
-/// coordinates 0.25 + 0.5 L_in that sample it. Create one per context and pass it in
-/// ApplyOptions::combiner; without it each combiner draw creates and deletes a texture.
+/// The combiner path's GL resources: an RGBA8 identity 3D texture of size³ texels (texel
+/// (i, j, k) = (i, j, k) × 255 / (size - 1), GL_LINEAR, CLAMP_TO_EDGE, no mipmaps) and the
+/// scratch buffer of float texture coordinates (0.5 + (size - 1) L_in) / size that make its
+/// linear filter return L_in. Create one per context and pass it in ApplyOptions::combiner;
+/// without it each combiner draw creates and deletes one.
+///
+/// Why 16 texels a side by default (16 KB) rather than the minimal 2: the filter computes
+/// texel_a + w (texel_b - texel_a) with w quantised to 8 bits on llvmpipe (and to 8 bits or fewer
+/// on the hardware of the era), which costs up to 1 LSB between two texels 255 apart, and only
+/// 17/256 LSB between texels 17 apart. Measured against the secondary-colour path on llvmpipe,
+/// both sizes stay within 1 LSB, but against the two-pass path size 2 reaches 2 LSB on a few
+/// pixels and size 16 stays within 1 (README, "GL layer"). Sizes are those where
+/// 255 / (size - 1) is a whole number, so every texel is exact: 2, 4, 6, 16, 18.
+///
 /// Move-only; the destructor deletes the texture (the context and `api` must still be alive).
 class CombinerTexture {
   public:
-    /// Errors: field "combiner" naming the missing GL 1.2 3D textures. Leaves the engine's
-    /// texture bindings, active unit and pixel-unpack state as it found them.
-    static Result<CombinerTexture> create(const Api& api);
+    static constexpr int kDefaultSize = 16;
+    /// Errors: field "combiner" naming the missing GL 1.2 3D textures; field "size" for a size
+    /// not in the list above. Leaves the engine's texture bindings, active unit and pixel-unpack
+    /// state as it found them.
+    static Result<CombinerTexture> create(const Api& api, int size = kDefaultSize);
 
     CombinerTexture(CombinerTexture&& other) noexcept;
     CombinerTexture& operator=(CombinerTexture&& other) noexcept;
@@ -87,14 +99,16 @@ class CombinerTexture {
     ~CombinerTexture();
 
     unsigned id() const { return id_; }  ///< the GL texture name
+    int size() const { return size_; }   ///< texels a side
     /// The texture coordinates (3 floats a vertex, tightly packed) that make the texture return
     /// `colours.secondary` (L_in); valid until the next call.
     const float* texcoords_for(const VertexColours& colours);
 
   private:
-    CombinerTexture(const Api* api, unsigned id) : api_(api), id_(id) {}
+    CombinerTexture(const Api* api, unsigned id, int size) : api_(api), id_(id), size_(size) {}
     const Api* api_ = nullptr;
     unsigned id_ = 0;
+    int size_ = kDefaultSize;
     std::vector<float> texcoords_;
 };
 

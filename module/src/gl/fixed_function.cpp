@@ -3,6 +3,7 @@
 #include <climits>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "aerial/gl.hpp"
 #include "aerial/gl_api.hpp"
@@ -92,23 +93,32 @@ Result<Path> choose_path(const Caps& caps, Path requested) {
 
 // ---- CombinerTexture ---------------------------------------------------------------------------
 
-Result<CombinerTexture> CombinerTexture::create(const Api& api) {
+Result<CombinerTexture> CombinerTexture::create(const Api& api, int size) {
     if (!api.caps.texture_3d || api.TexImage3D == nullptr) {
         return Error{"combiner",
                      "combiner: the identity texture needs GL 1.2 or "
                      "GL_EXT_texture3D; " +
                          context_text(api.caps) + " without it"};
     }
-    // Texel (i, j, k) = (i, j, k) × 255: RGBA rows of 8 bytes, so any UNPACK_ALIGNMENT up to 8
-    // reads them right; the other unpack state is set to its defaults and restored.
-    std::array<GLubyte, 2 * 2 * 2 * 4> texels{};
-    for (int k = 0; k < 2; ++k) {
-        for (int j = 0; j < 2; ++j) {
-            for (int i = 0; i < 2; ++i) {
-                GLubyte* t = &texels[static_cast<std::size_t>(((k * 2 + j) * 2 + i) * 4)];
-                t[0] = static_cast<GLubyte>(255 * i);
-                t[1] = static_cast<GLubyte>(255 * j);
-                t[2] = static_cast<GLubyte>(255 * k);
+    if (size < 2 || size > 18 || 255 % (size - 1) != 0) {
+        return Error{"size",
+                     "size: expected 2, 4, 6, 16 or 18 texels a side (255 / (size - 1) "
+                     "whole), got " +
+                         std::to_string(size)};
+    }
+    // Texel (i, j, k) = (i, j, k) × 255 / (size - 1), exact; RGBA rows of 4 size bytes, so any
+    // UNPACK_ALIGNMENT up to 8 reads them right; the other unpack state is set to its defaults
+    // and restored.
+    const auto n = static_cast<std::size_t>(size);
+    const int step = 255 / (size - 1);
+    std::vector<GLubyte> texels(n * n * n * 4);
+    for (std::size_t k = 0; k < n; ++k) {
+        for (std::size_t j = 0; j < n; ++j) {
+            for (std::size_t i = 0; i < n; ++i) {
+                GLubyte* t = &texels[((k * n + j) * n + i) * 4];
+                t[0] = static_cast<GLubyte>(step * static_cast<int>(i));
+                t[1] = static_cast<GLubyte>(step * static_cast<int>(j));
+                t[2] = static_cast<GLubyte>(step * static_cast<int>(k));
                 t[3] = 255;
             }
         }
@@ -138,19 +148,20 @@ Result<CombinerTexture> CombinerTexture::create(const Api& api) {
     api.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     api.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     api.TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAX_LEVEL, 0);
-    api.TexImage3D(GL_TEXTURE_3D, 0, GL_RGBA8, 2, 2, 2, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+    api.TexImage3D(GL_TEXTURE_3D, 0, GL_RGBA8, size, size, size, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                    texels.data());
     api.BindTexture(GL_TEXTURE_3D, static_cast<GLuint>(bound));
     if (api.caps.pixel_buffer_object) {
         api.BindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(unpack_buffer));
     }
     for (std::size_t i = 0; i < kUnpack.size(); ++i) api.PixelStorei(kUnpack[i], unpack[i]);
-    return CombinerTexture(&api, id);
+    return CombinerTexture(&api, id, size);
 }
 
 CombinerTexture::CombinerTexture(CombinerTexture&& other) noexcept
     : api_(other.api_),
       id_(std::exchange(other.id_, 0u)),
+      size_(other.size_),
       texcoords_(std::move(other.texcoords_)) {}
 
 CombinerTexture& CombinerTexture::operator=(CombinerTexture&& other) noexcept {
@@ -161,6 +172,7 @@ CombinerTexture& CombinerTexture::operator=(CombinerTexture&& other) noexcept {
         }
         api_ = other.api_;
         id_ = std::exchange(other.id_, 0u);
+        size_ = other.size_;
         texcoords_ = std::move(other.texcoords_);
     }
     return *this;
@@ -177,14 +189,16 @@ const float* CombinerTexture::texcoords_for(const VertexColours& colours) {
     const std::size_t n = colours.vertex_count;
     texcoords_.resize(3 * n);
     const std::size_t stride = colours.secondary_stride_bytes ? colours.secondary_stride_bytes : 4;
-    // 0.25 + 0.5 c / 255 puts c / 255 between the two texel centres (0.25 and 0.75).
-    constexpr float kScale = 0.5f / 255.0f;
+    // Texel centres are at (i + 0.5) / size: (0.5 + (size - 1) c / 255) / size puts c / 255
+    // of the way from the first to the last, where the linear filter returns c.
+    const float offset = 0.5f / static_cast<float>(size_);
+    const float scale = static_cast<float>(size_ - 1) / (255.0f * static_cast<float>(size_));
     for (std::size_t v = 0; v < n; ++v) {
         const std::uint8_t* c = colours.secondary + v * stride;
         float* t = &texcoords_[3 * v];
-        t[0] = 0.25f + kScale * static_cast<float>(c[0]);
-        t[1] = 0.25f + kScale * static_cast<float>(c[1]);
-        t[2] = 0.25f + kScale * static_cast<float>(c[2]);
+        t[0] = offset + scale * static_cast<float>(c[0]);
+        t[1] = offset + scale * static_cast<float>(c[1]);
+        t[2] = offset + scale * static_cast<float>(c[2]);
     }
     return texcoords_.data();
 }
@@ -281,8 +295,8 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
             break;
         case Path::combiner: {
             // Unit u: texture × F_ex (MODULATE, as in the other paths). Unit u + 1: previous +
-            // the identity texture sampled at 0.25 + 0.5 L_in, which its linear filter turns back
-            // into L_in, interpolated per pixel like a colour. Alpha passes through.
+            // the identity texture sampled where its linear filter returns L_in, interpolated per
+            // pixel like a colour (see CombinerTexture). Alpha passes through.
             const int next = unit + 1;
             s.color_array(4, GL_UNSIGNED_BYTE, primary_stride, colours.primary);
             if (api.caps.secondary_color) s.enable(GL_COLOR_SUM, false);

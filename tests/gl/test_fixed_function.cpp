@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -327,6 +328,76 @@ TEST_F(FixedFunction, SecondPassWithTheEnginesFogColourIsVisiblyWrong) {
         aerial_test::context_label(*ctx_).c_str(), d_ours.max_lsb, d_naive.max_lsb);
     EXPECT_LE(d_ours.max_lsb, 1);
     EXPECT_GT(d_naive.max_lsb, 8) << "the fog colour added twice should show";
+}
+
+TEST_F(FixedFunction, WithGlLightingOnTheCombinerAndTwoPassesAgree) {
+    if (!offers(Path::combiner)) GTEST_SKIP() << "no combiner path";
+    // The engine lights its mesh with GL: one directional light, scene ambient, normals that
+    // vary over the mesh. F_ex feeds the material through colour tracking.
+    using LightFv = void (*)(GLenum, GLenum, const GLfloat*);
+    using LightModelFv = void (*)(GLenum, const GLfloat*);
+    auto light_fv = reinterpret_cast<LightFv>(ctx_->loader()(ctx_->loader_user(), "glLightfv"));
+    auto light_model_fv =
+        reinterpret_cast<LightModelFv>(ctx_->loader()(ctx_->loader_user(), "glLightModelfv"));
+    ASSERT_TRUE(light_fv && light_model_fv);
+    const Scene scene = make_scene("hazy", 30.0);
+    std::vector<float> normals;
+    for (std::size_t v = 0; v < scene.world.size() / 3; ++v) {
+        const glm::vec3 n = glm::normalize(
+            glm::vec3(0.6f * std::sin(0.7f * float(v)), 0.4f * std::cos(0.3f * float(v)), 1.0f));
+        normals.insert(normals.end(), {n.x, n.y, n.z});
+    }
+    auto render_lit = [&](ApplyOptions options) {
+        Engine engine(gl(), scene);
+        engine.set_up(Fog::on);
+        static constexpr GLfloat kDirection[4] = {0.3f, 0.5f, 0.8f, 0.0f};
+        static constexpr GLfloat kDiffuse[4] = {0.7f, 0.65f, 0.6f, 1.0f};
+        static constexpr GLfloat kAmbient[4] = {0.25f, 0.3f, 0.35f, 1.0f};
+        light_fv(GL_LIGHT0, GL_POSITION, kDirection);
+        light_fv(GL_LIGHT0, GL_DIFFUSE, kDiffuse);
+        light_model_fv(GL_LIGHT_MODEL_AMBIENT, kAmbient);
+        gl().Enable(GL_LIGHT0);
+        gl().Enable(GL_LIGHTING);
+        gl().EnableClientState(GL_NORMAL_ARRAY);
+        gl().NormalPointer(GL_FLOAT, 0, normals.data());
+        const auto before = aerial::gl::capture_state(gl());
+        auto stats =
+            aerial::gl::draw_with_colours(gl(), options, engine.colours(), [&] { engine.draw(); });
+        EXPECT_TRUE(stats.ok()) << (stats.ok() ? "" : stats.error().message);
+        const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
+        std::string list;
+        for (const std::string& line : changed) list += "\n  " + line;
+        EXPECT_TRUE(changed.empty()) << aerial::gl::path_name(options.path) << " changed:" << list;
+        gl().Disable(GL_LIGHTING);
+        gl().DisableClientState(GL_NORMAL_ARRAY);
+        return std::make_pair(stats.ok() ? stats->path : Path::automatic, ctx_->read_rgba8());
+    };
+    ApplyOptions lit;
+    lit.fixed_function_lighting = true;
+    const auto automatic = render_lit(lit);
+    EXPECT_EQ(automatic.first, Path::combiner) << "GL lighting ignores the secondary colour";
+    lit.path = Path::two_pass;
+    const auto two_pass = render_lit(lit);
+    lit.path = Path::combiner;
+    const auto combiner = render_lit(lit);
+    const auto d = aerial_test::compare_rgb(combiner.second, two_pass.second);
+    EXPECT_LE(d.max_lsb, 1) << "combiner " << aerial_test::pixel_text(combiner.second, d.pixel)
+                            << " vs two-pass " << aerial_test::pixel_text(two_pass.second, d.pixel);
+    // Lighting did something: the same draw with lighting switched off looks different.
+    ApplyOptions unlit;
+    unlit.path = Path::combiner;
+    const auto flat = render_lit(unlit);
+    EXPECT_GT(aerial_test::compare_rgb(combiner.second, flat.second).max_lsb, 10);
+    std::printf("[ info     ] %s: GL lighting on, max |combiner - two-pass| = %d LSB\n",
+                aerial_test::context_label(*ctx_).c_str(), d.max_lsb);
+
+    lit.path = Path::secondary_color;
+    int calls = 0;
+    Engine engine(gl(), scene);
+    auto r = aerial::gl::draw_with_colours(gl(), lit, engine.colours(), [&] { ++calls; });
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().field, "fixed_function_lighting");
+    EXPECT_EQ(calls, 0);
 }
 
 // ---- State -------------------------------------------------------------------------------------

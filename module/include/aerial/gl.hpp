@@ -57,7 +57,18 @@ std::optional<Path> parse_path(std::string_view name);
 
 /// The path to use for `requested` on a context with `caps`: `automatic` picks the first available;
 /// a forced path the context lacks is an error naming the missing version or extension.
-Result<Path> choose_path(const Caps& caps, Path requested);
+///
+/// Secondary colour counts as available when the context is GL 1.4 or later (where it is core)
+/// OR lists GL_EXT_secondary_color, and glSecondaryColorPointer resolved: hiding the extension
+/// from a GL 1.4+ context (MESA_EXTENSION_OVERRIDE=-GL_EXT_secondary_color) does not remove it,
+/// because the version says it is there; only a context below 1.4 without the extension lacks
+/// it. The combiner path needs GL 1.3 or ARB_multitexture with 2 units,
+/// ARB_/EXT_texture_env_combine and GL 1.2 or EXT_texture3D. Two passes need GL 1.1 only.
+///
+/// With `fixed_function_lighting` (see ApplyOptions) the secondary-colour path is not
+/// available (GL lighting replaces the secondary colour), so `automatic` picks the combiner or
+/// two passes, and forcing secondary_color is an error naming "fixed_function_lighting".
+Result<Path> choose_path(const Caps& caps, Path requested, bool fixed_function_lighting = false);
 
 /// Per-vertex colours in caller memory, one RGBA8 record per vertex of the engine's draw (in
 /// the order the engine's arrays have them), e.g. from aerial::shade_into.
@@ -122,6 +133,16 @@ struct ApplyOptions {
     bool textured = true;
     /// The combiner path's texture (see CombinerTexture); null: a temporary one per draw.
     CombinerTexture* combiner = nullptr;
+    /// False (default): the paths switch GL lighting off while they draw, and the primary array
+    /// is the whole surface colour factor (F_ex, or F_ex × lighting baked by shade_into's
+    /// lit_rgba8). True: the engine's GL lighting stays on and the primary array feeds the
+    /// material through GL_COLOR_MATERIAL (GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE), so the lit
+    /// colour is F_ex × (ambient + diffuse lighting); pass F_ex × the material colour if it is
+    /// not white. Emission and specular are not attenuated. GL lighting ignores the secondary
+    /// colour array, so only the combiner path and two passes (L_in added unlit in pass 2) can
+    /// add L_in then: `automatic` picks one of them. The material's ambient and diffuse colours,
+    /// which colour tracking overwrites, are restored after the draw.
+    bool fixed_function_lighting = false;
 };
 
 /// What a draw did, for the engine's statistics.

@@ -89,6 +89,9 @@ struct Caps {
     X(decltype(&::glDepthMask), DepthMask, "glDepthMask", "")                            \
     X(decltype(&::glColorMask), ColorMask, "glColorMask", "")                            \
     X(decltype(&::glShadeModel), ShadeModel, "glShadeModel", "")                         \
+    X(decltype(&::glColorMaterial), ColorMaterial, "glColorMaterial", "")                \
+    X(decltype(&::glMaterialfv), Materialfv, "glMaterialfv", "")                         \
+    X(decltype(&::glGetMaterialfv), GetMaterialfv, "glGetMaterialfv", "")                \
     X(decltype(&::glFogf), Fogf, "glFogf", "")                                           \
     X(decltype(&::glFogi), Fogi, "glFogi", "")                                           \
     X(decltype(&::glFogfv), Fogfv, "glFogfv", "")                                        \

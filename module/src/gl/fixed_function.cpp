@@ -80,12 +80,19 @@ std::optional<Error> missing_for(const Caps& caps, Path path) {
 
 }  // namespace
 
-Result<Path> choose_path(const Caps& caps, Path requested) {
+Result<Path> choose_path(const Caps& caps, Path requested, bool fixed_function_lighting) {
     if (requested == Path::automatic) {
         for (Path p : {Path::secondary_color, Path::combiner}) {
+            if (p == Path::secondary_color && fixed_function_lighting) continue;
             if (!missing_for(caps, p)) return p;
         }
         return Path::two_pass;
+    }
+    if (requested == Path::secondary_color && fixed_function_lighting) {
+        return Error{"fixed_function_lighting",
+                     "fixed_function_lighting: the secondary-color path cannot add L_in while GL "
+                     "lighting is on (lighting replaces the secondary colour); use the combiner "
+                     "or two-pass path, or bake lighting with aerial::shade_into's lit_rgba8"};
     }
     if (auto missing = missing_for(caps, requested)) return *missing;
     return requested;
@@ -223,7 +230,7 @@ void common_state(const Api& api, detail::StateSaver& s, const ApplyOptions& opt
     if (api.caps.vertex_program) s.enable(GL_VERTEX_PROGRAM_ARB, false);
     if (api.caps.fragment_program) s.enable(GL_FRAGMENT_PROGRAM_ARB, false);
     s.use_no_glsl_program();
-    s.enable(GL_LIGHTING, false);
+    if (!options.fixed_function_lighting) s.enable(GL_LIGHTING, false);
     if (options.textured) {
         s.tex_env(options.texture_unit, GL_TEXTURE_ENV_MODE, GL_MODULATE);
     } else {
@@ -252,7 +259,7 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
         return *e;
     }
     if (!draw) return Error{"draw", "draw: the draw callback is empty"};
-    auto chosen = choose_path(api.caps, options.path);
+    auto chosen = choose_path(api.caps, options.path, options.fixed_function_lighting);
     if (!chosen) return chosen.error();
     const Path path = *chosen;
     const int units_needed = path == Path::combiner ? 2 : 1;
@@ -299,6 +306,7 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
             // pixel like a colour (see CombinerTexture). Alpha passes through.
             const int next = unit + 1;
             s.color_array(4, GL_UNSIGNED_BYTE, primary_stride, colours.primary);
+            if (options.fixed_function_lighting) s.color_material();
             if (api.caps.secondary_color) s.enable(GL_COLOR_SUM, false);
             s.unit_disable_all_targets(next);
             for (GLenum gen : {GL_TEXTURE_GEN_S, GL_TEXTURE_GEN_T, GL_TEXTURE_GEN_R}) {
@@ -327,6 +335,7 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
         case Path::two_pass: {
             // Pass 1: texture × F_ex with the engine's own depth, blend and fog state.
             s.color_array(4, GL_UNSIGNED_BYTE, primary_stride, colours.primary);
+            if (options.fixed_function_lighting) s.color_material();
             if (api.caps.secondary_color) s.enable(GL_COLOR_SUM, false);
             s.rebind_engine_array_buffer();
             draw();
@@ -337,6 +346,7 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
                 s.unit_disable_all_targets(u);
             }
             s.color_array(4, GL_UNSIGNED_BYTE, secondary_stride, colours.secondary);
+            s.enable(GL_LIGHTING, false);  // L_in is light already: added as it is
             s.enable(GL_BLEND, true);
             s.blend_func(GL_ONE, GL_ONE);
             s.depth_func(GL_EQUAL);

@@ -72,6 +72,14 @@ std::string enum_text(GLint value) {
         {GL_MAX, "GL_MAX"},
         {GL_FUNC_SUBTRACT, "GL_FUNC_SUBTRACT"},
         {GL_FUNC_REVERSE_SUBTRACT, "GL_FUNC_REVERSE_SUBTRACT"},
+        {GL_FRONT, "GL_FRONT"},
+        {GL_BACK, "GL_BACK"},
+        {GL_FRONT_AND_BACK, "GL_FRONT_AND_BACK"},
+        {GL_AMBIENT, "GL_AMBIENT"},
+        {GL_DIFFUSE, "GL_DIFFUSE"},
+        {GL_SPECULAR, "GL_SPECULAR"},
+        {GL_EMISSION, "GL_EMISSION"},
+        {GL_AMBIENT_AND_DIFFUSE, "GL_AMBIENT_AND_DIFFUSE"},
         {GL_FOG_COORD, "GL_FOG_COORD"},
         {GL_FRAGMENT_DEPTH, "GL_FRAGMENT_DEPTH"},
     };
@@ -202,6 +210,18 @@ StateSnapshot capture_state(const Api& api) {
     r.booleans("GL_COLOR_WRITEMASK", GL_COLOR_WRITEMASK, 4);
     r.floats("GL_FOG_COLOR", GL_FOG_COLOR, 4);
     if (caps.fog_coord) r.enumeration("GL_FOG_COORD_SRC", GL_FOG_COORD_SRC);
+    r.enumeration("GL_COLOR_MATERIAL_FACE", GL_COLOR_MATERIAL_FACE);
+    r.enumeration("GL_COLOR_MATERIAL_PARAMETER", GL_COLOR_MATERIAL_PARAMETER);
+    for (GLenum face : {GL_FRONT, GL_BACK}) {
+        for (GLenum param : {GL_AMBIENT, GL_DIFFUSE}) {
+            std::array<GLfloat, 4> v{};
+            api.GetMaterialfv(face, param, v.data());
+            r.add((std::string(face == GL_FRONT ? "GL_FRONT" : "GL_BACK") +
+                   (param == GL_AMBIENT ? " GL_AMBIENT" : " GL_DIFFUSE"))
+                      .c_str(),
+                  float_text(v.data(), 4));
+        }
+    }
     r.enumeration("GL_SHADE_MODEL", GL_SHADE_MODEL);
     r.enumeration("GL_MATRIX_MODE", GL_MATRIX_MODE);
     if (caps.vertex_program) {

@@ -240,6 +240,37 @@ void StateSaver::use_no_glsl_program() {
     api_.UseProgram(0);
 }
 
+void StateSaver::color_material() {
+    struct Saved {
+        bool enabled = false;
+        GLint face = GL_FRONT_AND_BACK, mode = GL_AMBIENT_AND_DIFFUSE;
+        std::array<std::array<GLfloat, 4>, 4> colours{};  // front/back × ambient/diffuse
+    } was;
+    was.enabled = api_.IsEnabled(GL_COLOR_MATERIAL) == GL_TRUE;
+    api_.GetIntegerv(GL_COLOR_MATERIAL_FACE, &was.face);
+    api_.GetIntegerv(GL_COLOR_MATERIAL_PARAMETER, &was.mode);
+    static constexpr GLenum kFaces[2] = {GL_FRONT, GL_BACK};
+    static constexpr GLenum kParams[2] = {GL_AMBIENT, GL_DIFFUSE};
+    for (std::size_t f = 0; f < 2; ++f) {
+        for (std::size_t p = 0; p < 2; ++p) {
+            api_.GetMaterialfv(kFaces[f], kParams[p], was.colours[2 * f + p].data());
+        }
+    }
+    const Api* api = &api_;
+    undo_.push_back([api, was] {
+        api->Disable(GL_COLOR_MATERIAL);
+        for (std::size_t f = 0; f < 2; ++f) {
+            for (std::size_t p = 0; p < 2; ++p) {
+                api->Materialfv(kFaces[f], kParams[p], was.colours[2 * f + p].data());
+            }
+        }
+        api->ColorMaterial(static_cast<GLenum>(was.face), static_cast<GLenum>(was.mode));
+        if (was.enabled) api->Enable(GL_COLOR_MATERIAL);
+    });
+    api_.ColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
+    api_.Enable(GL_COLOR_MATERIAL);
+}
+
 void StateSaver::save_current_color() {
     std::array<GLfloat, 4> was{};
     api_.GetFloatv(GL_CURRENT_COLOR, was.data());

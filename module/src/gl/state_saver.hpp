@@ -45,6 +45,9 @@ class StateSaver {
     void bind_program(GLuint program);  ///< GL_VERTEX_PROGRAM_ARB binding
     void use_no_glsl_program();         ///< glUseProgram(0) where GL 2.0 has it
     void texture_matrix_identity(int unit);
+    /// GL_COLOR_MATERIAL on, tracking GL_AMBIENT_AND_DIFFUSE of both faces; saves the colour
+    /// material mode and the ambient and diffuse colours of both faces, which tracking changes.
+    void color_material();
     void select_unit(int unit);  ///< glActiveTexture
 
     // Client state. Pointers are given with array buffer 0 bound (client memory).

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include "aerial/gl.hpp"
@@ -35,6 +36,33 @@ class ProgramBinding {
     GLint previous_ = 0;
 };
 
+// One past the highest program.local[i] / program.env[i] index the text reads ("[i]" or
+// "[a..b]"), or 0. Counted from the text, so that it holds for every model's program.
+int parameters_end(std::string_view text, ParameterSpace space) {
+    const std::string_view key = space == ParameterSpace::local ? "program.local[" : "program.env[";
+    int end = 0;
+    for (std::size_t at = text.find(key); at != std::string_view::npos;
+         at = text.find(key, at + 1)) {
+        std::size_t i = at + key.size();
+        int value = 0;
+        bool digits = false;
+        while (i < text.size()) {
+            const char c = text[i];
+            if (c >= '0' && c <= '9') {
+                value = value * 10 + (c - '0');
+                digits = true;
+            } else if (c == '.') {
+                value = 0;  // "a..b": the upper bound counts
+            } else {
+                break;
+            }
+            ++i;
+        }
+        if (digits) end = std::max(end, value + 1);
+    }
+    return end;
+}
+
 }  // namespace
 
 Result<ArbVertexProgram> ArbVertexProgram::create(const Api& api, const ArbProgram& program) {
@@ -58,7 +86,7 @@ Result<ArbVertexProgram> ArbVertexProgram::create(const Api& api, const ArbProgr
                                    ? GL_MAX_PROGRAM_LOCAL_PARAMETERS_ARB
                                    : GL_MAX_PROGRAM_ENV_PARAMETERS_ARB;
     const GLint max_index = program_integer(api, index_limit);
-    const int last = program.options.parameter_base + kArbParameterCount;
+    const int last = parameters_end(program.text, program.options.parameter_space);
     if (last > max_index) {
         return Error{
             "parameter_base",
@@ -144,8 +172,12 @@ ArbVertexProgram::~ArbVertexProgram() {
 
 std::optional<Error> ArbVertexProgram::set_parameters(
     const std::vector<std::array<float, 4>>& parameters) const {
-    if (parameters.size() != static_cast<std::size_t>(kArbParameterCount)) {
-        return Error{"parameters", "parameters: expected " + std::to_string(kArbParameterCount) +
+    // What the program reads from parameter_base on (kArbParameterCount for hoffman-preetham).
+    const int expected =
+        std::max(0, parameters_end(program_.text, program_.options.parameter_space) -
+                        program_.options.parameter_base);
+    if (parameters.size() != static_cast<std::size_t>(expected)) {
+        return Error{"parameters", "parameters: expected " + std::to_string(expected) +
                                        " vectors (aerial::arb_program_parameters), got " +
                                        std::to_string(parameters.size())};
     }

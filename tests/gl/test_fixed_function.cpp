@@ -482,6 +482,50 @@ TEST_F(FixedFunction, EveryPathLeavesTheGlStateAsItFoundIt) {
     gl().DeleteTextures(static_cast<GLsizei>(textures.size()), textures.data());
 }
 
+TEST_F(FixedFunction, WorksWithTheEnginesVertexBufferBound) {
+    // An engine whose positions live in a buffer object and which leaves GL_ARRAY_BUFFER bound:
+    // the module's colour arrays must still come from client memory, and the binding stays.
+    if (!gl().caps.vertex_buffer_object) GTEST_SKIP() << "no vertex buffer objects";
+    using GenBuffers = void (*)(GLsizei, GLuint*);
+    using DeleteBuffers = void (*)(GLsizei, const GLuint*);
+    using BufferData = void (*)(GLenum, GLsizeiptr, const void*, GLenum);
+    auto gen = reinterpret_cast<GenBuffers>(ctx_->loader()(ctx_->loader_user(), "glGenBuffers"));
+    auto del =
+        reinterpret_cast<DeleteBuffers>(ctx_->loader()(ctx_->loader_user(), "glDeleteBuffers"));
+    auto data = reinterpret_cast<BufferData>(ctx_->loader()(ctx_->loader_user(), "glBufferData"));
+    ASSERT_TRUE(gen && del && data);
+    const Scene scene = make_scene("earth", 20.0);
+    for (Path path : {Path::secondary_color, Path::combiner, Path::two_pass}) {
+        if (!offers(path)) continue;
+        const auto expected = render(scene, path, Fog::off);
+        Engine engine(gl(), scene);
+        engine.set_up(Fog::off);
+        GLuint buffer = 0;
+        gen(1, &buffer);
+        gl().BindBuffer(GL_ARRAY_BUFFER, buffer);
+        data(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(scene.screen.size() * sizeof(float)),
+             scene.screen.data(), GL_STATIC_DRAW);
+        gl().VertexPointer(3, GL_FLOAT, 0, nullptr);  // offset 0 in the buffer
+        const auto before = aerial::gl::capture_state(gl());
+        EXPECT_EQ(*before.find("GL_ARRAY_BUFFER_BINDING"), std::to_string(buffer));
+        ApplyOptions options;
+        options.path = path;
+        auto stats =
+            aerial::gl::draw_with_colours(gl(), options, engine.colours(), [&] { engine.draw(); });
+        ASSERT_TRUE(stats.ok()) << stats.error().message;
+        const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
+        std::string list;
+        for (const std::string& line : changed) list += "\n  " + line;
+        EXPECT_TRUE(changed.empty()) << aerial::gl::path_name(path) << " changed:" << list;
+        EXPECT_EQ(gl().GetError(), static_cast<GLenum>(GL_NO_ERROR));
+        const auto d = aerial_test::compare_rgb(expected, ctx_->read_rgba8());
+        EXPECT_EQ(d.max_lsb, 0) << aerial::gl::path_name(path)
+                                << ": the image changed with the positions in a buffer";
+        gl().BindBuffer(GL_ARRAY_BUFFER, 0);
+        del(1, &buffer);
+    }
+}
+
 TEST_F(FixedFunction, SnapshotNamesWhatChanged) {
     const auto before = aerial::gl::capture_state(gl());
     gl().Enable(GL_BLEND);

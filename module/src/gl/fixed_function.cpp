@@ -223,9 +223,9 @@ std::optional<Error> check_stride(const char* field, std::size_t stride) {
 }
 
 // State every path sets the same way: no vertex, fragment or GLSL program (they would bypass
-// the fixed pipeline), no fixed-function lighting (it replaces the primary colour; bake lighting
-// with aerial::shade_into's lit_rgba8), and the engine's texture modulated on `unit` (or texturing
-// off there when the engine draws untextured).
+// the fixed pipeline), no fixed-function lighting unless the options keep it (it replaces the
+// primary colour; bake lighting with aerial::shade_into's lit_rgba8 instead), and the engine's
+// texture modulated on `unit` (or texturing off there when the engine draws untextured).
 void common_state(const Api& api, detail::StateSaver& s, const ApplyOptions& options) {
     if (api.caps.vertex_program) s.enable(GL_VERTEX_PROGRAM_ARB, false);
     if (api.caps.fragment_program) s.enable(GL_FRAGMENT_PROGRAM_ARB, false);
@@ -274,6 +274,9 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
     }
     std::optional<CombinerTexture> temporary;
     CombinerTexture* combiner = options.combiner;
+    if (path == Path::combiner && combiner != nullptr && combiner->id() == 0) {
+        return Error{"combiner", "combiner: the CombinerTexture was moved from (texture name 0)"};
+    }
     if (path == Path::combiner && combiner == nullptr) {
         auto created = CombinerTexture::create(api);
         if (!created) return created.error();

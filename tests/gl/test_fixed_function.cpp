@@ -292,6 +292,105 @@ TEST_F(FixedFunction, PathsAgreeWithin1LsbOnATexturedMesh) {
     }
 }
 
+TEST_F(FixedFunction, EachPathGivesTextureTimesExtinctionPlusInScattering) {
+    // Absolute, not only path against path: 8 × 8 flat quads, each with one F_ex and L_in from
+    // shade_into at its own world position on all four vertices, under a one-texel texture, so
+    // every pixel of a quad must be T × F_ex + L_in (8-bit: T F / 255 rounded, plus L, clamped).
+    constexpr int kQuads = 8;
+    auto atmosphere = aerial::atmosphere_preset("hazy");
+    ASSERT_TRUE(atmosphere.ok());
+    aerial::View view;
+    view.eye = {0.0, 0.0, 200.0};
+    view.sun_dir = glm::normalize(glm::dvec3(0.0, 0.8, 0.6));
+    auto frame = aerial::prepare_frame<float>(*atmosphere, view, aerial::Model::hoffman_preetham);
+    ASSERT_TRUE(frame.ok());
+    std::vector<float> world;
+    for (int q = 0; q < kQuads * kQuads; ++q) {
+        const float d = 100.0f * std::pow(1.12f, float(q));  // 100 m .. 140 km
+        const float a = 0.37f * float(q);
+        world.insert(world.end(), {d * std::cos(a), d * std::sin(a), 50.0f + 3.0f * float(q)});
+    }
+    const std::size_t n = world.size() / 3;
+    std::vector<std::uint8_t> fex(4 * n), lin(4 * n);
+    aerial::BatchOutputs out;
+    out.extinction_rgba8 = fex.data();
+    out.in_scattering_rgba8 = lin.data();
+    aerial::BatchSettings settings;
+    settings.display.exposure = 12.0f;
+    ASSERT_TRUE(
+        aerial::shade_into(*frame, aerial::Positions::aos(world.data(), n), out, settings).ok());
+    // Four vertices a quad, all with the quad's colours.
+    std::vector<float> screen, texcoords;
+    std::vector<std::uint8_t> quad_fex, quad_lin;
+    for (int q = 0; q < kQuads * kQuads; ++q) {
+        const float x0 = -1.0f + 2.0f * float(q % kQuads) / kQuads;
+        const float y0 = -1.0f + 2.0f * float(q / kQuads) / kQuads;
+        const float step = 2.0f / kQuads;
+        for (const auto& corner : {std::array<float, 2>{0, 0}, std::array<float, 2>{1, 0},
+                                   std::array<float, 2>{1, 1}, std::array<float, 2>{0, 1}}) {
+            screen.insert(screen.end(), {x0 + step * corner[0], y0 + step * corner[1], 0.0f});
+            texcoords.insert(texcoords.end(), {0.5f, 0.5f});
+            const auto qi = static_cast<std::size_t>(q);
+            quad_fex.insert(quad_fex.end(), &fex[4 * qi], &fex[4 * qi] + 4);
+            quad_lin.insert(quad_lin.end(), &lin[4 * qi], &lin[4 * qi] + 4);
+        }
+    }
+    const std::uint8_t texel[4] = {210, 160, 90, 255};
+    GLuint texture = 0;
+    gl().GenTextures(1, &texture);
+    gl().BindTexture(GL_TEXTURE_2D, texture);
+    gl().TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl().TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gl().TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, 1, 1, 0, GL_RGBA, GL_UNSIGNED_BYTE, texel);
+    gl().Enable(GL_TEXTURE_2D);
+    gl().Enable(GL_DEPTH_TEST);
+    gl().Viewport(0, 0, kSize, kSize);
+    gl().EnableClientState(GL_VERTEX_ARRAY);
+    gl().VertexPointer(3, GL_FLOAT, 0, screen.data());
+    gl().EnableClientState(GL_TEXTURE_COORD_ARRAY);
+    gl().TexCoordPointer(2, GL_FLOAT, 0, texcoords.data());
+    aerial::gl::VertexColours colours;
+    colours.primary = quad_fex.data();
+    colours.secondary = quad_lin.data();
+    colours.vertex_count = quad_fex.size() / 4;
+    for (Path path : {Path::secondary_color, Path::combiner, Path::two_pass}) {
+        if (!offers(path)) continue;
+        gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        ApplyOptions options;
+        options.path = path;
+        auto stats = aerial::gl::draw_with_colours(gl(), options, colours, [&] {
+            gl().DrawArrays(GL_QUADS, 0, static_cast<GLsizei>(colours.vertex_count));
+        });
+        ASSERT_TRUE(stats.ok()) << stats.error().message;
+        const auto image = ctx_->read_rgba8();
+        int worst = 0;
+        std::string where;
+        for (int y = 0; y < kSize; ++y) {
+            for (int x = 0; x < kSize; ++x) {
+                const int q = (y * kQuads / kSize) * kQuads + x * kQuads / kSize;
+                const std::size_t p = 4 * static_cast<std::size_t>((kSize - 1 - y) * kSize + x);
+                for (std::size_t c = 0; c < 3; ++c) {
+                    const int f = fex[4 * static_cast<std::size_t>(q) + c];
+                    const int l = lin[4 * static_cast<std::size_t>(q) + c];
+                    const int expected = std::min(255, (texel[c] * f + 127) / 255 + l);
+                    const int d = std::abs(int(image[p + c]) - expected);
+                    if (d > worst) {
+                        worst = d;
+                        where = "quad " + std::to_string(q) + " channel " + std::to_string(c) +
+                                ": got " + std::to_string(image[p + c]) + ", expected " +
+                                std::to_string(expected) + " (T " + std::to_string(texel[c]) +
+                                ", F_ex " + std::to_string(f) + ", L_in " + std::to_string(l) + ")";
+                    }
+                }
+            }
+        }
+        EXPECT_LE(worst, 1) << aerial::gl::path_name(path) << " " << where;
+    }
+    gl().DisableClientState(GL_VERTEX_ARRAY);
+    gl().DisableClientState(GL_TEXTURE_COORD_ARRAY);
+    gl().DeleteTextures(1, &texture);
+}
+
 TEST_F(FixedFunction, SecondPassWithTheEnginesFogColourIsVisiblyWrong) {
     // The two-pass path with the second pass fogged towards the engine's colour, as a naive
     // implementation would do it: the fog colour is added twice.

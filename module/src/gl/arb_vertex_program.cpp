@@ -72,11 +72,19 @@ Result<ArbVertexProgram> ArbVertexProgram::create(const Api& api, const ArbProgr
                          api.caps.version + ", " + api.caps.renderer +
                          "); use the fixed-function paths (draw_with_colours)"};
     }
+    // The driver's native limits; a driver that answers 0 (none known to do so, but the query
+    // is cheap to distrust) is held to the spec's minimums instead.
     ArbLimits native;
-    native.max_instructions = program_integer(api, GL_MAX_PROGRAM_NATIVE_INSTRUCTIONS_ARB);
-    native.max_temporaries = program_integer(api, GL_MAX_PROGRAM_NATIVE_TEMPORARIES_ARB);
-    native.max_parameters = program_integer(api, GL_MAX_PROGRAM_NATIVE_PARAMETERS_ARB);
-    native.max_attributes = program_integer(api, GL_MAX_PROGRAM_NATIVE_ATTRIBS_ARB);
+    auto limit = [&](GLenum pname, int spec_minimum) {
+        const GLint value = program_integer(api, pname);
+        return value > 0 ? static_cast<int>(value) : spec_minimum;
+    };
+    native.max_instructions =
+        limit(GL_MAX_PROGRAM_NATIVE_INSTRUCTIONS_ARB, ArbLimits{}.max_instructions);
+    native.max_temporaries =
+        limit(GL_MAX_PROGRAM_NATIVE_TEMPORARIES_ARB, ArbLimits{}.max_temporaries);
+    native.max_parameters = limit(GL_MAX_PROGRAM_NATIVE_PARAMETERS_ARB, ArbLimits{}.max_parameters);
+    native.max_attributes = limit(GL_MAX_PROGRAM_NATIVE_ATTRIBS_ARB, ArbLimits{}.max_attributes);
     if (auto e = check_arb_limits(program.resources, native, program.options.position_invariant)) {
         e->message += " (the driver's GL_MAX_PROGRAM_NATIVE_* limit, " + api.caps.renderer + ")";
         return *e;

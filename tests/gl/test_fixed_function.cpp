@@ -167,6 +167,8 @@ class Engine {
                          GL_UNSIGNED_SHORT, scene_.indices.data());
     }
 
+    GLuint texture() const { return texture_; }
+
     aerial::gl::VertexColours colours() const {
         aerial::gl::VertexColours c;
         c.primary = scene_.fex.data();
@@ -389,6 +391,41 @@ TEST_F(FixedFunction, EachPathGivesTextureTimesExtinctionPlusInScattering) {
     gl().DisableClientState(GL_VERTEX_ARRAY);
     gl().DisableClientState(GL_TEXTURE_COORD_ARRAY);
     gl().DeleteTextures(1, &texture);
+}
+
+TEST_F(FixedFunction, TextureOnAnotherUnitGivesTheSameImage) {
+    // The engine's texture on unit 1 (unit 0 off): ApplyOptions::texture_unit = 1, and the
+    // combiner path then uses unit 2.
+    if (gl().caps.max_texture_units < 3) GTEST_SKIP() << "fewer than 3 texture units";
+    const Scene scene = make_scene("earth", 20.0);
+    for (Path path : {Path::secondary_color, Path::combiner, Path::two_pass}) {
+        if (!offers(path)) continue;
+        const auto expected = render(scene, path, Fog::on);
+        Engine engine(gl(), scene);
+        engine.set_up(Fog::on);
+        gl().Disable(GL_TEXTURE_2D);
+        gl().DisableClientState(GL_TEXTURE_COORD_ARRAY);
+        gl().ActiveTexture(GL_TEXTURE1);
+        gl().BindTexture(GL_TEXTURE_2D, engine.texture());
+        gl().Enable(GL_TEXTURE_2D);
+        gl().ClientActiveTexture(GL_TEXTURE1);
+        gl().EnableClientState(GL_TEXTURE_COORD_ARRAY);
+        gl().TexCoordPointer(2, GL_FLOAT, 0, scene.texcoords.data());
+        const auto before = aerial::gl::capture_state(gl());
+        ApplyOptions options;
+        options.path = path;
+        options.texture_unit = 1;
+        auto stats =
+            aerial::gl::draw_with_colours(gl(), options, engine.colours(), [&] { engine.draw(); });
+        ASSERT_TRUE(stats.ok()) << stats.error().message;
+        EXPECT_TRUE(aerial::gl::state_differences(before, aerial::gl::capture_state(gl())).empty());
+        const auto d = aerial_test::compare_rgb(expected, ctx_->read_rgba8());
+        EXPECT_EQ(d.max_lsb, 0) << aerial::gl::path_name(path) << " on unit 1";
+        gl().Disable(GL_TEXTURE_2D);
+        gl().DisableClientState(GL_TEXTURE_COORD_ARRAY);
+        gl().ActiveTexture(GL_TEXTURE0);
+        gl().ClientActiveTexture(GL_TEXTURE0);
+    }
 }
 
 TEST_F(FixedFunction, SecondPassWithTheEnginesFogColourIsVisiblyWrong) {

@@ -51,6 +51,11 @@ struct Caps {
     bool fog_coord = false;            ///< GL 1.4 or EXT_fog_coord
     bool vertex_program = false;       ///< ARB_vertex_program
     bool framebuffer_object = false;   ///< GL 3.0, ARB_ or EXT_framebuffer_object
+    /// GL 1.5 or ARB_vertex_buffer_object: arrays may come from buffer objects, so the module
+    /// binds buffer 0 while it points arrays at client memory, and restores the binding.
+    bool vertex_buffer_object = false;
+    bool pixel_buffer_object = false;  ///< GL 2.1 or ARB_pixel_buffer_object (PIXEL_UNPACK_BUFFER)
+    bool fragment_program = false;     ///< ARB_fragment_program (disabled while the module draws)
     int max_texture_units = 1;         ///< MAX_TEXTURE_UNITS (1 without multitexture)
 
     /// True when `name` is a whole word of the extension string.
@@ -84,6 +89,9 @@ struct Caps {
     X(decltype(&::glDepthMask), DepthMask, "glDepthMask", "")                            \
     X(decltype(&::glColorMask), ColorMask, "glColorMask", "")                            \
     X(decltype(&::glShadeModel), ShadeModel, "glShadeModel", "")                         \
+    X(decltype(&::glColorMaterial), ColorMaterial, "glColorMaterial", "")                \
+    X(decltype(&::glMaterialfv), Materialfv, "glMaterialfv", "")                         \
+    X(decltype(&::glGetMaterialfv), GetMaterialfv, "glGetMaterialfv", "")                \
     X(decltype(&::glFogf), Fogf, "glFogf", "")                                           \
     X(decltype(&::glFogi), Fogi, "glFogi", "")                                           \
     X(decltype(&::glFogfv), Fogfv, "glFogfv", "")                                        \
@@ -124,6 +132,16 @@ struct Caps {
     X(PFNGLSECONDARYCOLORPOINTEREXTPROC, SecondaryColorPointer, "glSecondaryColorPointer",        \
       "glSecondaryColorPointerEXT")                                                               \
     X(PFNGLFOGCOORDPOINTEREXTPROC, FogCoordPointer, "glFogCoordPointer", "glFogCoordPointerEXT")  \
+    X(PFNGLSECONDARYCOLOR3FEXTPROC, SecondaryColor3f, "glSecondaryColor3f",                       \
+      "glSecondaryColor3fEXT")                                                                    \
+    X(PFNGLMULTITEXCOORD4FARBPROC, MultiTexCoord4f, "glMultiTexCoord4f", "glMultiTexCoord4fARB")  \
+    X(PFNGLBINDBUFFERARBPROC, BindBuffer, "glBindBuffer", "glBindBufferARB")                      \
+    X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate, "glBlendFuncSeparate",                       \
+      "glBlendFuncSeparateEXT")                                                                   \
+    X(PFNGLBLENDEQUATIONPROC, BlendEquation, "glBlendEquation", "glBlendEquationEXT")             \
+    X(PFNGLBLENDEQUATIONSEPARATEPROC, BlendEquationSeparate, "glBlendEquationSeparate",           \
+      "glBlendEquationSeparateEXT")                                                               \
+    X(PFNGLUSEPROGRAMPROC, UseProgram, "glUseProgram", "")                                        \
     X(PFNGLGENPROGRAMSARBPROC, GenPrograms, "glGenProgramsARB", "")                               \
     X(PFNGLDELETEPROGRAMSARBPROC, DeletePrograms, "glDeleteProgramsARB", "")                      \
     X(PFNGLBINDPROGRAMARBPROC, BindProgram, "glBindProgramARB", "")                               \

@@ -104,6 +104,29 @@ Result<Api> load_api(LoadFunction load, void* user) {
     caps.secondary_color = (caps.at_least(1, 4) || caps.has_extension("GL_EXT_secondary_color")) &&
                            api.SecondaryColorPointer;
     if (!caps.secondary_color) api.SecondaryColorPointer = nullptr;
+    if (!caps.secondary_color) api.SecondaryColor3f = nullptr;
+    if (!caps.multitexture) api.MultiTexCoord4f = nullptr;
+    caps.vertex_buffer_object =
+        (caps.at_least(1, 5) || caps.has_extension("GL_ARB_vertex_buffer_object")) &&
+        api.BindBuffer;
+    if (!caps.vertex_buffer_object) api.BindBuffer = nullptr;
+    caps.pixel_buffer_object =
+        caps.vertex_buffer_object &&
+        (caps.at_least(2, 1) || caps.has_extension("GL_ARB_pixel_buffer_object") ||
+         caps.has_extension("GL_EXT_pixel_buffer_object"));
+    caps.fragment_program = caps.has_extension("GL_ARB_fragment_program");
+    // Blend state the two-pass path sets and restores; GLSL programs it unbinds while it draws.
+    if (!(caps.at_least(1, 4) || caps.has_extension("GL_EXT_blend_func_separate"))) {
+        api.BlendFuncSeparate = nullptr;
+    }
+    if (!(caps.at_least(1, 4) || caps.has_extension("GL_EXT_blend_minmax") ||
+          caps.has_extension("GL_ARB_imaging"))) {
+        api.BlendEquation = nullptr;
+    }
+    if (!(caps.at_least(2, 0) || caps.has_extension("GL_EXT_blend_equation_separate"))) {
+        api.BlendEquationSeparate = nullptr;
+    }
+    if (!caps.at_least(2, 0)) api.UseProgram = nullptr;
     caps.fog_coord =
         (caps.at_least(1, 4) || caps.has_extension("GL_EXT_fog_coord")) && api.FogCoordPointer;
     if (!caps.fog_coord) api.FogCoordPointer = nullptr;

@@ -1,0 +1,67 @@
+// Shared by the GL tests that draw: the context each CTest registration asks for
+// (AERIAL_TEST_GL_BACKEND=osmesa|egl; GALLIUM_DRIVER and LP_NUM_THREADS come from CTest too), and
+// image comparison in 8-bit steps.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "aerial/headless.hpp"
+
+namespace aerial_test {
+
+inline aerial::headless::Backend backend_from_environment() {
+    const char* name = std::getenv("AERIAL_TEST_GL_BACKEND");
+    if (name == nullptr) return aerial::headless::Backend::osmesa;
+    auto backend = aerial::headless::parse_backend(name);
+    return backend ? *backend : aerial::headless::Backend::osmesa;
+}
+
+/// "osmesa llvmpipe (LLVM 15.0.6, 256 bits)": what a figure was measured on.
+inline std::string context_label(const aerial::headless::Context& ctx) {
+    return std::string(aerial::headless::backend_name(ctx.backend())) + " " +
+           ctx.api().caps.renderer;
+}
+
+/// The largest difference of any R, G or B channel between two RGBA8 images (alpha ignored),
+/// and where it is.
+struct ImageDifference {
+    int max_lsb = 0;
+    std::size_t pixel = 0;
+    std::size_t over1 = 0;   ///< pixels off by more than 1 step
+    std::size_t differ = 0;  ///< pixels that differ at all
+};
+
+inline ImageDifference compare_rgb(const std::vector<std::uint8_t>& a,
+                                   const std::vector<std::uint8_t>& b) {
+    ImageDifference d;
+    const std::size_t n = std::min(a.size(), b.size()) / 4;
+    for (std::size_t p = 0; p < n; ++p) {
+        int worst = 0;
+        for (std::size_t c = 0; c < 3; ++c) {
+            worst = std::max(worst, std::abs(int(a[4 * p + c]) - int(b[4 * p + c])));
+        }
+        if (worst > 1) ++d.over1;
+        if (worst > 0) ++d.differ;
+        if (worst > d.max_lsb) {
+            d.max_lsb = worst;
+            d.pixel = p;
+        }
+    }
+    return d;
+}
+
+inline std::string pixel_text(const std::vector<std::uint8_t>& image, std::size_t p) {
+    char text[48];
+    std::snprintf(text, sizeof text, "(%d, %d, %d)", image[4 * p], image[4 * p + 1],
+                  image[4 * p + 2]);
+    return text;
+}
+
+}  // namespace aerial_test

@@ -215,6 +215,21 @@ Result<RenderedImage> render_scene(const headless::Context& context, const Scene
         api.DisableClientState(GL_VERTEX_ARRAY);
     };
 
+    // Once per context, as an engine would: the path, and the combiner path's texture.
+    gl::ApplyOptions apply;
+    std::optional<gl::CombinerTexture> combiner;
+    if (options.backend == Backend::cpu) {
+        auto chosen = gl::choose_path(api.caps, options.path);
+        if (!chosen) return Error{chosen.error().field, where + chosen.error().message};
+        apply.path = *chosen;
+        if (*chosen == gl::Path::combiner) {
+            auto created = gl::CombinerTexture::create(api);
+            if (!created) return Error{created.error().field, where + created.error().message};
+            combiner.emplace(std::move(created.value()));
+            apply.combiner = &*combiner;
+        }
+    }
+
     RenderedImage image;
     image.width = w;
     image.height = h;
@@ -255,8 +270,6 @@ Result<RenderedImage> render_scene(const headless::Context& context, const Scene
             colours.primary = primary.data();
             colours.secondary = secondary.data();
             colours.vertex_count = n;
-            gl::ApplyOptions apply;
-            apply.path = options.path;
             auto drawn = gl::draw_with_colours(api, apply, colours, draw_mesh);
             if (!drawn) return Error{drawn.error().field, where + drawn.error().message};
             image.path_used = drawn->path;

@@ -92,6 +92,16 @@ struct ArbProgramOptions {
 /// arb_program_parameters). The program also declares the constant { 2, -1.5, 0, 0 }.
 inline constexpr int kArbParameterCount = 6;
 
+/// How many parameter vectors the `height` program reads (layout below).
+inline constexpr int kArbHeightParameterCount = 13;
+
+/// kArbParameterCount or kArbHeightParameterCount (0 for a model without a program).
+constexpr int arb_parameter_count(Model model) {
+    return model == Model::hoffman_preetham ? kArbParameterCount
+           : model == Model::height         ? kArbHeightParameterCount
+                                            : 0;
+}
+
 /// What a program uses, counted as the spec counts it (section 2.14.3.7).
 struct ArbResources {
     int instructions = 0;  ///< executable instructions (not declarations, OPTION or END)
@@ -140,7 +150,7 @@ std::optional<Error> check_arb_limits(const ArbResources& resources, const ArbLi
 /// ARB_position_invariant; ATTRIB (vertex.position, vertex.texcoord[n]); PARAM (program.local[i],
 /// program.env[i], state.matrix.mvp[.row[i]], constants); TEMP; OUTPUT (result.position,
 /// result.color[.primary|.secondary], result.fogcoord, result.texcoord[n]); the instructions
-/// MOV ADD SUB MUL MAD DP3 DP4 DPH MIN MAX SWZ EX2 LG2 EXP LOG RCP RSQ POW with swizzles, write
+/// MOV ADD SUB MUL MAD DP3 DP4 DPH MIN MAX SGE SLT SWZ EX2 LG2 EXP LOG RCP RSQ POW with swizzles, write
 /// masks and negation; `#` comments. Anything else (ARL, ALIAS, LIT, ...) is a parse error.
 struct ArbCpuProgramData;  // the parsed instructions and bindings (arb_interpreter.cpp)
 struct ArbCpuProgram {

@@ -1023,8 +1023,8 @@ Params parameters(const Frame<float>& frame, float exposure, const ArbProgramOpt
 /// direction (including the sun, its neighbourhood and the horizontal) from 1 m to 150 km, plus
 /// vertices at the eye's altitude around the sphere and vertices far below sea level.
 struct Grid {
-    std::vector<glm::dvec3> eyes{{0, 0, 2},     {0, 0, 100},   {300, -200, 1000},
-                                 {0, 0, 3000},  {0, 0, 10000}, {0, 0, 30000}};
+    std::vector<glm::dvec3> eyes{{0, 0, 2},    {0, 0, 100},   {300, -200, 1000},
+                                 {0, 0, 3000}, {0, 0, 10000}, {0, 0, 30000}};
     std::vector<double> sun_elevations{-10, -3, 0, 2, 5, 10, 20, 45, 90};
     std::vector<double> distances{1, 10, 100, 1e3, 3e3, 1e4, 3e4, 6e4, 1e5, 1.5e5};
     int azimuths = 4;
@@ -1045,16 +1045,13 @@ std::vector<glm::dvec3> vertices_for(const Grid& grid, const Frame<float>& f) {
         const double angle = d / (r + eye.z);
         const glm::dvec3 from_centre = eye - centre;
         const glm::dvec3 turned(from_centre.x + std::sin(angle) * glm::length(from_centre),
-                                from_centre.y,
-                                from_centre.z * std::cos(angle));
+                                from_centre.y, from_centre.z * std::cos(angle));
         out.push_back(centre + glm::length(from_centre) * glm::normalize(turned));
     }
     out.push_back(eye + glm::dvec3(500, 0, -eye.z - 20000));  // far below sea level
     out.push_back(eye + glm::dvec3(0, 0, -eye.z - 3e6));
     return out;
 }
-
-
 
 /// F_ex, L_in of the program against a double-precision model at one vertex, in 8-bit steps after
 /// the exposure and GL's clamp.
@@ -1069,10 +1066,9 @@ Lsb lsb_against(const ArbResults& r, const aerial::Scattering<double>& model, fl
         const std::size_t i = static_cast<std::size_t>(c);
         out.extinction = std::max(
             out.extinction, lsb_difference(r.color_primary.value[i], float(model.extinction[c])));
-        out.in_scattering =
-            std::max(out.in_scattering,
-                     lsb_difference(r.color_secondary.value[i],
-                                    float(double(exposure) * model.in_scattering[c])));
+        out.in_scattering = std::max(
+            out.in_scattering, lsb_difference(r.color_secondary.value[i],
+                                              float(double(exposure) * model.in_scattering[c])));
     }
     return out;
 }
@@ -1091,7 +1087,9 @@ struct Worst {
             where = here;
         }
     }
-    double percent_over_one() const { return vertices ? 100.0 * double(over_one) / vertices : 0; }
+    double percent_over_one() const {
+        return vertices ? 100.0 * double(over_one) / double(vertices) : 0;
+    }
 };
 
 /// Everything the grid tests need of one view: the float frame for the program, the double
@@ -1212,8 +1210,8 @@ TEST(ArbHeightProgram, ReadsEveryDocumentedParameterAndNothingElse) {
     // act). Only eyealt.w and the w of extr, extm, ray, mie (parameters 5, 7-10; 0, for finite
     // alpha lanes) are documented as unused. (NaN would not do: MIN and MAX
     // may drop it, and some of the reads are clamps.)
-    const Frame<float> f = height::frame_for(preset("hazy"), height::view_for({0, 0, 200},
-                                                                             direction(20, 0)));
+    const Frame<float> f =
+        height::frame_for(preset("hazy"), height::view_for({0, 0, 200}, direction(20, 0)));
     const Params p = height::parameters(f, 8.0f);
     ASSERT_EQ(p.size(), std::size_t(aerial::kArbHeightParameterCount));
     const auto program = height::program();
@@ -1222,12 +1220,12 @@ TEST(ArbHeightProgram, ReadsEveryDocumentedParameterAndNothingElse) {
     const auto outputs = [&](const Params& q) {
         std::vector<float> out;
         for (const glm::vec3& v : vertices) {
-            const ArbResults r = aerial::run_arb_program(program, machine_with(q), vertex_at(v));
+            const ArbResults run = aerial::run_arb_program(program, machine_with(q), vertex_at(v));
             for (std::size_t c = 0; c < 4; ++c) {
-                out.push_back(r.color_primary.value[c]);
-                out.push_back(r.color_secondary.value[c]);
+                out.push_back(run.color_primary.value[c]);
+                out.push_back(run.color_secondary.value[c]);
             }
-            out.push_back(r.fogcoord.value[0]);
+            out.push_back(run.fogcoord.value[0]);
         }
         return out;
     };
@@ -1272,8 +1270,8 @@ TEST(ArbHeightProgram, OptionsChangeOnlyWhereParametersComeFromAndWhatIsPassedTh
             o.parameter_space = space;
             o.parameter_base = base_index;
             o.texcoord_units = 2;
-            const ArbResults r = aerial::run_arb_program(height::program(o),
-                                                         machine_with(p, height::options(o)), v);
+            const ArbResults r =
+                aerial::run_arb_program(height::program(o), machine_with(p, height::options(o)), v);
             EXPECT_EQ(r.color_primary.value, base.color_primary.value);
             EXPECT_EQ(r.color_secondary.value, base.color_secondary.value);
             EXPECT_EQ(r.fogcoord.value[0], base.fogcoord.value[0]);
@@ -1315,17 +1313,18 @@ TEST(ArbHeightProgram, ExtinctionMatchesTheCpuModelWithin1LsbOverTheWholeGrid) {
                 const height::Case k = height::make_case(name, eye, sun, grid);
                 const aerial::ArbMachine m = machine_with(height::parameters(k.frame, k.exposure));
                 for (std::size_t i = 0; i < k.vertices.size(); ++i) {
-                    const ArbResults r = aerial::run_arb_program(
-                        program, m, vertex_at(glm::vec3(k.vertices[i])));
+                    const ArbResults r =
+                        aerial::run_arb_program(program, m, vertex_at(glm::vec3(k.vertices[i])));
                     worst.add(height::lsb_against(r, k.cpu[i], k.exposure).extinction,
                               height::describe(k, k.vertices[i]));
                 }
             }
         }
     }
-    std::printf("[ info     ] height program F_ex vs CPU height model (double), %ld vertices: max "
-                "%d LSB\n",
-                worst.vertices, worst.lsb);
+    std::printf(
+        "[ info     ] height program F_ex vs CPU height model (double), %ld vertices: max "
+        "%d LSB\n",
+        worst.vertices, worst.lsb);
     EXPECT_LE(worst.lsb, kHeightExtinctionLsb) << worst.where;
 }
 
@@ -1347,8 +1346,8 @@ TEST(ArbHeightProgram, InScatteringMatchesTheCpuModelOnShortRaysAndStaysCloseInC
                 const height::Case k = height::make_case(name, eye, sun, grid);
                 const aerial::ArbMachine m = machine_with(height::parameters(k.frame, k.exposure));
                 for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {  // not the deep ones
-                    const ArbResults r = aerial::run_arb_program(
-                        program, m, vertex_at(glm::vec3(k.vertices[i])));
+                    const ArbResults r =
+                        aerial::run_arb_program(program, m, vertex_at(glm::vec3(k.vertices[i])));
                     const double d = glm::length(k.vertices[i] - k.view.eye);
                     const int b = d <= lengths[0] ? 0 : d <= lengths[1] ? 1 : 2;
                     by_length[b].add(height::lsb_against(r, k.cpu[i], k.exposure).in_scattering,
@@ -1357,10 +1356,11 @@ TEST(ArbHeightProgram, InScatteringMatchesTheCpuModelOnShortRaysAndStaysCloseInC
             }
         }
         for (int b = 0; b < 3; ++b) {
-            std::printf("[ info     ] height L_in vs CPU, %-6s rays %-8s: max %3d LSB, %5.1f%% of "
-                        "vertices > 1 LSB (worst: %s)\n",
-                        name.c_str(), length_names[b], by_length[b].lsb,
-                        by_length[b].percent_over_one(), by_length[b].where.c_str());
+            std::printf(
+                "[ info     ] height L_in vs CPU, %-6s rays %-8s: max %3d LSB, %5.1f%% of "
+                "vertices > 1 LSB (worst: %s)\n",
+                name.c_str(), length_names[b], by_length[b].lsb, by_length[b].percent_over_one(),
+                by_length[b].where.c_str());
         }
         for (const HeightInScatteringBound& bound : kHeightInScatteringLsb) {
             if (name != bound.preset) continue;
@@ -1388,7 +1388,7 @@ TEST(ArbHeightProgram, AgainstTheReferenceModelItErrsLikeTheCpuHeightModel) {
     grid.eyes = {{0, 0, 2}, {0, 0, 1000}, {0, 0, 10000}};
     grid.distances = {1e3, 1e4, 3e4};
     grid.azimuths = 2;
-    for (const std::string& name : {"earth", "hazy", "foggy", "mars"}) {
+    for (const char* name : {"earth", "hazy", "foggy", "mars"}) {
         height::Worst arb, cpu;
         for (const glm::dvec3& eye : grid.eyes) {
             for (double sun : {5.0, 20.0, 60.0}) {
@@ -1397,8 +1397,8 @@ TEST(ArbHeightProgram, AgainstTheReferenceModelItErrsLikeTheCpuHeightModel) {
                 for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
                     const aerial::Scattering<double> truth =
                         aerial::reference_scattering(preset(name), k.view, k.vertices[i]);
-                    const ArbResults r = aerial::run_arb_program(
-                        program, m, vertex_at(glm::vec3(k.vertices[i])));
+                    const ArbResults r =
+                        aerial::run_arb_program(program, m, vertex_at(glm::vec3(k.vertices[i])));
                     int model = 0;
                     for (int c = 0; c < 3; ++c) {
                         model = std::max(
@@ -1411,12 +1411,15 @@ TEST(ArbHeightProgram, AgainstTheReferenceModelItErrsLikeTheCpuHeightModel) {
                 }
             }
         }
-        std::printf("[ info     ] L_in vs reference, %-6s %ld vertices: program max %3d LSB (%5.1f%% "
-                    "> 1), CPU height model max %3d LSB (%5.1f%% > 1); program worst at %s\n",
-                    name.c_str(), arb.vertices, arb.lsb, arb.percent_over_one(), cpu.lsb,
-                    cpu.percent_over_one(), arb.where.c_str());
+        std::printf(
+            "[ info     ] L_in vs reference, %-6s %ld vertices: program max %3d LSB (%5.1f%% "
+            "> 1), CPU height model max %3d LSB (%5.1f%% > 1); program worst at %s\n",
+            name, arb.vertices, arb.lsb, arb.percent_over_one(), cpu.lsb, cpu.percent_over_one(),
+            arb.where.c_str());
         for (const HeightReferenceBound& bound : kHeightReferenceLsb) {
-            if (name == std::string(bound.preset)) EXPECT_LE(arb.lsb, bound.lsb) << arb.where;
+            if (std::string(name) == bound.preset) {
+                EXPECT_LE(arb.lsb, bound.lsb) << arb.where;
+            }
         }
     }
 }
@@ -1449,19 +1452,18 @@ TEST(ArbHeightProgram, StaysFiniteForDegenerateViews) {
                     for (float exposure : {1.0f, 1e4f}) {
                         const aerial::ArbMachine m = machine_with(height::parameters(f, exposure));
                         std::vector<glm::dvec3> offsets_m{
-                            {0, 0, 0},       {1e-3, 0, 0},    {5000, 0, 0},   {3e5, 1, 0},
-                            {0, 0, -20000},  {700, 0, -3e6},  {1e9, 0, 0},    {0, 0, 1e9},
-                            {-3e4, 2e4, -eye_m.z}};
+                            {0, 0, 0},   {1e-3, 0, 0},   {5000, 0, 0},
+                            {3e5, 1, 0}, {0, 0, -20000}, {700, 0, -3e6},
+                            {1e9, 0, 0}, {0, 0, 1e9},    {-3e4, 2e4, -eye_m.z}};
                         for (const glm::dvec3& offset : offsets_m) {
                             const glm::vec3 v = glm::vec3(eye + offset / meters_per_unit);
                             const ArbResults r = aerial::run_arb_program(program, m, vertex_at(v));
                             ++checked;
-                            const std::string where = name + " mpu " +
-                                                      std::to_string(meters_per_unit) + " eye z " +
-                                                      std::to_string(eye_m.z) + " sun " +
-                                                      std::to_string(sun) + " offset x " +
-                                                      std::to_string(offset.x) + " z " +
-                                                      std::to_string(offset.z);
+                            const std::string where =
+                                name + " mpu " + std::to_string(meters_per_unit) + " eye z " +
+                                std::to_string(eye_m.z) + " sun " + std::to_string(sun) +
+                                " offset x " + std::to_string(offset.x) + " z " +
+                                std::to_string(offset.z);
                             ASSERT_TRUE(all_finite(r.color_primary.value) &&
                                         all_finite(r.color_secondary.value) &&
                                         all_finite(r.fogcoord.value, 1) &&
@@ -1518,9 +1520,8 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
                 const aerial::ArbMachine m = machine_with(height::parameters(k.frame, k.exposure));
                 for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
                     const aerial::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
-                    const height::Lsb exact =
-                        height::lsb_against(aerial::run_arb_program(program, m, v), k.cpu[i],
-                                            k.exposure);
+                    const height::Lsb exact = height::lsb_against(
+                        aerial::run_arb_program(program, m, v), k.cpu[i], k.exposure);
                     height::Lsb worst;
                     for (int pattern = 0; pattern < 48; ++pattern) {
                         aerial::ArbInterpreterOptions o;
@@ -1539,10 +1540,11 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
             }
         }
     }
-    std::printf("[ info     ] height program with 2^-11 on its %d approximate instructions, %ld "
-                "vertices: F_ex max %d LSB; L_in max %d LSB (%.1f%% > 1 LSB; exact: max %d, "
-                "%.1f%% > 1), worst at %s\n",
-                approx, lin.vertices, fex.lsb, lin.lsb, lin.percent_over_one(), lin_exact.lsb,
-                lin_exact.percent_over_one(), lin.where.c_str());
+    std::printf(
+        "[ info     ] height program with 2^-11 on its %d approximate instructions, %ld "
+        "vertices: F_ex max %d LSB; L_in max %d LSB (%.1f%% > 1 LSB; exact: max %d, "
+        "%.1f%% > 1), worst at %s\n",
+        approx, lin.vertices, fex.lsb, lin.lsb, lin.percent_over_one(), lin_exact.lsb,
+        lin_exact.percent_over_one(), lin.where.c_str());
     EXPECT_LE(fex.lsb, 1) << fex.where;
 }

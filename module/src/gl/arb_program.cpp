@@ -1,6 +1,6 @@
-// The ARB vertex program of the hoffman-preetham model, its per-frame parameters and the resource
-// limit check. The program is counted by parsing its own text (arb_interpreter.cpp), so that the
-// figures always describe what GL receives.
+// The ARB vertex programs of the hoffman-preetham and height models, their per-frame parameters
+// and the resource limit check. The program is counted by parsing its own text
+// (arb_interpreter.cpp), so that the figures always describe what GL receives.
 //
 // What the program computes per vertex (d = vertex - eye in engine units, s = |d|, y ~ 1/s from
 // RSQ, u = d y - sun):
@@ -58,8 +58,8 @@ std::optional<Error> validate_options(const ArbProgramOptions& o, const char* fu
         return Error{"parameter_base",
                      "parameter_base: " + fn + "the program reads indices " +
                          std::to_string(o.parameter_base) + " to " +
-                         std::to_string(o.parameter_base + count - 1) +
-                         ", beyond the " + std::to_string(o.limits.max_parameters) +
+                         std::to_string(o.parameter_base + count - 1) + ", beyond the " +
+                         std::to_string(o.limits.max_parameters) +
                          " program parameters (MAX_PROGRAM_PARAMETERS_ARB); expected at most " +
                          std::to_string(o.limits.max_parameters - count)};
     }
@@ -237,6 +237,25 @@ constexpr double kMaxLogColumnFactor = 40.0;
 /// (1 - e^-x)/x in double.
 double one_minus_exp_over_x(double x) { return x == 0.0 ? 1.0 : -std::expm1(-x) / x; }
 
+// The height program. Per vertex, like height_model() in scattering.cpp (metres; d = p - eye,
+// s = |d|, the G channel drives the quadrature):
+//   h1 = n / (|p - centre| + R), n = |p|^2 + 2 R p.up (from the eye's n: no cancellation);
+//   rho_i = exp(-h_low/H_i) phi(|h1 - h0|/H_i), h_low = min(h0, h1) - s^2/(12 R),
+//     phi(x) = (1 - e^-x)/x as S(min(x, c)) + Q(max(x, c)) - phi(c): the series S is right below
+//     c, the quotient Q above it, and neither needs a branch (c = 0.25);
+//   F_ex = exp(-beta s), beta = beta_R rho_R + beta_M rho_M per channel;
+//   the fitted G profile k0 exp(-a u), a = ln(k0 / k(h1)) (b = a log2(e), kept >= 2^-10 from 0);
+//   nodes y_n (3-point Gauss) in the share of the attenuation: f_n = -ln(1 - y_n (1 - F_G))/tau_G,
+//     u_n = -ln(1 - f_n (1 - e^-a))/a, altitude h_n = h0 + (h1 - h0) u_n - sag u_n (1 - u_n);
+//   weights W_n rho_i(h_n) e^(a u_n), sun transmittance at each node from the eye's Chapman
+//     factors and the node's densities;
+//   L_in = E0 s phi(tau_c) phi(a) sum_i beta_i P_i sum_n weight_in T_n (exposure in the params).
+// What the model does and the program does not (128 instructions): the weights' correction by
+// exp(tau_fit(u_n) - tau(u_n)) (about 20 instructions: six more EX2 and a guarded division), the
+// sun column factors interpolated to the vertex (an erfcx and its below-horizon branch, about 30)
+// and the planet-shadow test per node (about 10). Budget: 4 transform, 6 distance and fog, 3
+// phase, 12 altitude, 17 densities, 8 fit, 11 F_ex, 14 nodes, 6 node altitudes, 9 weights,
+// 8 columns, 21 transmittance sums, 6 L_in, 1 per texture unit: 127 with one unit.
 std::string height_program_text(const ArbProgramOptions& o) {
     const std::string space = o.parameter_space == ParameterSpace::local ? "local" : "env";
     const auto param = [&](int i) {
@@ -275,15 +294,14 @@ std::string height_program_text(const ArbProgramOptions& o) {
     w.line("PARAM sky = " + param(kHeightSunColumn) + ";", "log2 sun column factors, fit offsets");
     const double c = kSeriesLimit * kLog2E;  // the limit in log2 units
     w.line("PARAM num = " + vec(2.0, -1.5, c, kLog2E) + ";", "2, -1.5, series limit, log2(e)");
-    w.line("PARAM ser = " +
-               vec(std::pow(ln2, 4) / 120.0, -std::pow(ln2, 3) / 24.0, ln2 * ln2 / 6.0,
-                   -ln2 / 2.0) +
-               ";",
-           "series of (1 - 2^-y)/(y ln 2)");
+    w.line(
+        "PARAM ser = " +
+            vec(std::pow(ln2, 4) / 120.0, -std::pow(ln2, 3) / 24.0, ln2 * ln2 / 6.0, -ln2 / 2.0) +
+            ";",
+        "series of (1 - 2^-y)/(y ln 2)");
     w.line("PARAM cst = " +
-               vec(1.0 - one_minus_exp_over_x(kSeriesLimit), -1e-30, 1.0,
-                   -kMaxFitSlope * kLog2E) +
-               ";");
+           vec(1.0 - one_minus_exp_over_x(kSeriesLimit), -1e-30, 1.0, -kMaxFitSlope * kLog2E) +
+           ";");
     w.line("PARAM fit = " + vec(-kMinFitSlope, 2.0 * kMinFitSlope, 0.0, 0.0) + ";");
     w.line("PARAM ynode = " + vec(kGaussNodes[0], kGaussNodes[1], kGaussNodes[2], 0.0) + ";",
            "Gauss nodes in the attenuation share");
@@ -313,7 +331,8 @@ std::string height_program_text(const ArbProgramOptions& o) {
     w.line("MAD view.yz, view.x, hg.xxyx, hg.zzwz;", "h = 1 + g^2 - 2 g c, w/4 - 1");
     w.line("MAD view.z, view.z, view.x, num.x;", "1 + c^2");
     w.line("POW view.y, view.y, num.y;", "h^-1.5");
-    w.comment("Vertex altitude h1 = n / (|p - centre| + R), n = |p|^2 + 2 R p.up (no cancellation);");
+    w.comment(
+        "Vertex altitude h1 = n / (|p - centre| + R), n = |p|^2 + 2 R p.up (no cancellation);");
     w.comment("alt = (h1, ., h_low, h1 - h0), h_low = min(h0, h1) - s^2/(12 R) (the mean sag).");
     w.line("DPH alt.x, seg, centre;", "2 d.c + n(eye)");
     w.line("ADD alt.x, alt.x, seg.w;", "n");
@@ -327,7 +346,8 @@ std::string height_program_text(const ArbProgramOptions& o) {
     w.line("MAD alt.z, seg.w, -eyealt.y, alt.z;");
     w.line("MAX alt.z, alt.z, planet.z;", "h_low");
     w.line("SUB alt.w, alt.x, eyealt.x;", "rise");
-    w.comment("Path-averaged densities rho_i = exp(-h_low/H_i) phi(|rise|/H_i), phi(x) = (1-e^-x)/x:");
+    w.comment(
+        "Path-averaged densities rho_i = exp(-h_low/H_i) phi(|rise|/H_i), phi(x) = (1-e^-x)/x:");
     w.comment("its series below c plus the quotient above c, minus phi(c) (no branch).");
     w.line("MUL work, alt.zzww, inv;", "(log2 e^(-h_low/H), y = rise log2(e)/H)");
     w.line("MAX work.zw, work, -work;", "|y|");
@@ -368,7 +388,8 @@ std::string height_program_text(const ArbProgramOptions& o) {
     w.line("EX2 work.y, ext.y;");
     w.line("EX2 work.z, ext.z;");
     w.line("SWZ result.color.primary, work, x, y, z, 1;");
-    w.comment("Sunlight points: Gauss nodes y_n in the share of the G attenuation. The share of the");
+    w.comment(
+        "Sunlight points: Gauss nodes y_n in the share of the G attenuation. The share of the");
     w.comment("optical depth f = -ln(1 - y (1 - F_G)) / tau_G, then the fitted profile's");
     w.comment("u = -ln(1 - f (1 - 2^-b)) / (b ln 2).");
     w.line("MAD node.xyz, ynode, work.y, ynode1;");
@@ -428,7 +449,8 @@ std::string height_program_text(const ArbProgramOptions& o) {
             w.line("MAD acc, work, alt." + lane + ", acc;");
         }
     }
-    w.comment("L_in = E0 s phi(tau) phi(a) (beta_R P_R sum_R + beta_M P_M sum_M), exposure included.");
+    w.comment(
+        "L_in = E0 s phi(tau) phi(a) (beta_R P_R sum_R + beta_M P_M sum_M), exposure included.");
     w.line("MUL colr.xy, view.zyzz, ext.w;");
     w.line("MUL colm, ray, colr.x;");
     w.line("MUL node, node, colm;");
@@ -445,7 +467,7 @@ std::string height_program_text(const ArbProgramOptions& o) {
 }
 
 Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& frame,
-                                                           const Display& display) {
+                                                            const Display& display) {
     const glm::dvec3 up = frame.view.up;
     const glm::dvec3 sun = frame.view.sun_dir;
     const double mpu = frame.view.meters_per_unit;
@@ -462,8 +484,9 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
     // G extinction at the eye without the sag (the model's k_total), for the fitted profile.
     const double beta_g[2] = {std::max(double(frame.rayleigh_scattering.y), 1e-30),
                               std::max(double(frame.mie_extinction.y), 1e-30)};
-    const double k0 = double(frame.rayleigh_scattering.y) * std::exp(-h0 * frame.inv_rayleigh_scale_height) +
-                      double(frame.mie_extinction.y) * std::exp(-h0 * frame.inv_mie_scale_height);
+    const double k0 =
+        double(frame.rayleigh_scattering.y) * std::exp(-h0 * frame.inv_rayleigh_scale_height) +
+        double(frame.mie_extinction.y) * std::exp(-h0 * frame.inv_mie_scale_height);
     const double log2_k0 = std::log2(std::max(k0, 1e-300));
 
     const double sign = g < 0.0 ? -1.0 : 1.0;
@@ -483,8 +506,7 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
     for (std::size_t c = 0; c < 3; ++c) {
         const int i = static_cast<int>(c);
         // Strictly negative, so that an overflowing column gives -inf, never 0 * inf.
-        p[kHeightRayleighExtinction][c] =
-            std::min(-kLog2E * frame.rayleigh_scattering[i], -1e-30);
+        p[kHeightRayleighExtinction][c] = std::min(-kLog2E * frame.rayleigh_scattering[i], -1e-30);
         p[kHeightMieExtinction][c] = std::min(-kLog2E * frame.mie_extinction[i], -1e-30);
         const double light = kLog2E * kLog2E * exposure * frame.sun_irradiance_top[i];
         p[kHeightRayleigh][c] = light * frame.rayleigh_scattering[i] * rayleigh_constant;
@@ -531,8 +553,8 @@ std::optional<Error> check_arb_limits(const ArbResources& r, const ArbLimits& li
 Result<ArbProgram> generate_arb_program(const ArbProgramOptions& options) {
     if (auto e = validate_options(options, "generate_arb_program")) return *e;
     ArbProgram program;
-    program.text = options.model == Model::height ? height_program_text(options)
-                                                  : program_text(options);
+    program.text =
+        options.model == Model::height ? height_program_text(options) : program_text(options);
     program.options = options;
     auto parsed = parse_arb_program(program.text);
     if (!parsed) {

@@ -1207,8 +1207,9 @@ TEST(ArbHeightProgram, ReadsEveryDocumentedParameterAndNothingElse) {
 
     // Every component the program reads matters: changing it changes an output at one of a few
     // vertices (a long ray, one at the eye's altitude, one far below sea level, where the clamps
-    // act). Only eyealt.w and the w of extr, extm, ray, mie (parameters 5, 7-10; 0, for finite
-    // alpha lanes) are documented as unused. (NaN would not do: MIN and MAX
+    // act). Only eyealt.w (parameter 5) and, without height_exact_optical_depth, ray.w and mie.w
+    // (9, 10) are documented as unused; extr.w and extm.w keep the secondary alpha at 0. (NaN
+    // would not do: MIN and MAX
     // may drop it, and some of the reads are clamps.)
     const Frame<float> f =
         height::frame_for(preset("hazy"), height::view_for({0, 0, 200}, direction(20, 0)));
@@ -1235,7 +1236,7 @@ TEST(ArbHeightProgram, ReadsEveryDocumentedParameterAndNothingElse) {
         for (std::size_t j = 0; j < 4; ++j) {
             Params changed = p;
             changed[i][j] = p[i][j] == 0.0f ? 0.5f : p[i][j] * 1.5f;
-            const bool unused = j == 3 && (i == 5 || (i >= 7 && i <= 10));
+            const bool unused = j == 3 && (i == 5 || i == 9 || i == 10);
             if (unused) {
                 EXPECT_EQ(outputs(changed), clean)
                     << "parameter " << i << ".w is documented as unused";
@@ -1547,4 +1548,68 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
         approx, lin.vertices, fex.lsb, lin.lsb, lin.percent_over_one(), lin_exact.lsb,
         lin_exact.percent_over_one(), lin.where.c_str());
     EXPECT_LE(fex.lsb, 1) << fex.where;
+}
+
+/// Regression bounds of height_exact_optical_depth against the CPU model, measured like
+/// kHeightInScatteringLsb (rays up to 30 km; the first column is unused).
+constexpr HeightInScatteringBound kHeightExactInScatteringLsb[] = {
+    {"earth", 0, 3}, {"hp2002", 0, 3}, {"hazy", 0, 6}, {"foggy", 0, 18}, {"mars", 0, 10}};
+
+TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
+    // Beyond the spec minimum: with height_exact_optical_depth the weights carry exp(tau_fit -
+    // tau) like the model's; what remains is the eye's sun column along the segment and the
+    // missing per-point shadow. Sun >= 5 deg, rays up to 30 km, per preset.
+    ArbProgramOptions exact;
+    exact.height_exact_optical_depth = true;
+    exact.limits.max_instructions = 256;  // Direct3D 9-class native limit
+    const aerial::ArbProgram text = generate(height::options(exact));
+    std::printf(
+        "[ info     ] height program with exact optical depth: %d instructions, %d "
+        "temporaries\n",
+        text.instruction_count, text.resources.temporaries);
+    EXPECT_EQ(text.instruction_count, generate(height::options()).instruction_count + 23);
+    EXPECT_LE(text.resources.temporaries, 12);
+    ArbProgramOptions at_minimum;
+    at_minimum.height_exact_optical_depth = true;
+    const auto rejected = aerial::generate_arb_program(height::options(at_minimum));
+    ASSERT_FALSE(rejected.ok()) << "beyond 128 instructions";
+    EXPECT_EQ(rejected.error().field, "instructions");
+
+    const auto with = parse(text.text);
+    const auto without = height::program();
+    height::Grid grid;
+    grid.sun_elevations = {5, 10, 20, 45, 90};
+    for (const std::string& name : aerial::atmosphere_preset_names()) {
+        height::Worst exact_worst, default_worst;
+        for (const glm::dvec3& eye : grid.eyes) {
+            for (double sun : grid.sun_elevations) {
+                const height::Case k = height::make_case(name, eye, sun, grid);
+                const aerial::ArbMachine m = machine_with(height::parameters(k.frame, k.exposure));
+                for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
+                    if (glm::length(k.vertices[i] - k.view.eye) > 3.1e4) continue;
+                    const aerial::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
+                    const std::string where = height::describe(k, k.vertices[i]);
+                    const ArbResults a = aerial::run_arb_program(with, m, v);
+                    ASSERT_TRUE(all_finite(a.color_secondary.value)) << where;
+                    exact_worst.add(height::lsb_against(a, k.cpu[i], k.exposure).in_scattering,
+                                    where);
+                    default_worst.add(height::lsb_against(aerial::run_arb_program(without, m, v),
+                                                          k.cpu[i], k.exposure)
+                                          .in_scattering,
+                                      where);
+                }
+            }
+        }
+        std::printf(
+            "[ info     ] L_in vs CPU, %-6s rays <= 30 km: exact optical depth max %3d "
+            "LSB (%4.1f%% > 1), default max %3d LSB (%4.1f%% > 1); worst at %s\n",
+            name.c_str(), exact_worst.lsb, exact_worst.percent_over_one(), default_worst.lsb,
+            default_worst.percent_over_one(), exact_worst.where.c_str());
+        EXPECT_LE(exact_worst.lsb, default_worst.lsb) << exact_worst.where;
+        for (const HeightInScatteringBound& bound : kHeightExactInScatteringLsb) {
+            if (name == bound.preset) {
+                EXPECT_LE(exact_worst.lsb, bound.rays_to_30km_lsb) << exact_worst.where;
+            }
+        }
+    }
 }

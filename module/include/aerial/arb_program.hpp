@@ -78,6 +78,11 @@ struct ArbProgramOptions {
     /// the vertex-shader exp that the same hardware runs). hoffman-preetham only; the height
     /// program ignores it.
     bool guard_coarse_ex2 = false;
+    /// height only: weights the sunlight points by the exact optical depth to them, as the CPU
+    /// model does (see kArbHeightParameterCount). 23 more instructions (150 by default): beyond
+    /// the spec minimum of 128, so raise `limits` to the driver's MAX_PROGRAM_NATIVE_INSTRUCTIONS
+    /// (256 on Direct3D 9-class hardware) or generation fails naming "instructions".
+    bool height_exact_optical_depth = false;
     ArbLimits limits;  ///< checked by generate_arb_program
 };
 
@@ -109,10 +114,12 @@ inline constexpr int kArbParameterCount = 6;
 ///   4  planet     (R^2, R, frame.min_altitude_m, 1 / meters_per_unit)
 ///   5  eye alt.   (frame.eye_altitude_m, 1/(12 R), 1/(2 R), unused)
 ///   6  inverse H  log2(e) (-1/H_R, -1/H_M, 1/H_R, 1/H_M)
-///   7  extr       xyz: -log2(e) beta_R (<= -1e-30);  w: 0
-///   8  extm       xyz: -log2(e) beta_M,extinction (<= -1e-30);  w: 0
-///   9  rayleigh   xyz: log2(e)^2 exposure E_sun0 beta_R 3/(16 pi);  w: 0
-///   10 mie        xyz: log2(e)^2 exposure E_sun0 beta_M (1 - g^2)/(4 pi);  w: 0
+///   7  extr       xyz: -log2(e) beta_R (<= -1e-30);  w: 0 (keeps the secondary alpha 0)
+///   8  extm       xyz: -log2(e) beta_M,extinction (<= -1e-30);  w: 0 (the same)
+///   9  rayleigh   xyz: log2(e)^2 exposure E_sun0 beta_R 3/(16 pi);
+///                 w: log2(e)^2 beta_R,G exp(-h0/H_R) (read with height_exact_optical_depth)
+///   10 mie        xyz: log2(e)^2 exposure E_sun0 beta_M (1 - g^2)/(4 pi);
+///                 w: log2(e)^2 beta_M,ext,G exp(-h0/H_M) (the same)
 ///   11 phase      (|g|, 1/4, (1 - |g|)^2, -1)
 ///   12 sun column x, y: log2(e) times the eye's log Chapman factors (frame.eye_log_chapman_*),
 ///                 capped at 40 (a blocked sun becomes a column of e^40 H_i exp(-h/H_i));
@@ -122,7 +129,8 @@ inline constexpr int kArbParameterCount = 6;
 ///   - the quadrature weights use the fitted exponential extinction profile's Jacobian only,
 ///     without the model's correction by the exact optical depth to each node (exp(tau_fit -
 ///     tau)), which matters where two components with very different scale heights both carry
-///     optical depth (rays leaving or entering a haze or fog layer);
+///     optical depth (rays leaving or entering a haze or fog layer); height_exact_optical_depth
+///     adds it, beyond 128 instructions;
 ///   - the sun's column factors are the eye's along the whole segment (the model interpolates to
 ///     the vertex's), which matters at a low sun on long rays;
 ///   - no per-node planet shadow: a sun below the eye's horizon is treated as blocked (the model

@@ -393,10 +393,10 @@ std::string height_program_text(const ArbProgramOptions& o) {
     w.comment("optical depth f = -ln(1 - y (1 - F_G)) / tau_G, then the fitted profile's");
     w.comment("u = -ln(1 - f (1 - 2^-b)) / (b ln 2).");
     w.line("MAD node.xyz, ynode, work.y, ynode1;");
-    w.line("LG2 node.x, node.x;");
-    w.line("LG2 node.y, node.y;");
-    w.line("LG2 node.z, node.z;");
-    w.line("MUL node.xyz, node, sphi.y;", "f");
+    w.line("LG2 rho.x, node.x;");
+    w.line("LG2 rho.y, node.y;");
+    w.line("LG2 rho.z, node.z;", "-tau_fit log2(e)");
+    w.line("MUL node.xyz, rho, sphi.y;", "f");
     w.line("MAD sphi, -work, sphi, sphi;", "(1 - F_ex) / log2(F_ex)");
     w.line("EX2 ext.w, -alt.y;");
     w.line("ADD ext.w, ext.w, hg.w;", "E = 2^-b - 1");
@@ -408,6 +408,36 @@ std::string height_program_text(const ArbProgramOptions& o) {
     w.line("MUL work.xyz, node, -ext.z;", "u");
     w.line("MUL ext.w, ext.w, ext.z;");
     w.line("MUL ext.w, ext.w, view.w;", "s E/b = -s ln(2) phi(a)");
+    if (o.height_exact_optical_depth) {
+        w.comment("Exact optical depth to the points along the straight altitude profile,");
+        w.comment(
+            "tau(u) = sum_i s k_i0 (1 - 2^(-y_i u)) / (y_i ln 2), y_i = rise log2(e)/H_i kept off");
+        w.comment(
+            "0; the weights get exp(tau_fit - tau) (log2 units, k_i0 log2(e)^2 in ray.w, mie.w).");
+        w.line("MUL colm.xy, alt.w, inv.zwzw;", "y");
+        w.line("SGE colm.zw, colm.xyxy, fit.z;");
+        w.line("MAD colm.zw, colm, fit.y, fit.x;");
+        w.line("ADD colm.xy, colm, colm.zwzw;");
+        w.line("MAX colm.xy, colm, cst.w;", "y, |y| >= eps");
+        w.line("RCP colm.z, colm.x;");
+        w.line("RCP colm.w, colm.y;");
+        w.line("MUL colm.z, colm.z, ray.w;");
+        w.line("MUL colm.w, colm.w, mie.w;");
+        w.line("MUL colm.zw, colm, view.w;", "C_i = s k_i0 log2(e)^2 / y_i");
+        w.line("MUL colr.xyz, work, -colm.x;");
+        w.line("MUL acc.xyz, work, -colm.y;");
+        for (const char* reg : {"colr", "acc"}) {
+            for (char lane : {'x', 'y', 'z'}) {
+                const std::string r = std::string(reg) + "." + lane;
+                w.line("EX2 " + r + ", " + r + ";");
+            }
+        }
+        w.line("ADD ext.x, colm.z, colm.w;");
+        w.line("MAD colr.xyz, -colr, colm.z, ext.x;");
+        w.line("MAD colr.xyz, -acc, colm.w, colr;", "tau log2(e)");
+        w.line("ADD node.xyz, node, rho;");
+        w.line("ADD node.xyz, node, colr;", "-b u - (tau_fit - tau) log2(e)");
+    }
     w.comment("Altitudes of the points, h0 + rise u - sag u (1 - u), sag = s^2/(2 R).");
     w.line("MUL ext.y, seg.w, eyealt.z;", "sag");
     w.line("SUB ext.x, alt.w, ext.y;");
@@ -484,9 +514,11 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
     // G extinction at the eye without the sag (the model's k_total), for the fitted profile.
     const double beta_g[2] = {std::max(double(frame.rayleigh_scattering.y), 1e-30),
                               std::max(double(frame.mie_extinction.y), 1e-30)};
-    const double k0 =
-        double(frame.rayleigh_scattering.y) * std::exp(-h0 * frame.inv_rayleigh_scale_height) +
+    const double k0_rayleigh =
+        double(frame.rayleigh_scattering.y) * std::exp(-h0 * frame.inv_rayleigh_scale_height);
+    const double k0_mie =
         double(frame.mie_extinction.y) * std::exp(-h0 * frame.inv_mie_scale_height);
+    const double k0 = k0_rayleigh + k0_mie;
     const double log2_k0 = std::log2(std::max(k0, 1e-300));
 
     const double sign = g < 0.0 ? -1.0 : 1.0;
@@ -512,6 +544,10 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
         p[kHeightRayleigh][c] = light * frame.rayleigh_scattering[i] * rayleigh_constant;
         p[kHeightMie][c] = light * frame.mie_scattering[i] * mie_constant;
     }
+    // The G extinction of each component at the eye (log2(e)^2 per metre), for the optical depth
+    // of height_exact_optical_depth; in the w of two vectors whose w is otherwise unused.
+    p[kHeightRayleigh][3] = kLog2E * kLog2E * k0_rayleigh;
+    p[kHeightMie][3] = kLog2E * kLog2E * k0_mie;
     const double abs_g = std::abs(g);
     p[kHeightPhase] = {abs_g, 0.25, (1.0 - abs_g) * (1.0 - abs_g), -1.0};
     p[kHeightSunColumn] = {kLog2E * lf[0], kLog2E * lf[1],

@@ -1385,12 +1385,16 @@ TEST(ArbHeightProgram, AgainstTheReferenceModelItErrsLikeTheCpuHeightModel) {
     // the same exposure: where the program departs from the CPU model, how far is either from
     // the truth? Eyes up to 10 km, rays up to 30 km, sun 5 to 60 deg.
     const auto program = height::program();
+    ArbProgramOptions exact_options;
+    exact_options.height_exact_optical_depth = true;
+    exact_options.limits.max_instructions = 256;
+    const auto exact = height::program(exact_options);
     height::Grid grid;
     grid.eyes = {{0, 0, 2}, {0, 0, 1000}, {0, 0, 10000}};
     grid.distances = {1e3, 1e4, 3e4};
     grid.azimuths = 2;
     for (const char* name : {"earth", "hazy", "foggy", "mars"}) {
-        height::Worst arb, cpu;
+        height::Worst arb, cpu, arb_exact;
         for (const glm::dvec3& eye : grid.eyes) {
             for (double sun : {5.0, 20.0, 60.0}) {
                 const height::Case k = height::make_case(name, eye, sun, grid);
@@ -1408,15 +1412,19 @@ TEST(ArbHeightProgram, AgainstTheReferenceModelItErrsLikeTheCpuHeightModel) {
                     }
                     const std::string where = height::describe(k, k.vertices[i]);
                     arb.add(height::lsb_against(r, truth, k.exposure).in_scattering, where);
+                    const ArbResults e =
+                        aerial::run_arb_program(exact, m, vertex_at(glm::vec3(k.vertices[i])));
+                    arb_exact.add(height::lsb_against(e, truth, k.exposure).in_scattering, where);
                     cpu.add(model, where);
                 }
             }
         }
         std::printf(
             "[ info     ] L_in vs reference, %-6s %ld vertices: program max %3d LSB (%5.1f%% "
-            "> 1), CPU height model max %3d LSB (%5.1f%% > 1); program worst at %s\n",
-            name, arb.vertices, arb.lsb, arb.percent_over_one(), cpu.lsb, cpu.percent_over_one(),
-            arb.where.c_str());
+            "> 1), with exact optical depth %3d LSB (%5.1f%% > 1), CPU height model max %3d LSB "
+            "(%5.1f%% > 1); program worst at %s\n",
+            name, arb.vertices, arb.lsb, arb.percent_over_one(), arb_exact.lsb,
+            arb_exact.percent_over_one(), cpu.lsb, cpu.percent_over_one(), arb.where.c_str());
         for (const HeightReferenceBound& bound : kHeightReferenceLsb) {
             if (std::string(name) == bound.preset) {
                 EXPECT_LE(arb.lsb, bound.lsb) << arb.where;

@@ -24,8 +24,9 @@ constexpr const char* kDescription =
     "  x,y,z,fex_r,fex_g,fex_b,lin_r,lin_g,lin_b,esun_r,esun_g,esun_b\n"
     "esun is the sun irradiance reaching the point in that model. Vector flags take X,Y,Z; write\n"
     "--eye=X,Y,Z when a value is negative. Exit status: 0 on success, 2 on bad input.\n"
-    "--print-arb-program prints the ARB vertex program of the hoffman-preetham model exactly as\n"
-    "it is handed to glProgramStringARB (no other flag is needed) and exits.";
+    "--print-arb-program prints the ARB vertex program of --model (hoffman-preetham, the default\n"
+    "here, or height) exactly as it is handed to glProgramStringARB (no other flag is needed) and\n"
+    "exits; reference has no program.";
 
 }  // namespace
 
@@ -52,13 +53,18 @@ int main(int argc, char** argv) {
     if (auto status = tools::parse_command_line(app, argc, argv, kTool)) return *status;
 
     if (print_arb_program) {
-        if (model_opt->count() > 0 && model_text != model_name(Model::hoffman_preetham)) {
-            return tools::fail(kTool,
-                               "--model: the ARB vertex program exists for "
-                               "hoffman-preetham only, got '" +
-                                   model_text + "'");
+        ArbProgramOptions options;  // the defaults: program.local[0...], one texture unit
+        if (model_opt->count() > 0) {
+            auto model = parse_model(model_text);
+            if (!model) return tools::fail(kTool, "--model: " + model.error().message);
+            if (*model == Model::reference) {
+                return tools::fail(kTool,
+                                   "--model: the ARB vertex program exists for hoffman-preetham "
+                                   "and height, got 'reference'");
+            }
+            options.model = *model;
         }
-        const auto program = generate_arb_program();
+        const auto program = generate_arb_program(options);
         if (!program) return tools::fail(kTool, program.error().message);
         const std::string& text = program->text;
         if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() ||

@@ -16,6 +16,7 @@
 
 namespace {
 
+using aerial::test::kExitBadInput;
 using aerial::test::RunResult;
 
 constexpr const char* kBinary = AERIAL_EVAL_PATH;
@@ -341,6 +342,29 @@ TEST_F(AerialEval, AcceptsEveryPresetName) {
 }
 
 // ---- bad input: exit 2, one stderr line naming the culprit, nothing on stdout ---------------
+
+TEST_F(AerialEval, PrintsTheArbProgramOfTheChosenModel) {
+    // The default is the 2002 model; --model height prints the height program; both are complete
+    // programs (header to END) that differ; reference has none and is refused with one line.
+    const RunResult plain = run({"--print-arb-program"});
+    const RunResult hp = run({"--print-arb-program", "--model", "hoffman-preetham"});
+    const RunResult height = run({"--print-arb-program", "--model=height"});
+    for (const RunResult* r : {&plain, &hp, &height}) {
+        EXPECT_EQ(r->exit_code, 0) << r->err;
+        EXPECT_EQ(r->err, "");
+        EXPECT_EQ(r->out.rfind("!!ARBvp1.0\n", 0), 0u) << r->out;
+        ASSERT_GE(r->out.size(), 4u);
+        EXPECT_EQ(r->out.substr(r->out.size() - 4), "END\n");
+    }
+    EXPECT_EQ(plain.out, hp.out);
+    EXPECT_NE(height.out, hp.out);
+    EXPECT_NE(height.out.find("height model"), std::string::npos) << height.out;
+    const RunResult reference = run({"--print-arb-program", "--model", "reference"});
+    EXPECT_EQ(reference.exit_code, kExitBadInput);
+    EXPECT_EQ(reference.out, "");
+    EXPECT_EQ(std::count(reference.err.begin(), reference.err.end(), '\n'), 1) << reference.err;
+    EXPECT_EQ(reference.err.rfind("aerial-eval: --model:", 0), 0u) << reference.err;
+}
 
 TEST_F(AerialEval, RejectsMissingEyeNamingTheFlag) {
     EXPECT_TRUE(rejected_naming(run({"--preset", "earth", "--sun=0,0,1"}, kPoints), {"--eye"}));

@@ -1,12 +1,13 @@
-// aerial/arb_program.hpp — the 2002 model as an ARB vertex program (`!!ARBvp1.0` text), its
-// per-frame parameters, and a CPU interpreter of that text. Nothing here calls GL.
+// aerial/arb_program.hpp — the hoffman-preetham and height models as ARB vertex programs
+// (`!!ARBvp1.0` text), their per-frame parameters, and a CPU interpreter of that text. Nothing
+// here calls GL.
 //
 // How to use this:
 //   1. Once: `auto program = aerial::generate_arb_program(options);` and hand `program->text` as
 //      it is to glProgramStringARB(GL_VERTEX_PROGRAM_ARB, GL_PROGRAM_FORMAT_ASCII_ARB, ...).
-//   2. Per frame: `auto frame = aerial::prepare_frame<float>(atmosphere, view,
-//      aerial::Model::hoffman_preetham);` then `auto p = aerial::arb_program_parameters(*frame,
-//      display, options);` and upload p[i] to program.local[options.parameter_base + i]
+//   2. Per frame: `auto frame = aerial::prepare_frame<float>(atmosphere, view, options.model);`
+//      then `auto p = aerial::arb_program_parameters(*frame, display, options);` and upload p[i]
+//      (arb_parameter_count(options.model) vectors) to program.local[options.parameter_base + i]
 //      (glProgramLocalParameter4fvARB) or program.env[...] (glProgramEnvParameter4fvARB).
 //   3. Draw with the program bound and enabled, texture env MODULATE and GL_COLOR_SUM on: the
 //      primary colour is F_ex (it modulates the texture), the secondary colour is L_in with the
@@ -56,11 +57,14 @@ inline constexpr int kArbMaxTexcoordUnits = 8;
 
 /// Options of generate_arb_program and arb_program_parameters (use the same for both).
 struct ArbProgramOptions {
-    Model model = Model::hoffman_preetham;  ///< the only model with an ARB program so far
+    /// hoffman_preetham (22 instructions) or height (127; approximations listed at
+    /// kArbHeightParameterCount). `reference` has no program.
+    Model model = Model::hoffman_preetham;
     ParameterSpace parameter_space = ParameterSpace::local;
     int parameter_base = 0;  ///< index of the first parameter, >= 0
     /// Texture units whose coordinates are copied unchanged to the rasteriser (units 0 .. n-1),
-    /// 0 .. kArbMaxTexcoordUnits. Outputs a program does not write are undefined.
+    /// 0 .. kArbMaxTexcoordUnits (the height program fits the spec minimum of 128 instructions
+    /// with at most 2). Outputs a program does not write are undefined.
     int texcoord_units = 1;
     /// `OPTION ARB_position_invariant`: GL transforms the position exactly as the fixed pipeline
     /// does (needed when passes with and without the program are mixed); saves 4 instructions.
@@ -71,12 +75,19 @@ struct ArbProgramOptions {
     /// between its series bounds 1 - tau + tau^2/2 - tau^3/6 <= F_ex <= 1 - tau + tau^2/2, which
     /// keeps L_in within 1 LSB at any exposure. Costs 7 instructions (29 by default); not
     /// needed where EX2 is full precision (Mesa computes it in float; Direct3D asks 21 bits of
-    /// the vertex-shader exp that the same hardware runs).
+    /// the vertex-shader exp that the same hardware runs). hoffman-preetham only; the height
+    /// program ignores it.
     bool guard_coarse_ex2 = false;
+    /// height only: weights the sunlight points by the exact optical depth to them, as the CPU
+    /// model does (see kArbHeightParameterCount). 23 more instructions (150 by default): beyond
+    /// the spec minimum of 128, so raise `limits` to the driver's MAX_PROGRAM_NATIVE_INSTRUCTIONS
+    /// (256 on Direct3D 9-class hardware) or generation fails naming "instructions".
+    bool height_exact_optical_depth = false;
     ArbLimits limits;  ///< checked by generate_arb_program
 };
 
-/// How many program.local / program.env vectors the program reads, starting at parameter_base.
+/// How many program.local / program.env vectors the hoffman-preetham program reads, starting at
+/// parameter_base.
 ///
 /// Layout (index relative to parameter_base; x, y, z are the R, G, B channels where it applies):
 ///   0  eye        xyz: eye position, engine units;  w: 1 - 2^-20 (vertex.w - eye.w = 2^-20
@@ -91,6 +102,48 @@ struct ArbProgramOptions {
 /// 1e-12 * (largest channel) and 1e-30 /m, so that a channel without extinction stays finite (see
 /// arb_program_parameters). The program also declares the constant { 2, -1.5, 0, 0 }.
 inline constexpr int kArbParameterCount = 6;
+
+/// How many parameter vectors the `height` program reads, starting at parameter_base.
+///
+/// Layout (index relative to parameter_base; lengths in metres, log2 = base-2 logarithm):
+///   0  eye        xyz: eye position in metres (View::eye * meters_per_unit);  w: 1 - 2^-20
+///   1  scale      (meters_per_unit, meters_per_unit, meters_per_unit, 1)
+///   2  sun        xyz: sun_dir, negated when g < 0;  w: 0
+///   3  centre     xyz: 2 c, c = eye + R up (from the planet centre to the eye);
+///                 w: |eye|^2 + 2 R eye.up (m^2)
+///   4  planet     (R^2, R, frame.min_altitude_m, 1 / meters_per_unit)
+///   5  eye alt.   (frame.eye_altitude_m, 1/(12 R), 1/(2 R), unused)
+///   6  inverse H  log2(e) (-1/H_R, -1/H_M, 1/H_R, 1/H_M)
+///   7  extr       xyz: -log2(e) beta_R (<= -1e-30);  w: 0 (keeps the secondary alpha 0)
+///   8  extm       xyz: -log2(e) beta_M,extinction (<= -1e-30);  w: 0 (the same)
+///   9  rayleigh   xyz: log2(e)^2 exposure E_sun0 beta_R 3/(16 pi);
+///                 w: log2(e)^2 beta_R,G exp(-h0/H_R) (read with height_exact_optical_depth)
+///   10 mie        xyz: log2(e)^2 exposure E_sun0 beta_M (1 - g^2)/(4 pi);
+///                 w: log2(e)^2 beta_M,ext,G exp(-h0/H_M) (the same)
+///   11 phase      (|g|, 1/4, (1 - |g|)^2, -1)
+///   12 sun column x, y: log2(e) times the eye's log Chapman factors (frame.eye_log_chapman_*),
+///                 capped at 40 (a blocked sun becomes a column of e^40 H_i exp(-h/H_i));
+///                 z, w: log2(beta_i,G / k0) + 2^-10, k0 = G extinction at the eye
+/// The program computes what the CPU `height` model computes, F_ex exactly (within 1 LSB), L_in
+/// with three approximations that fit it into 128 instructions:
+///   - the quadrature weights use the fitted exponential extinction profile's Jacobian only,
+///     without the model's correction by the exact optical depth to each node (exp(tau_fit -
+///     tau)), which matters where two components with very different scale heights both carry
+///     optical depth (rays leaving or entering a haze or fog layer); height_exact_optical_depth
+///     adds it, beyond 128 instructions;
+///   - the sun's column factors are the eye's along the whole segment (the model interpolates to
+///     the vertex's), which matters at a low sun on long rays;
+///   - no per-node planet shadow: a sun below the eye's horizon is treated as blocked (the model
+///     lights the parts of the segment that still see it: twilight is dark).
+/// README ("ARB vertex program") gives the measured error against the CPU and reference models.
+inline constexpr int kArbHeightParameterCount = 13;
+
+/// kArbParameterCount or kArbHeightParameterCount (0 for a model without a program).
+constexpr int arb_parameter_count(Model model) {
+    return model == Model::hoffman_preetham ? kArbParameterCount
+           : model == Model::height         ? kArbHeightParameterCount
+                                            : 0;
+}
 
 /// What a program uses, counted as the spec counts it (section 2.14.3.7).
 struct ArbResources {
@@ -108,15 +161,15 @@ struct ArbProgram {
     ArbProgramOptions options;  ///< what it was generated with
 };
 
-/// Generates the program for options.model. Errors name the field: "model" (only
-/// hoffman-preetham has a program), "parameter_base", "texcoord_units", or the exceeded limit
-/// ("instructions", "temporaries", "parameters", "attributes").
+/// Generates the program for options.model. Errors name the field: "model" (reference has no
+/// program), "parameter_base", "texcoord_units", or the exceeded limit ("instructions",
+/// "temporaries", "parameters", "attributes").
 Result<ArbProgram> generate_arb_program(const ArbProgramOptions& options = {});
 
-/// The kArbParameterCount parameter vectors of one frame (element i goes to index
-/// options.parameter_base + i; layout above). Requires frame.model == hoffman_preetham, a finite
-/// display.exposure > 0 and display.tone == ToneCurve::clamp (GL clamps the secondary colour;
-/// the exponential curve has no room in the program). Every value is finite.
+/// The arb_parameter_count(options.model) parameter vectors of one frame (element i goes to
+/// index options.parameter_base + i; layouts above). Requires frame.model == options.model, a
+/// finite display.exposure > 0 and display.tone == ToneCurve::clamp (GL clamps the secondary
+/// colour; the exponential curve has no room in the program). Every value is finite.
 ///
 /// Extinction close to 0: the program computes L_in = A (1 - 2^(k s)) with A proportional to
 /// beta_sc / beta_ex, which is <= 1 and never overflows; only beta_ex = 0 (0/0) needs care, so
@@ -140,8 +193,8 @@ std::optional<Error> check_arb_limits(const ArbResources& resources, const ArbLi
 /// ARB_position_invariant; ATTRIB (vertex.position, vertex.texcoord[n]); PARAM (program.local[i],
 /// program.env[i], state.matrix.mvp[.row[i]], constants); TEMP; OUTPUT (result.position,
 /// result.color[.primary|.secondary], result.fogcoord, result.texcoord[n]); the instructions
-/// MOV ADD SUB MUL MAD DP3 DP4 DPH MIN MAX SWZ EX2 LG2 EXP LOG RCP RSQ POW with swizzles, write
-/// masks and negation; `#` comments. Anything else (ARL, ALIAS, LIT, ...) is a parse error.
+/// MOV ADD SUB MUL MAD DP3 DP4 DPH MIN MAX SGE SLT SWZ EX2 LG2 EXP LOG RCP RSQ POW with swizzles,
+/// write masks and negation; `#` comments. Anything else (ARL, ALIAS, LIT, ...) is a parse error.
 struct ArbCpuProgramData;  // the parsed instructions and bindings (arb_interpreter.cpp)
 struct ArbCpuProgram {
     std::shared_ptr<const ArbCpuProgramData> data;

@@ -35,6 +35,8 @@ enum class Opcode {
     dph,
     min,
     max,
+    sge,
+    slt,
     swz,
     ex2,
     lg2,
@@ -73,6 +75,8 @@ constexpr OpcodeInfo kOpcodes[] = {
     {"DPH", Opcode::dph, Form::vector2, 0},
     {"MIN", Opcode::min, Form::vector2, 0},
     {"MAX", Opcode::max, Form::vector2, 0},
+    {"SGE", Opcode::sge, Form::vector2, 0},
+    {"SLT", Opcode::slt, Form::vector2, 0},
     {"SWZ", Opcode::swz, Form::swizzle, 0},
     {"EX2", Opcode::ex2, Form::scalar1, kArbApproxEx2},
     {"LG2", Opcode::lg2, Form::scalar1, kArbApproxLg2},
@@ -981,7 +985,9 @@ ArbResults run_arb_program(const ArbCpuProgram& program, const ArbMachine& machi
             case Opcode::sub:
             case Opcode::mul:
             case Opcode::min:
-            case Opcode::max: {
+            case Opcode::max:
+            case Opcode::sge:
+            case Opcode::slt: {
                 const Vec4 a = vector_load(m, src[0]), b = vector_load(m, src[1]);
                 for (std::size_t i = 0; i < 4; ++i) {
                     switch (ins.info->opcode) {
@@ -996,6 +1002,12 @@ ArbResults run_arb_program(const ArbCpuProgram& program, const ArbMachine& machi
                             break;
                         case Opcode::min:
                             r[i] = a[i] > b[i] ? b[i] : a[i];
+                            break;
+                        case Opcode::sge:
+                            r[i] = a[i] >= b[i] ? 1.0f : 0.0f;
+                            break;
+                        case Opcode::slt:
+                            r[i] = a[i] < b[i] ? 1.0f : 0.0f;
                             break;
                         default:
                             r[i] = a[i] > b[i] ? a[i] : b[i];

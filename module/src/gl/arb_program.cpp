@@ -1,6 +1,6 @@
-// The ARB vertex program of the hoffman-preetham model, its per-frame parameters and the resource
-// limit check. The program is counted by parsing its own text (arb_interpreter.cpp), so that the
-// figures always describe what GL receives.
+// The ARB vertex programs of the hoffman-preetham and height models, their per-frame parameters
+// and the resource limit check. The program is counted by parsing its own text
+// (arb_interpreter.cpp), so that the figures always describe what GL receives.
 //
 // What the program computes per vertex (d = vertex - eye in engine units, s = |d|, y ~ 1/s from
 // RSQ, u = d y - sun):
@@ -44,22 +44,24 @@ enum ParameterIndex { kEye, kSun, kExtinction, kRayleigh, kMie, kPhase };
 
 std::optional<Error> validate_options(const ArbProgramOptions& o, const char* function) {
     const std::string fn = std::string("aerial::") + function + "(): ";
-    if (o.model != Model::hoffman_preetham) {
-        return Error{"model", "model: " + fn + "only hoffman-preetham has an ARB program, got " +
+    if (o.model != Model::hoffman_preetham && o.model != Model::height) {
+        return Error{"model", "model: " + fn +
+                                  "only hoffman-preetham and height have an ARB program, got " +
                                   std::string(model_name(o.model))};
     }
+    const int count = arb_parameter_count(o.model);
     if (o.parameter_base < 0) {
         return Error{"parameter_base", "parameter_base: " + fn + "expected >= 0, got " +
                                            std::to_string(o.parameter_base)};
     }
-    if (o.parameter_base + kArbParameterCount > o.limits.max_parameters) {
+    if (o.parameter_base + count > o.limits.max_parameters) {
         return Error{"parameter_base",
                      "parameter_base: " + fn + "the program reads indices " +
                          std::to_string(o.parameter_base) + " to " +
-                         std::to_string(o.parameter_base + kArbParameterCount - 1) +
-                         ", beyond the " + std::to_string(o.limits.max_parameters) +
+                         std::to_string(o.parameter_base + count - 1) + ", beyond the " +
+                         std::to_string(o.limits.max_parameters) +
                          " program parameters (MAX_PROGRAM_PARAMETERS_ARB); expected at most " +
-                         std::to_string(o.limits.max_parameters - kArbParameterCount)};
+                         std::to_string(o.limits.max_parameters - count)};
     }
     if (o.texcoord_units < 0 || o.texcoord_units > kArbMaxTexcoordUnits) {
         return Error{"texcoord_units", "texcoord_units: " + fn + "expected 0 to " +
@@ -174,6 +176,386 @@ std::string program_text(const ArbProgramOptions& o) {
     return w.str();
 }
 
+/// The parameters rounded to float; an error names the first one out of float range.
+Result<std::vector<std::array<float, 4>>> to_float_parameters(
+    const std::vector<std::array<double, 4>>& p) {
+    std::vector<std::array<float, 4>> out(p.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        for (std::size_t j = 0; j < 4; ++j) {
+            const float v = static_cast<float>(p[i][j]);
+            if (!std::isfinite(v)) {
+                return Error{"frame", "frame: aerial::arb_program_parameters(): parameter " +
+                                          std::to_string(i) + " component " + std::to_string(j) +
+                                          " is " + std::to_string(p[i][j]) +
+                                          ", beyond float range (eye or meters_per_unit too "
+                                          "large?)"};
+            }
+            out[i][j] = v;
+        }
+    }
+    return out;
+}
+
+/// Indices of the height program's parameters, relative to parameter_base (layout in
+/// arb_program.hpp).
+enum HeightParameterIndex {
+    kHeightEye,
+    kHeightScale,
+    kHeightSun,
+    kHeightCentre,
+    kHeightPlanet,
+    kHeightEyeAltitude,
+    kHeightInverseScaleHeights,
+    kHeightRayleighExtinction,
+    kHeightMieExtinction,
+    kHeightRayleigh,
+    kHeightMie,
+    kHeightPhase,
+    kHeightSunColumn,
+    kHeightParameterCount
+};
+static_assert(kHeightParameterCount == kArbHeightParameterCount, "layout and count disagree");
+
+/// 3-point Gauss-Legendre nodes and weights on [0, 1] (the height model's kSunNodes/kSunWeights).
+constexpr double kGaussNodes[3] = {0.11270166537925831148, 0.5, 0.88729833462074168852};
+constexpr double kGaussWeights[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+/// phi(x) = (1 - e^-x)/x is taken from its series below x = kSeriesLimit and from the quotient
+/// above it (the quotient loses 2^-24 / x to rounding, 2^-11 / x with a coarse EX2).
+constexpr double kSeriesLimit = 0.25;
+/// The slope b of the fitted extinction profile (log2 units over the segment) is kept at least
+/// this far from 0, where the node placement would divide 0 by 0; a shift this small moves the
+/// nodes by < 1e-3 of the segment.
+constexpr double kMinFitSlope = 1.0 / 1024.0;
+/// The height model clamps its fitted slope to +-80 (natural units) and so does the program (from
+/// above; below it the float range suffices).
+constexpr double kMaxFitSlope = 80.0;
+/// Below this log factor (natural units) the sun column at the eye is used as it is; a blocked sun
+/// (factor >= 80) or a larger one is capped here: e^(40 + 40) still fits a float, and a column of
+/// e^40 H_i exp(-h/H_i) puts the sun out up to 100 km.
+constexpr double kMaxLogColumnFactor = 40.0;
+
+/// (1 - e^-x)/x in double.
+double one_minus_exp_over_x(double x) { return x == 0.0 ? 1.0 : -std::expm1(-x) / x; }
+
+// The height program. Per vertex, like height_model() in scattering.cpp (metres; d = p - eye,
+// s = |d|, the G channel drives the quadrature):
+//   h1 = n / (|p - centre| + R), n = |p|^2 + 2 R p.up (from the eye's n: no cancellation);
+//   rho_i = exp(-h_low/H_i) phi(|h1 - h0|/H_i), h_low = min(h0, h1) - s^2/(12 R),
+//     phi(x) = (1 - e^-x)/x as S(min(x, c)) + Q(max(x, c)) - phi(c): the series S is right below
+//     c, the quotient Q above it, and neither needs a branch (c = 0.25);
+//   F_ex = exp(-beta s), beta = beta_R rho_R + beta_M rho_M per channel;
+//   the fitted G profile k0 exp(-a u), a = ln(k0 / k(h1)) (b = a log2(e), kept >= 2^-10 from 0);
+//   nodes y_n (3-point Gauss) in the share of the attenuation: f_n = -ln(1 - y_n (1 - F_G))/tau_G,
+//     u_n = -ln(1 - f_n (1 - e^-a))/a, altitude h_n = h0 + (h1 - h0) u_n - sag u_n (1 - u_n);
+//   weights W_n rho_i(h_n) e^(a u_n), sun transmittance at each node from the eye's Chapman
+//     factors and the node's densities;
+//   L_in = E0 s phi(tau_c) phi(a) sum_i beta_i P_i sum_n weight_in T_n (exposure in the params).
+// What the model does and the program does not (128 instructions): the weights' correction by
+// exp(tau_fit(u_n) - tau(u_n)) (about 20 instructions: six more EX2 and a guarded division), the
+// sun column factors interpolated to the vertex (an erfcx and its below-horizon branch, about 30)
+// and the planet-shadow test per node (about 10). Budget: 4 transform, 6 distance and fog, 3
+// phase, 12 altitude, 17 densities, 8 fit, 11 F_ex, 14 nodes, 6 node altitudes, 9 weights,
+// 8 columns, 21 transmittance sums, 6 L_in, 1 per texture unit: 127 with one unit.
+std::string height_program_text(const ArbProgramOptions& o) {
+    const std::string space = o.parameter_space == ParameterSpace::local ? "local" : "env";
+    const auto param = [&](int i) {
+        return "program." + space + "[" + std::to_string(o.parameter_base + i) + "]";
+    };
+    const auto vec = [](double a, double b, double c, double d) {
+        return "{ " + format_float(a) + ", " + format_float(b) + ", " + format_float(c) + ", " +
+               format_float(d) + " }";
+    };
+    const double ln2 = std::log(2.0);
+    ProgramWriter w;
+    w.line("!!ARBvp1.0");
+    if (o.position_invariant) w.line("OPTION ARB_position_invariant;");
+    w.comment("aerial: aerial perspective per vertex, height model: exponential Rayleigh and Mie");
+    w.comment("profiles averaged along the segment, sunlight at 3 points of it. Generated by");
+    w.comment("aerial::generate_arb_program; parameters from aerial::arb_program_parameters, once");
+    w.comment("per frame.");
+    w.comment("In:  vertex.position = world position in engine units, w = 1.");
+    w.comment("Out: primary = F_ex (extinction; a = 1), secondary = L_in (in-scattering, exposure");
+    w.comment("     applied), fogcoord = distance eye -> vertex (engine units).");
+    w.line("ATTRIB pos = vertex.position;");
+    if (!o.position_invariant) w.line("PARAM mvp[4] = { state.matrix.mvp };");
+    w.line("PARAM eye = " + param(kHeightEye) + ";", "eye (m); w = 1 - 2^-20");
+    w.line("PARAM scale = " + param(kHeightScale) + ";", "(m per unit x3, 1)");
+    w.line("PARAM sun = " + param(kHeightSun) + ";", "towards the sun (away if g < 0); w = 0");
+    w.line("PARAM centre = " + param(kHeightCentre) + ";", "(2 c, |eye|^2 + 2 R eye.up)");
+    w.line("PARAM planet = " + param(kHeightPlanet) + ";", "(R^2, R, lowest altitude, units/m)");
+    w.line("PARAM eyealt = " + param(kHeightEyeAltitude) + ";", "(h0, 1/(12 R), 1/(2 R), 0)");
+    w.line("PARAM inv = " + param(kHeightInverseScaleHeights) + ";",
+           "(-1, -1, 1, 1) log2(e) / (H_R, H_M)");
+    w.line("PARAM extr = " + param(kHeightRayleighExtinction) + ";", "-log2(e) beta_R; w = 0");
+    w.line("PARAM extm = " + param(kHeightMieExtinction) + ";", "-log2(e) beta_M,ext; w = 0");
+    w.line("PARAM ray = " + param(kHeightRayleigh) + ";", "log2(e)^2 E0 beta_R 3/(16 pi)");
+    w.line("PARAM mie = " + param(kHeightMie) + ";", "log2(e)^2 E0 beta_M (1 - g^2)/(4 pi)");
+    w.line("PARAM hg = " + param(kHeightPhase) + ";", "(|g|, 1/4, (1 - |g|)^2, -1)");
+    w.line("PARAM sky = " + param(kHeightSunColumn) + ";", "log2 sun column factors, fit offsets");
+    const double c = kSeriesLimit * kLog2E;  // the limit in log2 units
+    w.line("PARAM num = " + vec(2.0, -1.5, c, kLog2E) + ";", "2, -1.5, series limit, log2(e)");
+    w.line(
+        "PARAM ser = " +
+            vec(std::pow(ln2, 4) / 120.0, -std::pow(ln2, 3) / 24.0, ln2 * ln2 / 6.0, -ln2 / 2.0) +
+            ";",
+        "series of (1 - 2^-y)/(y ln 2)");
+    w.line("PARAM cst = " +
+           vec(1.0 - one_minus_exp_over_x(kSeriesLimit), -1e-30, 1.0, -kMaxFitSlope * kLog2E) +
+           ";");
+    w.line("PARAM fit = " + vec(-kMinFitSlope, 2.0 * kMinFitSlope, 0.0, 0.0) + ";");
+    w.line("PARAM ynode = " + vec(kGaussNodes[0], kGaussNodes[1], kGaussNodes[2], 0.0) + ";",
+           "Gauss nodes in the attenuation share");
+    w.line("PARAM ynode1 = " +
+           vec(1.0 - kGaussNodes[0], 1.0 - kGaussNodes[1], 1.0 - kGaussNodes[2], 0.0) + ";");
+    w.line("PARAM logw = " +
+               vec(std::log2(kGaussWeights[0]), std::log2(kGaussWeights[1]),
+                   std::log2(kGaussWeights[2]), 0.0) +
+               ";",
+           "log2 of the Gauss weights");
+    w.line("TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc;");
+    if (!o.position_invariant) {
+        w.comment("Clip-space position.");
+        for (int row = 0; row < 4; ++row) {
+            w.line("DP4 result.position." + std::string(1, "xyzw"[row]) + ", mvp[" +
+                   std::to_string(row) + "], pos;");
+        }
+    }
+    w.comment("Segment d = vertex - eye (m), s = |d|, w = |d/s - sun|^2 = 2 (1 - cos theta).");
+    w.line("MAD seg, pos, scale, -eye;", "(d, 2^-20)");
+    w.line("DP4 seg.w, seg, seg;", "s^2 + 2^-40, never 0");
+    w.line("RSQ node.w, seg.w;", "1/s");
+    w.line("MAD view, seg, node.w, -sun;", "(d/s - sun, s)");
+    w.line("DP3 view.x, view, view;", "w");
+    w.line("MUL result.fogcoord.x, view.w, planet.w;", "s in engine units");
+    w.comment("Phase functions without their constants: view = (w, h^-1.5, 1 + c^2, s).");
+    w.line("MAD view.yz, view.x, hg.xxyx, hg.zzwz;", "h = 1 + g^2 - 2 g c, w/4 - 1");
+    w.line("MAD view.z, view.z, view.x, num.x;", "1 + c^2");
+    w.line("POW view.y, view.y, num.y;", "h^-1.5");
+    w.comment(
+        "Vertex altitude h1 = n / (|p - centre| + R), n = |p|^2 + 2 R p.up (no cancellation);");
+    w.comment("alt = (h1, ., h_low, h1 - h0), h_low = min(h0, h1) - s^2/(12 R) (the mean sag).");
+    w.line("DPH alt.x, seg, centre;", "2 d.c + n(eye)");
+    w.line("ADD alt.x, alt.x, seg.w;", "n");
+    w.line("ADD alt.y, alt.x, planet.x;", "|p - centre|^2");
+    w.line("RSQ alt.z, alt.y;");
+    w.line("MAD alt.y, alt.y, alt.z, planet.y;", "|p - centre| + R");
+    w.line("RCP alt.y, alt.y;");
+    w.line("MUL alt.x, alt.x, alt.y;");
+    w.line("MAX alt.x, alt.x, planet.z;", "h1, clamped like the density");
+    w.line("MIN alt.z, alt.x, eyealt.x;");
+    w.line("MAD alt.z, seg.w, -eyealt.y, alt.z;");
+    w.line("MAX alt.z, alt.z, planet.z;", "h_low");
+    w.line("SUB alt.w, alt.x, eyealt.x;", "rise");
+    w.comment(
+        "Path-averaged densities rho_i = exp(-h_low/H_i) phi(|rise|/H_i), phi(x) = (1-e^-x)/x:");
+    w.comment("its series below c plus the quotient above c, minus phi(c) (no branch).");
+    w.line("MUL work, alt.zzww, inv;", "(log2 e^(-h_low/H), y = rise log2(e)/H)");
+    w.line("MAX work.zw, work, -work;", "|y|");
+    w.line("MAX ext.zw, work, num.z;", "max(|y|, c)");
+    w.line("MIN work.zw, work, num.z;", "min(|y|, c)");
+    w.line("EX2 rho.x, work.x;");
+    w.line("EX2 rho.y, work.y;");
+    w.line("EX2 rho.z, -ext.z;");
+    w.line("EX2 rho.w, -ext.w;");
+    w.line("RCP ext.z, ext.z;");
+    w.line("RCP ext.w, ext.w;");
+    w.line("MAD ext.zw, -rho, ext, ext;", "quotient (1 - 2^-y)/y at max(|y|, c)");
+    w.line("MAD rho.zw, work, ser.x, ser.y;");
+    w.line("MAD rho.zw, rho, work, ser.z;");
+    w.line("MAD rho.zw, rho, work, ser.w;");
+    w.line("MAD rho.zw, rho, work, cst.x;", "series at min(|y|, c), minus phi(c)");
+    w.line("MAD rho.zw, ext, num.w, rho;", "phi");
+    w.line("MUL rho.xy, rho, rho.zwzw;", "rho_R, rho_M");
+    w.comment("Fitted extinction profile k0 exp(-a u) through the G extinction at both ends:");
+    w.comment("b = a log2(e) = log2(k0 / k(h1)), clamped like the model's, then kept off 0.");
+    w.line("MAD ext.xy, alt.x, inv, sky.zwzw;", "log2(beta_i exp(-h1/H_i) / k0) + eps");
+    w.line("EX2 ext.x, ext.x;");
+    w.line("EX2 ext.y, ext.y;");
+    w.line("ADD ext.x, ext.x, ext.y;");
+    w.line("LG2 ext.x, ext.x;", "eps - b");
+    w.line("MAX ext.x, ext.x, cst.w;");
+    w.line("SGE ext.y, -ext.x, fit.x;");
+    w.line("MAD alt.y, ext.y, fit.y, -ext.x;", "b, |b| >= eps");
+    w.comment("Extinction F_ex = exp(-beta s), beta = beta_R rho_R + beta_M rho_M per channel.");
+    w.line("MUL ext, extr, rho.x;");
+    w.line("MAD ext, extm, rho.y, ext;");
+    w.line("MUL ext, ext, view.w;", "log2 F_ex; w = 0");
+    w.line("MIN ext.xyz, ext, cst.y;", "never 0");
+    w.line("RCP sphi.xw, ext.x;");
+    w.line("RCP sphi.y, ext.y;");
+    w.line("RCP sphi.z, ext.z;");
+    w.line("EX2 work.xw, ext.x;");
+    w.line("EX2 work.y, ext.y;");
+    w.line("EX2 work.z, ext.z;");
+    w.line("SWZ result.color.primary, work, x, y, z, 1;");
+    w.comment(
+        "Sunlight points: Gauss nodes y_n in the share of the G attenuation. The share of the");
+    w.comment("optical depth f = -ln(1 - y (1 - F_G)) / tau_G, then the fitted profile's");
+    w.comment("u = -ln(1 - f (1 - 2^-b)) / (b ln 2).");
+    w.line("MAD node.xyz, ynode, work.y, ynode1;");
+    w.line("LG2 rho.x, node.x;");
+    w.line("LG2 rho.y, node.y;");
+    w.line("LG2 rho.z, node.z;", "-tau_fit log2(e)");
+    w.line("MUL node.xyz, rho, sphi.y;", "f");
+    w.line("MAD sphi, -work, sphi, sphi;", "(1 - F_ex) / log2(F_ex)");
+    w.line("EX2 ext.w, -alt.y;");
+    w.line("ADD ext.w, ext.w, hg.w;", "E = 2^-b - 1");
+    w.line("MAD node.xyz, node, ext.w, cst.z;");
+    w.line("LG2 node.x, node.x;");
+    w.line("LG2 node.y, node.y;");
+    w.line("LG2 node.z, node.z;", "-b u");
+    w.line("RCP ext.z, alt.y;", "1/b");
+    w.line("MUL work.xyz, node, -ext.z;", "u");
+    w.line("MUL ext.w, ext.w, ext.z;");
+    w.line("MUL ext.w, ext.w, view.w;", "s E/b = -s ln(2) phi(a)");
+    if (o.height_exact_optical_depth) {
+        w.comment("Exact optical depth to the points along the straight altitude profile,");
+        w.comment(
+            "tau(u) = sum_i s k_i0 (1 - 2^(-y_i u)) / (y_i ln 2), y_i = rise log2(e)/H_i kept off");
+        w.comment(
+            "0; the weights get exp(tau_fit - tau) (log2 units, k_i0 log2(e)^2 in ray.w, mie.w).");
+        w.line("MUL colm.xy, alt.w, inv.zwzw;", "y");
+        w.line("SGE colm.zw, colm.xyxy, fit.z;");
+        w.line("MAD colm.zw, colm, fit.y, fit.x;");
+        w.line("ADD colm.xy, colm, colm.zwzw;");
+        w.line("MAX colm.xy, colm, cst.w;", "y, |y| >= eps");
+        w.line("RCP colm.z, colm.x;");
+        w.line("RCP colm.w, colm.y;");
+        w.line("MUL colm.z, colm.z, ray.w;");
+        w.line("MUL colm.w, colm.w, mie.w;");
+        w.line("MUL colm.zw, colm, view.w;", "C_i = s k_i0 log2(e)^2 / y_i");
+        w.line("MUL colr.xyz, work, -colm.x;");
+        w.line("MUL acc.xyz, work, -colm.y;");
+        for (const char* reg : {"colr", "acc"}) {
+            for (char lane : {'x', 'y', 'z'}) {
+                const std::string r = std::string(reg) + "." + lane;
+                w.line("EX2 " + r + ", " + r + ";");
+            }
+        }
+        w.line("ADD ext.x, colm.z, colm.w;");
+        w.line("MAD colr.xyz, -colr, colm.z, ext.x;");
+        w.line("MAD colr.xyz, -acc, colm.w, colr;", "tau log2(e)");
+        w.line("ADD node.xyz, node, rho;");
+        w.line("ADD node.xyz, node, colr;", "-b u - (tau_fit - tau) log2(e)");
+    }
+    w.comment("Altitudes of the points, h0 + rise u - sag u (1 - u), sag = s^2/(2 R).");
+    w.line("MUL ext.y, seg.w, eyealt.z;", "sag");
+    w.line("SUB ext.x, alt.w, ext.y;");
+    w.line("MAD colm.xyz, work, ext.y, ext.x;");
+    w.line("MAD colm.xyz, colm, work, eyealt.x;");
+    w.line("MAX colm.xyz, colm, planet.z;", "h_n");
+    w.comment("Weights W_n rho_i(u_n) e^(a u_n) (the Jacobian of the fitted profile).");
+    w.line("SUB node.xyz, logw, node;");
+    w.line("MAD seg.xyz, colm, inv.x, node;");
+    w.line("MAD alt.xyz, colm, inv.y, node;");
+    for (const char* reg : {"seg", "alt"}) {
+        for (char lane : {'x', 'y', 'z'}) {
+            const std::string r = std::string(reg) + "." + lane;
+            w.line("EX2 " + r + ", " + r + ";");
+        }
+    }
+    w.comment("Sun columns at the points: the eye's Chapman factors, the points' densities.");
+    w.line("MAD colr.xyz, colm, inv.x, sky.x;");
+    w.line("MAD colm.xyz, colm, inv.y, sky.y;");
+    for (const char* reg : {"colr", "colm"}) {
+        for (char lane : {'x', 'y', 'z'}) {
+            const std::string r = std::string(reg) + "." + lane;
+            w.line("EX2 " + r + ", " + r + ";");
+        }
+    }
+    w.comment("Sun transmittance at each point, summed with the weights (node: R, acc: M).");
+    for (int n = 0; n < 3; ++n) {
+        const std::string lane(1, "xyz"[n]);
+        w.line("MUL work, extr, colr." + lane + ";");
+        w.line("MAD work, extm, colm." + lane + ", work;");
+        w.line("EX2 work.x, work.x;");
+        w.line("EX2 work.y, work.y;");
+        w.line("EX2 work.z, work.z;", "T at point " + std::to_string(n));
+        if (n == 0) {
+            w.line("MUL node, work, seg.x;");
+            w.line("MUL acc, work, alt.x;");
+        } else {
+            w.line("MAD node, work, seg." + lane + ", node;");
+            w.line("MAD acc, work, alt." + lane + ", acc;");
+        }
+    }
+    w.comment(
+        "L_in = E0 s phi(tau) phi(a) (beta_R P_R sum_R + beta_M P_M sum_M), exposure included.");
+    w.line("MUL colr.xy, view.zyzz, ext.w;");
+    w.line("MUL colm, ray, colr.x;");
+    w.line("MUL node, node, colm;");
+    w.line("MUL colm, mie, colr.y;");
+    w.line("MAD node, acc, colm, node;");
+    w.line("MUL result.color.secondary, node, sphi;");
+    if (o.texcoord_units > 0) w.comment("Texture coordinates, unchanged.");
+    for (int u = 0; u < o.texcoord_units; ++u) {
+        const std::string unit = "[" + std::to_string(u) + "]";
+        w.line("MOV result.texcoord" + unit + ", vertex.texcoord" + unit + ";");
+    }
+    w.line("END");
+    return w.str();
+}
+
+Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& frame,
+                                                            const Display& display) {
+    const glm::dvec3 up = frame.view.up;
+    const glm::dvec3 sun = frame.view.sun_dir;
+    const double mpu = frame.view.meters_per_unit;
+    const glm::dvec3 eye = frame.view.eye * mpu;  // metres
+    const double r = frame.planet_radius_m;
+    const double g = frame.mie_g;
+    const double exposure = display.exposure;
+    const glm::dvec3 centre = eye + r * up;  // from the planet centre to the eye
+    const double h0 = frame.eye_altitude_m;
+
+    // The sun column factors at the eye, capped (natural log units).
+    double lf[2] = {std::min(double(frame.eye_log_chapman_rayleigh), kMaxLogColumnFactor),
+                    std::min(double(frame.eye_log_chapman_mie), kMaxLogColumnFactor)};
+    // G extinction at the eye without the sag (the model's k_total), for the fitted profile.
+    const double beta_g[2] = {std::max(double(frame.rayleigh_scattering.y), 1e-30),
+                              std::max(double(frame.mie_extinction.y), 1e-30)};
+    const double k0_rayleigh =
+        double(frame.rayleigh_scattering.y) * std::exp(-h0 * frame.inv_rayleigh_scale_height);
+    const double k0_mie =
+        double(frame.mie_extinction.y) * std::exp(-h0 * frame.inv_mie_scale_height);
+    const double k0 = k0_rayleigh + k0_mie;
+    const double log2_k0 = std::log2(std::max(k0, 1e-300));
+
+    const double sign = g < 0.0 ? -1.0 : 1.0;
+    std::vector<std::array<double, 4>> p(kHeightParameterCount);
+    p[kHeightEye] = {eye.x, eye.y, eye.z, 1.0 - kEpsilon};
+    p[kHeightScale] = {mpu, mpu, mpu, 1.0};
+    p[kHeightSun] = {sign * sun.x, sign * sun.y, sign * sun.z, 0.0};
+    p[kHeightCentre] = {2.0 * centre.x, 2.0 * centre.y, 2.0 * centre.z,
+                        glm::dot(eye, eye) + 2.0 * r * glm::dot(eye, up)};
+    p[kHeightPlanet] = {r * r, r, frame.min_altitude_m, 1.0 / mpu};
+    p[kHeightEyeAltitude] = {h0, 1.0 / (12.0 * r), 1.0 / (2.0 * r), 0.0};
+    const double inv_r = frame.inv_rayleigh_scale_height, inv_m = frame.inv_mie_scale_height;
+    p[kHeightInverseScaleHeights] = {-kLog2E * inv_r, -kLog2E * inv_m, kLog2E * inv_r,
+                                     kLog2E * inv_m};
+    const double rayleigh_constant = 3.0 / (16.0 * kPi);
+    const double mie_constant = (1.0 - g * g) / (4.0 * kPi);
+    for (std::size_t c = 0; c < 3; ++c) {
+        const int i = static_cast<int>(c);
+        // Strictly negative, so that an overflowing column gives -inf, never 0 * inf.
+        p[kHeightRayleighExtinction][c] = std::min(-kLog2E * frame.rayleigh_scattering[i], -1e-30);
+        p[kHeightMieExtinction][c] = std::min(-kLog2E * frame.mie_extinction[i], -1e-30);
+        const double light = kLog2E * kLog2E * exposure * frame.sun_irradiance_top[i];
+        p[kHeightRayleigh][c] = light * frame.rayleigh_scattering[i] * rayleigh_constant;
+        p[kHeightMie][c] = light * frame.mie_scattering[i] * mie_constant;
+    }
+    // The G extinction of each component at the eye (log2(e)^2 per metre), for the optical depth
+    // of height_exact_optical_depth; in the w of two vectors whose w is otherwise unused.
+    p[kHeightRayleigh][3] = kLog2E * kLog2E * k0_rayleigh;
+    p[kHeightMie][3] = kLog2E * kLog2E * k0_mie;
+    const double abs_g = std::abs(g);
+    p[kHeightPhase] = {abs_g, 0.25, (1.0 - abs_g) * (1.0 - abs_g), -1.0};
+    p[kHeightSunColumn] = {kLog2E * lf[0], kLog2E * lf[1],
+                           std::log2(beta_g[0]) - log2_k0 + kMinFitSlope,
+                           std::log2(beta_g[1]) - log2_k0 + kMinFitSlope};
+    return to_float_parameters(p);
+}
+
 }  // namespace
 
 std::optional<Error> check_arb_limits(const ArbResources& r, const ArbLimits& limits,
@@ -207,7 +589,8 @@ std::optional<Error> check_arb_limits(const ArbResources& r, const ArbLimits& li
 Result<ArbProgram> generate_arb_program(const ArbProgramOptions& options) {
     if (auto e = validate_options(options, "generate_arb_program")) return *e;
     ArbProgram program;
-    program.text = program_text(options);
+    program.text =
+        options.model == Model::height ? height_program_text(options) : program_text(options);
     program.options = options;
     auto parsed = parse_arb_program(program.text);
     if (!parsed) {
@@ -228,11 +611,11 @@ Result<std::vector<std::array<float, 4>>> arb_program_parameters(const Frame<flo
                                                                  const Display& display,
                                                                  const ArbProgramOptions& options) {
     if (auto e = validate_options(options, "arb_program_parameters")) return *e;
-    if (frame.model != Model::hoffman_preetham) {
+    if (frame.model != options.model) {
         return Error{"frame.model",
-                     "frame.model: aerial::arb_program_parameters(): the ARB program computes "
-                     "hoffman-preetham, got a frame prepared for " +
-                         std::string(model_name(frame.model))};
+                     "frame.model: aerial::arb_program_parameters(): the ARB program computes " +
+                         std::string(model_name(options.model)) + " (options.model), got a frame " +
+                         "prepared for " + std::string(model_name(frame.model))};
     }
     if (!std::isfinite(display.exposure) || display.exposure <= 0.0f) {
         return Error{"display.exposure",
@@ -246,6 +629,8 @@ Result<std::vector<std::array<float, 4>>> arb_program_parameters(const Frame<flo
                      "exposure and GL clamps (ToneCurve::clamp); ToneCurve::exponential is not "
                      "available"};
     }
+
+    if (options.model == Model::height) return height_parameters(frame, display);
 
     const glm::dvec3 eye = frame.view.eye;  // engine units
     const glm::dvec3 sun = frame.view.sun_dir;
@@ -281,21 +666,7 @@ Result<std::vector<std::array<float, 4>>> arb_program_parameters(const Frame<flo
     const double abs_g = std::abs(g);
     p[kPhase] = {abs_g, 0.25, (1.0 - abs_g) * (1.0 - abs_g), -1.0};
 
-    std::vector<std::array<float, 4>> out(kArbParameterCount);
-    for (std::size_t i = 0; i < out.size(); ++i) {
-        for (std::size_t j = 0; j < 4; ++j) {
-            const float v = static_cast<float>(p[i][j]);
-            if (!std::isfinite(v)) {
-                return Error{"frame", "frame: aerial::arb_program_parameters(): parameter " +
-                                          std::to_string(i) + " component " + std::to_string(j) +
-                                          " is " + std::to_string(p[i][j]) +
-                                          ", beyond float range (eye or meters_per_unit too "
-                                          "large?)"};
-            }
-            out[i][j] = v;
-        }
-    }
-    return out;
+    return to_float_parameters(std::vector<std::array<double, 4>>(p.begin(), p.end()));
 }
 
 }  // namespace aerial

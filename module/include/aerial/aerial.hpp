@@ -15,3 +15,5 @@
 #include "aerial/error.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/scattering.hpp"
+#include "aerial/sky.hpp"
+#include "aerial/sun.hpp"

@@ -109,6 +109,13 @@ double min_density_altitude_m(const Atmosphere& atmosphere);
 template <class T>
 Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, Model model);
 
+/// The frame with its eye moved to `eye_m` (metres, world frame): the eye's altitude and the
+/// `height` model's sun factors there. For speed the 2002 model's exact E_sun is recomputed
+/// only when frame.model is hoffman_preetham (the only model that reads it). Used to chain the
+/// models along a long ray (aerial/sky.hpp).
+template <class T>
+Frame<T> frame_with_eye(const Frame<T>& frame, const glm::dvec3& eye_m);
+
 /// Vertices farther than this from the eye (m), or with a NaN or infinite coordinate, are not
 /// positions: `scatter` returns F_ex = 1, L_in = 0, E_sun = 0 for them (the batch API counts
 /// them; `evaluate` reports them as an error).

@@ -316,6 +316,37 @@ double min_density_altitude_m(const Atmosphere& a) {
                     -40.0 * std::min(a.rayleigh_scale_height_m, a.mie_scale_height_m));
 }
 
+namespace {
+
+/// The eye-dependent part of a frame; the exact E_sun at the eye (a numerical integration) only
+/// when asked.
+template <class T>
+void set_frame_eye(Frame<T>& f, const glm::dvec3& eye_m, bool exact_sun_irradiance) {
+    const Atmosphere& atmosphere = f.atmosphere;
+    f.eye_m = Vec3<T>(eye_m);
+    f.view.eye = eye_m / f.view.meters_per_unit;
+    const double eye_altitude = altitude_above_sphere(eye_m, f.view.up, atmosphere.planet_radius_m);
+    f.eye_altitude_m = std::max(T(eye_altitude), f.min_altitude_m);
+    const glm::dvec3 eye_from_centre = eye_m + f.view.up * atmosphere.planet_radius_m;
+    const double eye_cos_zenith =
+        glm::dot(eye_from_centre, f.view.sun_dir) / glm::length(eye_from_centre);
+    if (exact_sun_irradiance) {
+        f.sun_irradiance_eye = Vec3<T>(atmosphere.sun_irradiance *
+                                       sun_transmittance(atmosphere, eye_altitude, eye_cos_zenith));
+    }
+    const T min_h = f.min_altitude_m;
+    f.eye_log_chapman_rayleigh =
+        log_chapman_factor(f.eye_altitude_m, T(eye_cos_zenith), f.planet_radius_m,
+                           T(atmosphere.rayleigh_scale_height_m), min_h);
+    f.eye_log_chapman_mie =
+        log_chapman_factor(f.eye_altitude_m, T(eye_cos_zenith), f.planet_radius_m,
+                           T(atmosphere.mie_scale_height_m), min_h);
+    if (f.eye_log_chapman_mie >= T(kBlockedLogColumn))
+        f.eye_log_chapman_rayleigh = f.eye_log_chapman_mie;
+}
+
+}  // namespace
+
 template <class T>
 Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, Model model) {
     if (auto e = validate(atmosphere)) return *e;
@@ -343,22 +374,14 @@ Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, M
     f.min_altitude_m = T(min_density_altitude_m(atmosphere));
     f.sun_irradiance_top = Vec3<T>(atmosphere.sun_irradiance);
 
-    const double eye_altitude = altitude_above_sphere(eye_m, f.view.up, atmosphere.planet_radius_m);
-    f.eye_altitude_m = std::max(T(eye_altitude), f.min_altitude_m);
-    const glm::dvec3 eye_from_centre = eye_m + f.view.up * atmosphere.planet_radius_m;
-    const double eye_cos_zenith =
-        glm::dot(eye_from_centre, f.view.sun_dir) / glm::length(eye_from_centre);
-    f.sun_irradiance_eye = Vec3<T>(atmosphere.sun_irradiance *
-                                   sun_transmittance(atmosphere, eye_altitude, eye_cos_zenith));
-    const T min_h = f.min_altitude_m;
-    f.eye_log_chapman_rayleigh =
-        log_chapman_factor(f.eye_altitude_m, T(eye_cos_zenith), f.planet_radius_m,
-                           T(atmosphere.rayleigh_scale_height_m), min_h);
-    f.eye_log_chapman_mie =
-        log_chapman_factor(f.eye_altitude_m, T(eye_cos_zenith), f.planet_radius_m,
-                           T(atmosphere.mie_scale_height_m), min_h);
-    if (f.eye_log_chapman_mie >= T(kBlockedLogColumn))
-        f.eye_log_chapman_rayleigh = f.eye_log_chapman_mie;
+    set_frame_eye(f, eye_m, true);
+    return f;
+}
+
+template <class T>
+Frame<T> frame_with_eye(const Frame<T>& base, const glm::dvec3& eye_m) {
+    Frame<T> f = base;
+    set_frame_eye(f, eye_m, f.model == Model::hoffman_preetham);
     return f;
 }
 
@@ -405,6 +428,7 @@ Result<Scattering<double>> evaluate(const Atmosphere& atmosphere, const View& vi
     template Vec3<T> sun_transmittance_chapman<T>(const Frame<T>&, T, T);                          \
     template Scattering<T> hoffman_preetham_closed_form<T>(const Frame<T>&, T, T, const Vec3<T>&); \
     template Result<Frame<T>> prepare_frame<T>(const Atmosphere&, const View&, Model);             \
+    template Frame<T> frame_with_eye<T>(const Frame<T>&, const glm::dvec3&);                       \
     template Scattering<T> scatter<T>(const Frame<T>&, const Vec3<T>&);
 AERIAL_INSTANTIATE(float)
 AERIAL_INSTANTIATE(double)

@@ -1,0 +1,626 @@
+// The sky: methods along a view ray, the virtual sky dome of the 2002 talk, the per-vertex dome,
+// the CPU cubemap and its cache, the sun sprite, and measurements against `reference`.
+#include "aerial/sky.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "aerial/phase.hpp"
+#include "format.hpp"
+
+namespace aerial {
+namespace {
+
+using detail::format_number;
+using glm::dvec3;
+
+/// Distance along a ray from `origin` (frame centred on the planet) in unit direction `dir` to a
+/// sphere of radius r around the centre, the far root; negative when it misses.
+double exit_distance(const dvec3& origin, const dvec3& dir, double r) {
+    const double b = glm::dot(origin, dir);
+    const double c = glm::dot(origin, origin) - r * r;
+    const double disc = b * b - c;
+    if (disc < 0) return -1;
+    return -b + std::sqrt(disc);
+}
+
+/// Distance to the ground (sphere of the planet radius) along the ray, or -1 when the ray does
+/// not hit it in front of the origin.
+double ground_distance(const dvec3& origin, const dvec3& dir, double r) {
+    const double b = glm::dot(origin, dir);
+    const double c = glm::dot(origin, origin) - r * r;
+    const double disc = b * b - c;
+    if (disc < 0 || b >= 0) return -1;
+    const double t = -b - std::sqrt(disc);
+    return t > 0 ? t : -1;
+}
+
+/// Ray length from an eye at altitude h (planet-centred frame along +z) for a direction of
+/// elevation `elevation_rad`: to the atmosphere top, or to the ground below the horizon.
+double ray_length(const Atmosphere& a, double eye_altitude_m, const dvec3& dir_local) {
+    const dvec3 origin(0.0, 0.0, a.planet_radius_m + std::max(eye_altitude_m, 0.0));
+    const double ground = ground_distance(origin, dir_local, a.planet_radius_m);
+    if (ground > 0) return ground;
+    return std::max(exit_distance(origin, dir_local, a.atmosphere_radius_m), 0.0);
+}
+
+/// The table variable of the virtual dome: u = sign(e) sqrt(|e| / (pi/2)) in [-1, 1], dense near
+/// the horizon where the optical depth changes fastest.
+double dome_u(double elevation_rad) {
+    const double e = std::clamp(elevation_rad / (kPi / 2), -1.0, 1.0);
+    return e < 0 ? -std::sqrt(-e) : std::sqrt(e);
+}
+double dome_elevation(double u) { return (u < 0 ? -u * u : u * u) * (kPi / 2); }
+
+double elevation_of(const SkyContext& sky, const dvec3& dir) {
+    return std::asin(std::clamp(glm::dot(dir, sky.view.up), -1.0, 1.0));
+}
+
+glm::dvec3 display_8bit(const glm::dvec3& radiance, double exposure, ToneCurve curve) {
+    return tone_map(radiance, exposure, curve) * 255.0;
+}
+
+/// Rounded 8-bit display value (what a texel or a vertex colour holds).
+glm::dvec3 quantised(const glm::dvec3& display) {
+    return glm::dvec3(std::round(display.x), std::round(display.y), std::round(display.z));
+}
+
+}  // namespace
+
+std::string_view sky_method_name(SkyMethod method) {
+    switch (method) {
+        case SkyMethod::dome_hp:
+            return "dome-hp";
+        case SkyMethod::dome_hp_single:
+            return "dome-hp-single";
+        case SkyMethod::dome_height:
+            return "dome-height";
+        case SkyMethod::height_chained:
+            return "height-chained";
+        case SkyMethod::reference:
+            return "reference";
+    }
+    return "unknown";
+}
+
+const std::vector<SkyMethod>& all_sky_methods() {
+    static const std::vector<SkyMethod> methods{SkyMethod::dome_hp, SkyMethod::dome_hp_single,
+                                                SkyMethod::dome_height, SkyMethod::height_chained,
+                                                SkyMethod::reference};
+    return methods;
+}
+
+Result<SkyMethod> parse_sky_method(std::string_view name) {
+    for (SkyMethod m : all_sky_methods()) {
+        if (sky_method_name(m) == name) return m;
+    }
+    return Error{"sky_method",
+                 "sky_method '" + std::string(name) +
+                     "' is unknown; known methods: dome-hp, dome-hp-single, dome-height, "
+                     "height-chained, reference"};
+}
+
+double VirtualDome::radius_at(double elevation_rad) const {
+    const double n = double(radius_m.size() - 1);
+    const double x = (dome_u(elevation_rad) + 1.0) * 0.5 * n;
+    const std::size_t i = std::min(std::size_t(std::max(x, 0.0)), radius_m.size() - 2);
+    const double f = x - double(i);
+    return radius_m[i] * (1.0 - f) + radius_m[i + 1] * f;
+}
+
+Result<VirtualDome> fit_virtual_dome(const Atmosphere& atmosphere, double eye_altitude_m,
+                                     int samples) {
+    if (auto e = validate(atmosphere)) return *e;
+    if (samples < 3)
+        return Error{"samples", "samples must be >= 3, got " + std::to_string(samples)};
+    if (!std::isfinite(eye_altitude_m)) {
+        return Error{"eye_altitude_m",
+                     "eye_altitude_m must be finite, got " + format_number(eye_altitude_m)};
+    }
+    View view;
+    view.eye = {0.0, 0.0, eye_altitude_m};
+    ReferenceOptions no_sun;
+    no_sun.sun_attenuation = false;
+    // G channel: the one the 2002 dome's extinction is matched in (the eye is most sensitive
+    // there).
+    const double sea_level_extinction = atmosphere.extinction().y;
+    VirtualDome dome;
+    dome.radius_m.resize(std::size_t(samples));
+    for (int i = 0; i < samples; ++i) {
+        const double e = dome_elevation(-1.0 + 2.0 * i / (samples - 1));
+        const dvec3 dir(std::cos(e), 0.0, std::sin(e));
+        const double length = ray_length(atmosphere, eye_altitude_m, dir);
+        const Scattering<double> s =
+            reference_scattering(atmosphere, view, view.eye + dir * length, no_sun);
+        const double tau = -std::log(std::max(s.extinction.y, 1e-300));
+        dome.radius_m[std::size_t(i)] =
+            sea_level_extinction > 0 ? tau / sea_level_extinction : length;
+    }
+    return dome;
+}
+
+Result<SkyContext> prepare_sky(const Atmosphere& atmosphere, const View& view, SkyMethod method,
+                               const SkyOptions& options) {
+    if (options.segments < 1) {
+        return Error{"segments", "segments must be >= 1, got " + std::to_string(options.segments)};
+    }
+    View metres = view;
+    metres.eye = view.eye * view.meters_per_unit;
+    metres.meters_per_unit = 1.0;
+    const bool hp = method == SkyMethod::dome_hp || method == SkyMethod::dome_hp_single;
+    auto frame =
+        prepare_frame<double>(atmosphere, metres, hp ? Model::hoffman_preetham : Model::height);
+    if (!frame) return frame.error();
+    SkyContext sky;
+    sky.method = method;
+    sky.atmosphere = atmosphere;
+    sky.view = frame->view;
+    sky.eye_m = metres.eye;
+    sky.eye_altitude_m = altitude_above_sphere(metres.eye, sky.view.up, atmosphere.planet_radius_m);
+    sky.frame = *frame;
+    sky.segments = options.segments;
+    if (hp) {
+        auto dome = fit_virtual_dome(atmosphere, sky.eye_altitude_m);
+        if (!dome) return dome.error();
+        sky.dome = *dome;
+        // Mean over the upper hemisphere, uniform in solid angle (uniform in sin(elevation)).
+        constexpr int kSteps = 256;
+        double sum = 0;
+        for (int i = 0; i < kSteps; ++i) sum += sky.dome.radius_at(std::asin((i + 0.5) / kSteps));
+        sky.single_radius_m = sum / kSteps;
+    }
+    return sky;
+}
+
+double sky_ray_length_m(const SkyContext& sky, const dvec3& direction) {
+    const double e = elevation_of(sky, direction);
+    return ray_length(sky.atmosphere, sky.eye_altitude_m, dvec3(std::cos(e), 0.0, std::sin(e)));
+}
+
+glm::dvec3 sky_radiance(const SkyContext& sky, const dvec3& direction) {
+    const double len = glm::length(direction);
+    if (!(len > 0) || !std::isfinite(len)) return dvec3(0.0);
+    const dvec3 dir = direction / len;
+    const double cos_theta = glm::dot(dir, sky.view.sun_dir);
+    switch (sky.method) {
+        case SkyMethod::dome_hp:
+        case SkyMethod::dome_hp_single: {
+            const double s = sky.method == SkyMethod::dome_hp
+                                 ? sky.dome.radius_at(elevation_of(sky, dir))
+                                 : sky.single_radius_m;
+            return hoffman_preetham_closed_form(sky.frame, s, cos_theta,
+                                                sky.frame.sun_irradiance_eye)
+                .in_scattering;
+        }
+        case SkyMethod::dome_height:
+            return scatter(sky.frame, sky.eye_m + dir * sky_ray_length_m(sky, dir)).in_scattering;
+        case SkyMethod::height_chained: {
+            const double length = sky_ray_length_m(sky, dir);
+            dvec3 radiance(0.0), transmittance(1.0);
+            dvec3 start = sky.eye_m;
+            for (int i = 1; i <= sky.segments; ++i) {
+                // Quadratic spacing: short pieces near the eye, where density changes fastest
+                // along near-horizontal rays and where the attenuation of the rest is set.
+                const double f = double(i) / sky.segments;
+                const dvec3 end = sky.eye_m + dir * (length * f * f);
+                const Frame<double> piece = i == 1 ? sky.frame : frame_with_eye(sky.frame, start);
+                const Scattering<double> s = scatter(piece, end);
+                radiance += transmittance * s.in_scattering;
+                transmittance *= s.extinction;
+                start = end;
+            }
+            return radiance;
+        }
+        case SkyMethod::reference: {
+            View view = sky.view;
+            view.eye = sky.eye_m;
+            view.meters_per_unit = 1.0;
+            return reference_scattering(sky.atmosphere, view,
+                                        sky.eye_m + dir * sky_ray_length_m(sky, dir))
+                .in_scattering;
+        }
+    }
+    return dvec3(0.0);
+}
+
+// ---- Dome ------------------------------------------------------------------------------------
+
+Result<SkyDomeMesh> make_sky_dome_mesh(int rings, int segments, const dvec3& up) {
+    if (rings < 1) return Error{"rings", "rings must be >= 1, got " + std::to_string(rings)};
+    if (segments < 3) {
+        return Error{"segments", "segments must be >= 3, got " + std::to_string(segments)};
+    }
+    if (!std::isfinite(up.x) || !std::isfinite(up.y) || !std::isfinite(up.z) ||
+        std::abs(glm::length(up) - 1.0) > 1e-3) {
+        return Error{"up", "up must be a unit vector, got " + detail::format_vector(up)};
+    }
+    const dvec3 u = glm::normalize(up);
+    // Two horizontal axes: any vector not parallel to up, made orthogonal.
+    const dvec3 helper = std::abs(u.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
+    const dvec3 east = glm::normalize(helper - u * glm::dot(helper, u));
+    const dvec3 north = glm::cross(u, east);
+    SkyDomeMesh m;
+    m.rings = rings;
+    m.segments = segments;
+    for (int r = 0; r < rings; ++r) {
+        const double e = (kPi / 2) * r / rings;
+        for (int s = 0; s < segments; ++s) {
+            const double a = 2 * kPi * s / segments;
+            m.directions.push_back(std::cos(e) * (std::cos(a) * east + std::sin(a) * north) +
+                                   std::sin(e) * u);
+        }
+    }
+    m.directions.push_back(u);
+    const auto at = [&](int r, int s) { return std::uint32_t(r * segments + (s % segments)); };
+    for (int r = 0; r + 1 < rings; ++r) {
+        for (int s = 0; s < segments; ++s) {
+            m.indices.insert(m.indices.end(), {at(r, s), at(r, s + 1), at(r + 1, s + 1)});
+            m.indices.insert(m.indices.end(), {at(r, s), at(r + 1, s + 1), at(r + 1, s)});
+        }
+    }
+    const auto zenith = std::uint32_t(m.directions.size() - 1);
+    for (int s = 0; s < segments; ++s) {
+        m.indices.insert(m.indices.end(), {at(rings - 1, s), at(rings - 1, s + 1), zenith});
+    }
+    return m;
+}
+
+std::vector<glm::dvec3> shade_sky_dome(const SkyContext& sky, const SkyDomeMesh& mesh) {
+    std::vector<glm::dvec3> out;
+    out.reserve(mesh.directions.size());
+    for (const dvec3& d : mesh.directions) out.push_back(sky_radiance(sky, d));
+    return out;
+}
+
+// ---- Cubemap ---------------------------------------------------------------------------------
+
+glm::dvec3 cubemap_texel_direction(int face, int i, int j, int size) {
+    const double sc = 2.0 * (i + 0.5) / size - 1.0;
+    const double tc = 2.0 * (j + 0.5) / size - 1.0;
+    dvec3 d;
+    switch (face) {  // the GL spec's table: (sc, tc) per major axis
+        case 0:
+            d = {1.0, -tc, -sc};
+            break;
+        case 1:
+            d = {-1.0, -tc, sc};
+            break;
+        case 2:
+            d = {sc, 1.0, tc};
+            break;
+        case 3:
+            d = {sc, -1.0, -tc};
+            break;
+        case 4:
+            d = {sc, -tc, 1.0};
+            break;
+        default:
+            d = {-sc, -tc, -1.0};
+            break;
+    }
+    return glm::normalize(d);
+}
+
+Result<SkyCubemap> compute_sky_cubemap(const SkyContext& sky, int size) {
+    if (size < 1 || size > 4096) {
+        return Error{"size", "size must be in 1 .. 4096, got " + std::to_string(size)};
+    }
+    SkyCubemap out;
+    out.size = size;
+    for (int face = 0; face < 6; ++face) {
+        auto& texels = out.faces[std::size_t(face)];
+        texels.resize(std::size_t(size) * std::size_t(size));
+        for (int j = 0; j < size; ++j) {
+            for (int i = 0; i < size; ++i) {
+                dvec3 d = cubemap_texel_direction(face, i, j, size);
+                // Below the horizon the faces repeat the horizon (terrain covers them there;
+                // the much darker ray to the ground would bleed into the horizon when filtered).
+                const double along_up = glm::dot(d, sky.view.up);
+                if (along_up < 0) d = glm::normalize(d - sky.view.up * along_up);
+                texels[std::size_t(j) * std::size_t(size) + std::size_t(i)] =
+                    glm::vec3(sky_radiance(sky, d));
+            }
+        }
+    }
+    return out;
+}
+
+std::array<std::vector<std::uint8_t>, 6> cubemap_to_rgba8(const SkyCubemap& cubemap,
+                                                          double exposure, ToneCurve curve) {
+    std::array<std::vector<std::uint8_t>, 6> out;
+    for (std::size_t f = 0; f < 6; ++f) {
+        out[f].reserve(cubemap.faces[f].size() * 4);
+        for (const glm::vec3& l : cubemap.faces[f]) {
+            const dvec3 v = quantised(display_8bit(dvec3(l), exposure, curve));
+            out[f].insert(out[f].end(), {std::uint8_t(v.x), std::uint8_t(v.y), std::uint8_t(v.z),
+                                         std::uint8_t(255)});
+        }
+    }
+    return out;
+}
+
+glm::dvec3 sample_cubemap_rgba8(const std::array<std::vector<std::uint8_t>, 6>& faces, int size,
+                                const dvec3& d) {
+    const dvec3 a = glm::abs(d);
+    int face;
+    double ma, sc, tc;
+    if (a.x >= a.y && a.x >= a.z) {
+        face = d.x >= 0 ? 0 : 1;
+        ma = a.x;
+        sc = d.x >= 0 ? -d.z : d.z;
+        tc = -d.y;
+    } else if (a.y >= a.z) {
+        face = d.y >= 0 ? 2 : 3;
+        ma = a.y;
+        sc = d.x;
+        tc = d.y >= 0 ? d.z : -d.z;
+    } else {
+        face = d.z >= 0 ? 4 : 5;
+        ma = a.z;
+        sc = d.z >= 0 ? d.x : -d.x;
+        tc = -d.y;
+    }
+    if (!(ma > 0)) return dvec3(0.0);
+    const double s = 0.5 * (sc / ma + 1.0) * size - 0.5;
+    const double t = 0.5 * (tc / ma + 1.0) * size - 0.5;
+    const double fs = std::floor(s), ft = std::floor(t);
+    const double ws = s - fs, wt = t - ft;
+    const auto& texels = faces[std::size_t(face)];
+    auto texel = [&](int i, int j) {
+        i = std::clamp(i, 0, size - 1);
+        j = std::clamp(j, 0, size - 1);
+        const std::size_t k = (std::size_t(j) * std::size_t(size) + std::size_t(i)) * 4;
+        return dvec3(texels[k], texels[k + 1], texels[k + 2]);
+    };
+    const int i0 = int(fs), j0 = int(ft);
+    return (texel(i0, j0) * (1 - ws) + texel(i0 + 1, j0) * ws) * (1 - wt) +
+           (texel(i0, j0 + 1) * (1 - ws) + texel(i0 + 1, j0 + 1) * ws) * wt;
+}
+
+Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& view) {
+    if (auto e = validate(atmosphere)) return *e;
+    if (auto e = validate(view)) return *e;
+    const dvec3 sun = glm::normalize(view.sun_dir);
+    const dvec3 up = glm::normalize(view.up);
+    const double altitude = altitude_above_sphere(dvec3(view.eye * view.meters_per_unit), up,
+                                                  atmosphere.planet_radius_m);
+    if (valid_ && cubemap_.size == options_.size && to_json(atmosphere) == to_json(atmosphere_) &&
+        std::acos(std::clamp(glm::dot(sun, sun_dir_), -1.0, 1.0)) <= options_.max_sun_angle_rad &&
+        glm::dot(up, up_) > 1.0 - 1e-12 &&
+        std::abs(altitude - eye_altitude_m_) <= options_.max_altitude_change_m) {
+        return false;
+    }
+    auto sky = prepare_sky(atmosphere, view, options_.method);
+    if (!sky) return sky.error();
+    auto cubemap = compute_sky_cubemap(*sky, options_.size);
+    if (!cubemap) return cubemap.error();
+    cubemap_ = std::move(cubemap).value();
+    atmosphere_ = atmosphere;
+    sun_dir_ = sun;
+    up_ = up;
+    eye_altitude_m_ = altitude;
+    valid_ = true;
+    ++recomputes_;
+    return true;
+}
+
+// ---- Sun sprite ------------------------------------------------------------------------------
+
+Result<SunSprite> make_sun_sprite(const SkyContext& sky, double exposure, ToneCurve curve,
+                                  const SunSpriteOptions& o) {
+    if (o.size < 8 || o.size > 4096) {
+        return Error{"size", "size must be in 8 .. 4096, got " + std::to_string(o.size)};
+    }
+    if (!(o.half_width_rad > o.sun_radius_rad) || !(o.half_width_rad < kPi / 4)) {
+        return Error{"half_width_rad", "half_width_rad must be in (sun_radius_rad, pi/4), got " +
+                                           format_number(o.half_width_rad)};
+    }
+    if (!(o.sun_radius_rad > 0)) {
+        return Error{"sun_radius_rad",
+                     "sun_radius_rad must be > 0, got " + format_number(o.sun_radius_rad)};
+    }
+    if (!(o.halo_g >= 0.9 && o.halo_g < 1.0)) {
+        return Error{"halo_g", "halo_g must be in [0.9, 1), got " + format_number(o.halo_g)};
+    }
+    if (o.disc_supersampling < 1) {
+        return Error{"disc_supersampling", "disc_supersampling must be >= 1, got " +
+                                               std::to_string(o.disc_supersampling)};
+    }
+    if (!(exposure >= 0) || !std::isfinite(exposure)) {
+        return Error{"exposure",
+                     "exposure must be finite and >= 0, got " + format_number(exposure)};
+    }
+    const Atmosphere& a = sky.atmosphere;
+    const dvec3 sun = sky.view.sun_dir;
+    const double sun_elevation = elevation_of(sky, sun);
+    // Sun at the eye (zero in the planet's shadow), and the Mie scattering column towards it.
+    const dvec3 e_sun =
+        a.sun_irradiance * sun_transmittance(a, sky.eye_altitude_m, std::sin(sun_elevation));
+    Atmosphere mie_only = a;
+    mie_only.rayleigh_scattering = dvec3(0.0);
+    mie_only.mie_absorption = dvec3(0.0);
+    View view = sky.view;
+    view.eye = sky.eye_m;
+    view.meters_per_unit = 1.0;
+    ReferenceOptions no_sun;
+    no_sun.sun_attenuation = false;
+    const double length = ray_length(a, sky.eye_altitude_m,
+                                     dvec3(std::cos(sun_elevation), 0.0, std::sin(sun_elevation)));
+    const dvec3 tau_mie = -glm::log(
+        glm::max(reference_scattering(mie_only, view, sky.eye_m + sun * length, no_sun).extinction,
+                 dvec3(1e-300)));
+    const double disc_solid_angle = 2 * kPi * (1 - std::cos(o.sun_radius_rad));
+    const dvec3 disc_radiance = e_sun / disc_solid_angle;
+
+    SunSprite sprite;
+    sprite.size = o.size;
+    sprite.half_width_rad = o.half_width_rad;
+    sprite.rgba.resize(std::size_t(o.size) * std::size_t(o.size) * 4);
+    const double tan_half = std::tan(o.half_width_rad);
+    const int ss = o.disc_supersampling;
+    for (int j = 0; j < o.size; ++j) {
+        for (int i = 0; i < o.size; ++i) {
+            // The sprite is a square on the plane one unit towards the sun: texel (i, j) looks
+            // along (1, x, y) in the sprite's frame.
+            dvec3 radiance(0.0);
+            double disc_cover = 0;
+            for (int sj = 0; sj < ss; ++sj) {
+                for (int si = 0; si < ss; ++si) {
+                    const double x = (2.0 * (i + (si + 0.5) / ss) / o.size - 1.0) * tan_half;
+                    const double y = (2.0 * (j + (sj + 0.5) / ss) / o.size - 1.0) * tan_half;
+                    const double cos_theta = 1.0 / std::sqrt(1.0 + x * x + y * y);
+                    if (cos_theta >= std::cos(o.sun_radius_rad)) disc_cover += 1.0;
+                    const double extra = henyey_greenstein_phase(cos_theta, o.halo_g) -
+                                         henyey_greenstein_phase(cos_theta, a.mie_g);
+                    radiance += e_sun * tau_mie * std::max(extra, 0.0);
+                }
+            }
+            radiance = radiance / double(ss * ss) + disc_radiance * (disc_cover / (ss * ss));
+            const dvec3 v = quantised(display_8bit(radiance, exposure, curve));
+            const std::size_t k = (std::size_t(j) * std::size_t(o.size) + std::size_t(i)) * 4;
+            sprite.rgba[k] = std::uint8_t(v.x);
+            sprite.rgba[k + 1] = std::uint8_t(v.y);
+            sprite.rgba[k + 2] = std::uint8_t(v.z);
+            sprite.rgba[k + 3] = std::uint8_t(std::max({v.x, v.y, v.z}));
+        }
+    }
+    return sprite;
+}
+
+// ---- Measurements ----------------------------------------------------------------------------
+
+Result<SkyProbe> make_sky_probe(const Atmosphere& atmosphere, const View& view, int elevation_steps,
+                                int azimuth_steps, ToneCurve curve) {
+    if (elevation_steps < 1) {
+        return Error{"elevation_steps",
+                     "elevation_steps must be >= 1, got " + std::to_string(elevation_steps)};
+    }
+    if (azimuth_steps < 1) {
+        return Error{"azimuth_steps",
+                     "azimuth_steps must be >= 1, got " + std::to_string(azimuth_steps)};
+    }
+    auto sky = prepare_sky(atmosphere, view, SkyMethod::reference);
+    if (!sky) return sky.error();
+    const dvec3 up = sky->view.up;
+    const dvec3 helper = std::abs(up.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
+    const dvec3 east = glm::normalize(helper - up * glm::dot(helper, up));
+    const dvec3 north = glm::cross(up, east);
+    SkyProbe p;
+    p.curve = curve;
+    const double sun_elevation = elevation_of(*sky, sky->view.sun_dir);
+    const dvec3 e_sun = sun_irradiance_at_altitude(atmosphere, sky->eye_altitude_m, sun_elevation);
+    auto ambient = sky_ambient(atmosphere, sky->eye_altitude_m, sun_elevation);
+    if (!ambient) return ambient.error();
+    p.exposure = auto_exposure(e_sun, sun_elevation, *ambient, atmosphere.sun_irradiance);
+    for (int r = 0; r <= elevation_steps; ++r) {
+        // The top row stops short of the zenith (where every azimuth is the same direction).
+        const double e = (kPi / 2) * std::min(double(r), elevation_steps - 0.25) / elevation_steps;
+        for (int s = 0; s < azimuth_steps; ++s) {
+            const double az = 2 * kPi * (s + 0.37) / azimuth_steps;
+            const dvec3 d =
+                std::cos(e) * (std::cos(az) * east + std::sin(az) * north) + std::sin(e) * up;
+            p.directions.push_back(d);
+            p.elevations_rad.push_back(e);
+            p.reference.push_back(sky_radiance(*sky, d));
+            p.reference_display.push_back(display_8bit(p.reference.back(), p.exposure, curve));
+        }
+    }
+    return p;
+}
+
+namespace {
+
+/// Accumulates per-direction errors.
+struct ErrorSum {
+    SkyError e;
+    double lsb_sum = 0;
+    std::size_t n = 0;
+    void add(const dvec3& reference, const dvec3* value, const dvec3& reference_display,
+             const dvec3& display) {
+        if (value != nullptr) {
+            for (int c = 0; c < 3; ++c) {
+                if (reference[c] > 0) {
+                    e.max_relative = std::max(e.max_relative,
+                                              std::abs((*value)[c] - reference[c]) / reference[c]);
+                }
+            }
+        }
+        const dvec3 d = glm::abs(display - reference_display);
+        const double lsb = std::max({d.x, d.y, d.z});
+        e.max_lsb = std::max(e.max_lsb, lsb);
+        lsb_sum += lsb;
+        ++n;
+    }
+    SkyError done() {
+        e.mean_lsb = n > 0 ? lsb_sum / double(n) : 0.0;
+        return e;
+    }
+};
+
+}  // namespace
+
+SkyError measure_sky_method(const SkyProbe& probe, const SkyContext& sky) {
+    ErrorSum sum;
+    for (std::size_t k = 0; k < probe.directions.size(); ++k) {
+        const dvec3 value = sky_radiance(sky, probe.directions[k]);
+        sum.add(probe.reference[k], &value, probe.reference_display[k],
+                display_8bit(value, probe.exposure, probe.curve));
+    }
+    return sum.done();
+}
+
+SkyError measure_sky_dome(const SkyProbe& probe, const SkyContext& sky, const SkyDomeMesh& mesh) {
+    const std::vector<dvec3> colours = shade_sky_dome(sky, mesh);
+    std::vector<dvec3> display;
+    for (const dvec3& c : colours) {
+        display.push_back(quantised(display_8bit(c, probe.exposure, probe.curve)));
+    }
+    ErrorSum sum;
+    for (std::size_t k = 0; k < probe.directions.size(); ++k) {
+        const dvec3 d = probe.directions[k];
+        // The triangle the ray from the centre goes through (Moller-Trumbore), and the
+        // barycentric weights there: perspective-correct interpolation of the vertex colours.
+        bool found = false;
+        dvec3 value(0.0), shown(0.0);
+        for (std::size_t t = 0; t + 2 < mesh.indices.size() && !found; t += 3) {
+            const dvec3& a = mesh.directions[mesh.indices[t]];
+            const dvec3& b = mesh.directions[mesh.indices[t + 1]];
+            const dvec3& c = mesh.directions[mesh.indices[t + 2]];
+            const dvec3 e1 = b - a, e2 = c - a;
+            const dvec3 p = glm::cross(d, e2);
+            const double det = glm::dot(e1, p);
+            if (std::abs(det) < 1e-15) continue;
+            const dvec3 q = -a;  // ray origin (0) minus a
+            const double u = glm::dot(q, p) / det;
+            const dvec3 r = glm::cross(q, e1);
+            const double v = glm::dot(d, r) / det;
+            const double dist = glm::dot(e2, r) / det;
+            constexpr double kEdge = -1e-9;
+            if (u < kEdge || v < kEdge || u + v > 1 - kEdge || dist <= 0) continue;
+            const double w = 1 - u - v;
+            const std::uint32_t ia = mesh.indices[t], ib = mesh.indices[t + 1],
+                                ic = mesh.indices[t + 2];
+            value = colours[ia] * w + colours[ib] * u + colours[ic] * v;
+            shown = display[ia] * w + display[ib] * u + display[ic] * v;
+            found = true;
+        }
+        if (!found) continue;  // below the lowest ring cannot happen for probe directions
+        sum.add(probe.reference[k], &value, probe.reference_display[k], shown);
+    }
+    return sum.done();
+}
+
+SkyError measure_sky_cubemap(const SkyProbe& probe,
+                             const std::array<std::vector<std::uint8_t>, 6>& faces, int size) {
+    ErrorSum sum;
+    for (std::size_t k = 0; k < probe.directions.size(); ++k) {
+        sum.add(probe.reference[k], nullptr, probe.reference_display[k],
+                sample_cubemap_rgba8(faces, size, probe.directions[k]));
+    }
+    return sum.done();
+}
+
+}  // namespace aerial

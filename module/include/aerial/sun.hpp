@@ -119,8 +119,8 @@ class SunIrradianceProfile {
 
 struct SkyAmbientOptions {
     bool use_reference = false;  ///< the `reference` sky (slow) instead of `height-chained`
-    int elevation_steps = 8;     ///< quadrature over the hemisphere, >= 2
-    int azimuth_steps = 16;      ///< >= 4
+    int elevation_steps = 16;    ///< quadrature over the hemisphere, >= 2
+    int azimuth_steps = 32;      ///< >= 4
 };
 
 /// Diffuse skylight irradiance on an upward-facing surface at `altitude_m`: the sky radiance

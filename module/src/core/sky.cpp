@@ -257,13 +257,13 @@ Result<SkyDomeMesh> make_sky_dome_mesh(int rings, int segments, const dvec3& up)
     const auto at = [&](int r, int s) { return std::uint32_t(r * segments + (s % segments)); };
     for (int r = 0; r + 1 < rings; ++r) {
         for (int s = 0; s < segments; ++s) {
-            m.indices.insert(m.indices.end(), {at(r, s), at(r, s + 1), at(r + 1, s + 1)});
-            m.indices.insert(m.indices.end(), {at(r, s), at(r + 1, s + 1), at(r + 1, s)});
+            m.indices.insert(m.indices.end(), {at(r, s), at(r + 1, s + 1), at(r, s + 1)});
+            m.indices.insert(m.indices.end(), {at(r, s), at(r + 1, s), at(r + 1, s + 1)});
         }
     }
     const auto zenith = std::uint32_t(m.directions.size() - 1);
     for (int s = 0; s < segments; ++s) {
-        m.indices.insert(m.indices.end(), {at(rings - 1, s), at(rings - 1, s + 1), zenith});
+        m.indices.insert(m.indices.end(), {at(rings - 1, s), zenith, at(rings - 1, s + 1)});
     }
     return m;
 }

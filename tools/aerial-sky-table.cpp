@@ -3,6 +3,7 @@
 // the largest and mean difference in 8-bit steps after the auto exposure and tone curve.
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -10,9 +11,11 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <glm/vec3.hpp>
 
 #include "aerial/aerial.hpp"
 #include "common/cli.hpp"
+#include "common/png.hpp"
 
 namespace {
 
@@ -36,7 +39,7 @@ int main(int argc, char** argv) {
         "interpolated across its triangles; 'cubemap N' is an RGBA8 cubemap of height-chained\n"
         "sampled bilinearly (what the GL sky box shows, within 1 step)."};
     std::string preset = "earth", atmosphere_file, dome = "12x32", elevations_text = "0,2,10,45,90";
-    std::string csv_path;
+    std::string csv_path, panorama_path, panorama_size = "192x48";
     double eye_altitude_m = 100.0;
     int cubemap_size = 64, elevation_steps = 18, azimuth_steps = 24;
     app.add_option("--preset", preset, "atmosphere preset (earth, hp2002, hazy, foggy, mars)");
@@ -47,6 +50,12 @@ int main(int argc, char** argv) {
     app.add_option("--elevations", elevations_text, "sun elevations, deg (default 0,2,10,45,90)");
     app.add_option("--probe", elevation_steps, "probe rows from horizon to zenith (default 18)");
     app.add_option("--csv", csv_path, "also write the rows as CSV to this file");
+    app.add_option(
+        "--panorama", panorama_path,
+        "write a PNG of panoramas instead of the table: per sun elevation, strips of\n"
+        "reference, height-chained, dome-height, dome-hp, dome-hp-single (azimuth 0..360\n"
+        "left to right, elevation 90..0 top to bottom, auto exposure)");
+    app.add_option("--panorama-size", panorama_size, "size of one strip WxH (default 192x48)");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
 
     auto atmosphere = atmosphere_file.empty() ? aerial::atmosphere_preset(preset)
@@ -84,6 +93,55 @@ int main(int argc, char** argv) {
             elevations.push_back(*v);
         }
         if (elevations.empty()) return aerial::tools::fail(kTool, "--elevations: empty list");
+    }
+    if (!panorama_path.empty()) {
+        auto strip = aerial::tools::parse_size(panorama_size, "--panorama-size", 2048);
+        if (!strip) return aerial::tools::fail(kTool, strip.error().message);
+        const int w = strip->first, h = strip->second, gap = 4;
+        const std::vector<aerial::SkyMethod> methods{
+            aerial::SkyMethod::reference, aerial::SkyMethod::height_chained,
+            aerial::SkyMethod::dome_height, aerial::SkyMethod::dome_hp,
+            aerial::SkyMethod::dome_hp_single};
+        const int strips = int(methods.size() * elevations.size());
+        aerial::tools::Rgb8Image image;
+        image.width = w;
+        image.height = strips * h + (strips - 1) * gap;
+        image.rgb.assign(std::size_t(image.width) * std::size_t(image.height) * 3, 255);
+        int top = 0;
+        for (double elevation_deg : elevations) {
+            const double e = elevation_deg * aerial::kPi / 180.0;
+            aerial::View view;
+            view.eye = {0.0, 0.0, eye_altitude_m};
+            view.sun_dir = {0.0, std::cos(e), std::sin(e)};  // due north: centre of the strip
+            auto probe = aerial::make_sky_probe(*atmosphere, view, 1, 1);
+            if (!probe) return aerial::tools::fail(kTool, probe.error().message);
+            for (aerial::SkyMethod m : methods) {
+                auto sky = aerial::prepare_sky(*atmosphere, view, m);
+                if (!sky) return aerial::tools::fail(kTool, sky.error().message);
+                for (int y = 0; y < h; ++y) {
+                    const double el = (aerial::kPi / 2) * (1.0 - (y + 0.5) / h);
+                    for (int x = 0; x < w; ++x) {
+                        // Azimuth from north, clockwise; north (the sun) in the middle.
+                        const double az = 2 * aerial::kPi * ((x + 0.5) / w - 0.5);
+                        const glm::dvec3 d(std::cos(el) * std::sin(az), std::cos(el) * std::cos(az),
+                                           std::sin(el));
+                        const glm::dvec3 v =
+                            aerial::tone_map(aerial::sky_radiance(*sky, d), probe->exposure,
+                                             aerial::ToneCurve::exponential);
+                        std::uint8_t* px =
+                            &image
+                                 .rgb[(std::size_t(top + y) * std::size_t(w) + std::size_t(x)) * 3];
+                        for (int c = 0; c < 3; ++c) px[c] = std::uint8_t(std::lround(v[c] * 255.0));
+                    }
+                }
+                top += h + gap;
+            }
+        }
+        if (auto e = aerial::tools::write_png(panorama_path, image)) {
+            return aerial::tools::fail(kTool, "--panorama: " + *e);
+        }
+        std::printf("wrote %s (%d x %d)\n", panorama_path.c_str(), image.width, image.height);
+        return 0;
     }
     std::ofstream csv;
     if (!csv_path.empty()) {

@@ -122,6 +122,9 @@ struct Caps {
     X(decltype(&::glEnd), End, "glEnd", "")                                              \
     X(decltype(&::glVertex3f), Vertex3f, "glVertex3f", "")                               \
     X(decltype(&::glTexCoord2f), TexCoord2f, "glTexCoord2f", "")                         \
+    X(decltype(&::glTexCoord3f), TexCoord3f, "glTexCoord3f", "")                         \
+    X(decltype(&::glTexCoord4f), TexCoord4f, "glTexCoord4f", "")                         \
+    X(decltype(&::glTexParameterf), TexParameterf, "glTexParameterf", "")                \
     X(decltype(&::glFinish), Finish, "glFinish", "")
 
 #define AERIAL_GL_OPTIONAL_FUNCTIONS(X)                                                           \

@@ -9,14 +9,15 @@
 //      "unit 1 GL_TEXTURE_ENV_MODE: GL_MODULATE -> GL_COMBINE".
 //
 // What it captures (where the context has it): the enables GL_COLOR_SUM, GL_BLEND, GL_FOG,
-// GL_LIGHTING, GL_COLOR_MATERIAL, GL_DEPTH_TEST, GL_ALPHA_TEST, GL_VERTEX_PROGRAM_ARB,
-// GL_FRAGMENT_PROGRAM_ARB; the blend functions and equations, depth function and write mask,
-// colour write mask, fog colour and coordinate source, the colour-material face and parameter
-// and the front and back ambient and diffuse material colours (which colour tracking
-// overwrites), shade model, matrix mode; the bound ARB vertex program and GLSL program; the
-// active and client active texture units; the current colour, secondary colour and texture
-// coordinates; the array buffer binding; the colour, secondary colour, vertex, normal and fog
-// coordinate arrays (enabled, size, type, stride, pointer, buffer); and on each of the first
+// GL_LIGHTING, GL_COLOR_MATERIAL, GL_DEPTH_TEST, GL_ALPHA_TEST, GL_CULL_FACE,
+// GL_VERTEX_PROGRAM_ARB, GL_FRAGMENT_PROGRAM_ARB; the blend functions and equations, depth function
+// and write mask, colour write mask, fog colour and coordinate source, the colour-material face and
+// parameter and the front and back ambient and diffuse material colours (which colour tracking
+// overwrites), shade model, matrix mode, the modelview and projection matrices, the unpack
+// pixel-store state and the pixel unpack buffer binding; the bound ARB vertex program and GLSL
+// program; the active and client active texture units; the current colour, secondary colour and
+// texture coordinates; the array buffer binding; the colour, secondary colour, vertex, normal and
+// fog coordinate arrays (enabled, size, type, stride, pointer, buffer); and on each of the first
 // min(GL_MAX_TEXTURE_UNITS, 8) units: the enabled texture targets and texture-coordinate
 // generation, the bound 1D/2D/3D/cube textures, the texture environment (mode, colour, and the
 // whole combine state), the texture matrix and the texture-coordinate array. Reading it costs a

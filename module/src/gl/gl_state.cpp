@@ -190,6 +190,7 @@ StateSnapshot capture_state(const Api& api) {
     AERIAL_ENABLED(GL_COLOR_MATERIAL);
     AERIAL_ENABLED(GL_DEPTH_TEST);
     AERIAL_ENABLED(GL_ALPHA_TEST);
+    AERIAL_ENABLED(GL_CULL_FACE);
     if (caps.vertex_program) AERIAL_ENABLED(GL_VERTEX_PROGRAM_ARB);
     if (caps.fragment_program) AERIAL_ENABLED(GL_FRAGMENT_PROGRAM_ARB);
     if (api.BlendFuncSeparate) {
@@ -224,6 +225,17 @@ StateSnapshot capture_state(const Api& api) {
     }
     r.enumeration("GL_SHADE_MODEL", GL_SHADE_MODEL);
     r.enumeration("GL_MATRIX_MODE", GL_MATRIX_MODE);
+    r.floats("GL_MODELVIEW_MATRIX", GL_MODELVIEW_MATRIX, 16);
+    r.floats("GL_PROJECTION_MATRIX", GL_PROJECTION_MATRIX, 16);
+    r.integer("GL_UNPACK_ALIGNMENT", GL_UNPACK_ALIGNMENT);
+    r.integer("GL_UNPACK_ROW_LENGTH", GL_UNPACK_ROW_LENGTH);
+    r.integer("GL_UNPACK_SKIP_ROWS", GL_UNPACK_SKIP_ROWS);
+    r.integer("GL_UNPACK_SKIP_PIXELS", GL_UNPACK_SKIP_PIXELS);
+    r.booleans("GL_UNPACK_SWAP_BYTES", GL_UNPACK_SWAP_BYTES, 1);
+    r.booleans("GL_UNPACK_LSB_FIRST", GL_UNPACK_LSB_FIRST, 1);
+    if (caps.pixel_buffer_object && api.BindBuffer) {
+        r.integer("GL_PIXEL_UNPACK_BUFFER_BINDING", GL_PIXEL_UNPACK_BUFFER_BINDING);
+    }
     if (caps.vertex_program) {
         GLint bound = 0;
         api.GetProgramiv(GL_VERTEX_PROGRAM_ARB, GL_PROGRAM_BINDING_ARB, &bound);

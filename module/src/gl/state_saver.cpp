@@ -296,7 +296,45 @@ void StateSaver::save_current_texcoord(int unit) {
             api->MultiTexCoord4f(static_cast<GLenum>(GL_TEXTURE0 + unit), was[0], was[1], was[2],
                                  was[3]);
         });
+    } else if (unit == 0) {  // without multitexture there is only unit 0
+        undo_.push_back([api, was] { api->TexCoord4f(was[0], was[1], was[2], was[3]); });
     }
+}
+
+void StateSaver::load_matrix(GLenum mode, const GLfloat matrix[16]) {
+    GLint was_mode = GL_MODELVIEW;
+    api_.GetIntegerv(GL_MATRIX_MODE, &was_mode);
+    std::array<GLfloat, 16> was{};
+    api_.GetFloatv(mode == GL_PROJECTION ? GL_PROJECTION_MATRIX : GL_MODELVIEW_MATRIX, was.data());
+    const Api* api = &api_;
+    undo_.push_back([api, mode, was_mode, was] {
+        api->MatrixMode(mode);
+        api->LoadMatrixf(was.data());
+        api->MatrixMode(static_cast<GLenum>(was_mode));
+    });
+    api_.MatrixMode(mode);
+    api_.LoadMatrixf(matrix);
+    api_.MatrixMode(static_cast<GLenum>(was_mode));
+}
+
+void StateSaver::pixel_store(GLenum pname, GLint value) {
+    GLint was = 0;
+    api_.GetIntegerv(pname, &was);
+    if (was == value) return;
+    const Api* api = &api_;
+    undo_.push_back([api, pname, was] { api->PixelStorei(pname, was); });
+    api_.PixelStorei(pname, value);
+}
+
+void StateSaver::unbind_pixel_unpack_buffer() {
+    if (!api_.caps.pixel_buffer_object || !api_.BindBuffer) return;
+    GLint was = 0;
+    api_.GetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &was);
+    if (was == 0) return;
+    const Api* api = &api_;
+    undo_.push_back(
+        [api, was] { api->BindBuffer(GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(was)); });
+    api_.BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
 }
 
 namespace {

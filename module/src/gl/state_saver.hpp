@@ -49,6 +49,15 @@ class StateSaver {
     /// material mode and the ambient and diffuse colours of both faces, which tracking changes.
     void color_material();
     void select_unit(int unit);  ///< glActiveTexture
+    /// glLoadMatrixf on the GL_MODELVIEW or GL_PROJECTION stack (the matrix mode is saved too).
+    void load_matrix(GLenum mode, const GLfloat matrix[16]);
+    /// glPixelStorei (GL_UNPACK_ALIGNMENT, GL_UNPACK_ROW_LENGTH, ...).
+    void pixel_store(GLenum pname, GLint value);
+    /// Binds GL_PIXEL_UNPACK_BUFFER 0 where the context has pixel buffer objects, so that
+    /// glTexImage reads client memory.
+    void unbind_pixel_unpack_buffer();
+    /// The current texture coordinates of `unit` are about to change (immediate mode).
+    void save_current_texcoord(int unit);
 
     // Client state. Pointers are given with array buffer 0 bound (client memory).
     void color_array(GLint size, GLenum type, GLsizei stride, const void* pointer);
@@ -64,7 +73,6 @@ class StateSaver {
     void unbind_array_buffer();
     void save_current_color();
     void save_current_secondary_color();
-    void save_current_texcoord(int unit);
 
     const Api& api_;
     std::vector<std::function<void()>> undo_;

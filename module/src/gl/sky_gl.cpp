@@ -1,0 +1,283 @@
+// The sky cubemap and the sun sprite on the fixed pipeline (aerial/sky_gl.hpp).
+#include "aerial/sky_gl.hpp"
+
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include <glm/geometric.hpp>
+
+#include "aerial/gl_api.hpp"
+#include "state_saver.hpp"
+
+namespace aerial::gl {
+namespace {
+
+/// Unpack state at its defaults (RGBA8 rows need nothing else) and client memory as the source,
+/// all restored by the saver.
+void default_unpack(detail::StateSaver& s) {
+    s.unbind_pixel_unpack_buffer();
+    s.pixel_store(GL_UNPACK_ALIGNMENT, 4);
+    s.pixel_store(GL_UNPACK_ROW_LENGTH, 0);
+    s.pixel_store(GL_UNPACK_SKIP_ROWS, 0);
+    s.pixel_store(GL_UNPACK_SKIP_PIXELS, 0);
+    s.pixel_store(GL_UNPACK_SWAP_BYTES, GL_FALSE);
+    s.pixel_store(GL_UNPACK_LSB_FIRST, GL_FALSE);
+}
+
+GLint edge_clamp(const Caps& caps) {
+    return caps.at_least(1, 2) || caps.has_extension("GL_SGIS_texture_edge_clamp") ||
+                   caps.has_extension("GL_EXT_texture_edge_clamp")
+               ? GL_CLAMP_TO_EDGE
+               : GL_CLAMP;
+}
+
+std::optional<Error> check_faces(const Api& api,
+                                 const std::array<std::vector<std::uint8_t>, 6>& faces, int size) {
+    GLint max_size = 0;
+    api.GetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &max_size);
+    if (size < 1 || size > max_size) {
+        return Error{"size", "size must be in 1 .. " + std::to_string(max_size) +
+                                 " (GL_MAX_CUBE_MAP_TEXTURE_SIZE), got " + std::to_string(size)};
+    }
+    const std::size_t expected = std::size_t(size) * std::size_t(size) * 4;
+    for (std::size_t f = 0; f < 6; ++f) {
+        if (faces[f].size() != expected) {
+            return Error{"faces", "faces: face " + std::to_string(f) + " holds " +
+                                      std::to_string(faces[f].size()) + " bytes, expected " +
+                                      std::to_string(expected) + " (size * size * 4)"};
+        }
+    }
+    return std::nullopt;
+}
+
+Error no_cube_maps(const Api& api) {
+    return Error{"cube_map", "cube_map: the sky box needs GL 1.3 or GL_ARB_texture_cube_map; " +
+                                 api.caps.version + " (" + api.caps.renderer + ") has neither"};
+}
+
+/// Perspective projection's near and far planes; false when it is not one.
+bool near_far(const std::array<float, 16>& p, double& near_plane, double& far_plane) {
+    if (std::abs(p[11] + 1.0f) > 1e-4f || std::abs(p[15]) > 1e-6f || std::abs(p[3]) > 1e-6f ||
+        std::abs(p[7]) > 1e-6f) {
+        return false;
+    }
+    near_plane = double(p[14]) / (double(p[10]) - 1.0);
+    far_plane = double(p[14]) / (double(p[10]) + 1.0);
+    return std::isfinite(near_plane) && std::isfinite(far_plane) && near_plane > 0 &&
+           far_plane >= 4.0 * near_plane;
+}
+
+/// The state both draws share: matrices, everything that would alter a plain textured quad off,
+/// unit 0 textured with `target` and `texture` in GL_REPLACE mode.
+void common_state(const Api& api, detail::StateSaver& s, const SkyBoxView& view, GLenum target,
+                  GLuint texture) {
+    s.load_matrix(GL_PROJECTION, view.projection.data());
+    s.load_matrix(GL_MODELVIEW, view.view_rotation.data());
+    for (GLenum cap : {GL_DEPTH_TEST, GL_LIGHTING, GL_FOG, GL_BLEND, GL_ALPHA_TEST, GL_CULL_FACE}) {
+        s.enable(cap, false);
+    }
+    s.depth_mask(false);
+    if (api.caps.secondary_color) s.enable(GL_COLOR_SUM, false);
+    if (api.caps.vertex_program) s.enable(GL_VERTEX_PROGRAM_ARB, false);
+    if (api.caps.fragment_program) s.enable(GL_FRAGMENT_PROGRAM_ARB, false);
+    s.use_no_glsl_program();
+    for (int unit = 1; unit < detail::saved_texture_units(api.caps); ++unit) {
+        s.unit_disable_all_targets(unit);
+    }
+    s.unit_disable_all_targets(0);
+    for (GLenum gen : {GL_TEXTURE_GEN_S, GL_TEXTURE_GEN_T, GL_TEXTURE_GEN_R, GL_TEXTURE_GEN_Q}) {
+        s.unit_enable(0, gen, false);
+    }
+    s.unit_enable(0, target, true);
+    s.bind_texture(0, target, texture);
+    s.texture_matrix_identity(0);
+    s.tex_env(0, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+    s.save_current_texcoord(0);
+}
+
+}  // namespace
+
+bool cube_maps_supported(const Api& api) {
+    return api.caps.at_least(1, 3) || api.caps.has_extension("GL_ARB_texture_cube_map") ||
+           api.caps.has_extension("GL_EXT_texture_cube_map");
+}
+
+// ---- SkyCubemapTexture -----------------------------------------------------------------------
+
+Result<SkyCubemapTexture> SkyCubemapTexture::create(
+    const Api& api, const std::array<std::vector<std::uint8_t>, 6>& faces, int size) {
+    if (!cube_maps_supported(api)) return no_cube_maps(api);
+    if (auto e = check_faces(api, faces, size)) return *e;
+    GLuint id = 0;
+    api.GenTextures(1, &id);
+    SkyCubemapTexture texture(api, id);
+    if (auto e = texture.update(faces, size)) return *e;
+    return texture;
+}
+
+std::optional<Error> SkyCubemapTexture::update(
+    const std::array<std::vector<std::uint8_t>, 6>& faces, int size) {
+    if (auto e = check_faces(*api_, faces, size)) return e;
+    detail::StateSaver s(*api_);
+    default_unpack(s);
+    s.bind_texture(0, GL_TEXTURE_CUBE_MAP, id_);
+    api_->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    api_->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) {
+        api_->TexParameteri(GL_TEXTURE_CUBE_MAP, wrap, GL_CLAMP_TO_EDGE);
+    }
+    for (int f = 0; f < 6; ++f) {
+        api_->TexImage2D(static_cast<GLenum>(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f), 0, GL_RGBA8, size,
+                         size, 0, GL_RGBA, GL_UNSIGNED_BYTE, faces[std::size_t(f)].data());
+    }
+    size_ = size;
+    return std::nullopt;
+}
+
+SkyCubemapTexture::SkyCubemapTexture(SkyCubemapTexture&& other) noexcept
+    : api_(other.api_), id_(std::exchange(other.id_, 0u)), size_(other.size_) {}
+
+SkyCubemapTexture& SkyCubemapTexture::operator=(SkyCubemapTexture&& other) noexcept {
+    if (this != &other) {
+        if (id_ != 0) api_->DeleteTextures(1, &id_);
+        api_ = other.api_;
+        id_ = std::exchange(other.id_, 0u);
+        size_ = other.size_;
+    }
+    return *this;
+}
+
+SkyCubemapTexture::~SkyCubemapTexture() {
+    if (id_ != 0) api_->DeleteTextures(1, &id_);
+}
+
+// ---- SunSpriteTexture ------------------------------------------------------------------------
+
+Result<SunSpriteTexture> SunSpriteTexture::create(const Api& api, const SunSprite& sprite) {
+    GLuint id = 0;
+    api.GenTextures(1, &id);
+    SunSpriteTexture texture(api, id);
+    if (auto e = texture.update(sprite)) return *e;
+    return texture;
+}
+
+std::optional<Error> SunSpriteTexture::update(const SunSprite& sprite) {
+    GLint max_size = 0;
+    api_->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    if (sprite.size < 1 || sprite.size > max_size ||
+        sprite.rgba.size() != std::size_t(sprite.size) * std::size_t(sprite.size) * 4 ||
+        !(sprite.half_width_rad > 0 && sprite.half_width_rad < 0.8)) {
+        return Error{"sprite", "sprite: expected size in 1 .. " + std::to_string(max_size) +
+                                   ", size * size * 4 bytes and a half-width in (0, 0.8) rad; "
+                                   "got size " +
+                                   std::to_string(sprite.size) + " with " +
+                                   std::to_string(sprite.rgba.size()) + " bytes"};
+    }
+    detail::StateSaver s(*api_);
+    default_unpack(s);
+    s.bind_texture(0, GL_TEXTURE_2D, id_);
+    api_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    api_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    api_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, edge_clamp(api_->caps));
+    api_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, edge_clamp(api_->caps));
+    api_->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, sprite.size, sprite.size, 0, GL_RGBA,
+                     GL_UNSIGNED_BYTE, sprite.rgba.data());
+    half_width_rad_ = sprite.half_width_rad;
+    return std::nullopt;
+}
+
+SunSpriteTexture::SunSpriteTexture(SunSpriteTexture&& other) noexcept
+    : api_(other.api_), id_(std::exchange(other.id_, 0u)), half_width_rad_(other.half_width_rad_) {}
+
+SunSpriteTexture& SunSpriteTexture::operator=(SunSpriteTexture&& other) noexcept {
+    if (this != &other) {
+        if (id_ != 0) api_->DeleteTextures(1, &id_);
+        api_ = other.api_;
+        id_ = std::exchange(other.id_, 0u);
+        half_width_rad_ = other.half_width_rad_;
+    }
+    return *this;
+}
+
+SunSpriteTexture::~SunSpriteTexture() {
+    if (id_ != 0) api_->DeleteTextures(1, &id_);
+}
+
+// ---- Drawing ---------------------------------------------------------------------------------
+
+SkyBoxView sky_box_view_from_current_matrices(const Api& api) {
+    SkyBoxView view;
+    api.GetFloatv(GL_PROJECTION_MATRIX, view.projection.data());
+    api.GetFloatv(GL_MODELVIEW_MATRIX, view.view_rotation.data());
+    view.view_rotation[12] = view.view_rotation[13] = view.view_rotation[14] = 0.0f;
+    return view;
+}
+
+std::optional<Error> draw_sky_box(const Api& api, const SkyCubemapTexture& texture,
+                                  const SkyBoxView& view) {
+    if (!cube_maps_supported(api)) return no_cube_maps(api);
+    double near_plane = 0, far_plane = 0;
+    if (!near_far(view.projection, near_plane, far_plane)) {
+        return Error{"projection",
+                     "projection: expected a perspective projection with far >= 4 * near > 0"};
+    }
+    // The cube's corners must stay inside the far plane; its faces in front of the near plane
+    // for any view direction within 64 deg of the axis (far >= 4 near).
+    const auto h = static_cast<GLfloat>(0.99 * far_plane / std::sqrt(3.0));
+    detail::StateSaver s(api);
+    common_state(api, s, view, GL_TEXTURE_CUBE_MAP, texture.id());
+    // Each face as a quad; texture coordinates are the (unnormalised) world directions.
+    static constexpr float kFaces[6][4][3] = {
+        {{1, -1, -1}, {1, 1, -1}, {1, 1, 1}, {1, -1, 1}},
+        {{-1, -1, 1}, {-1, 1, 1}, {-1, 1, -1}, {-1, -1, -1}},
+        {{-1, 1, -1}, {-1, 1, 1}, {1, 1, 1}, {1, 1, -1}},
+        {{-1, -1, 1}, {-1, -1, -1}, {1, -1, -1}, {1, -1, 1}},
+        {{-1, -1, 1}, {1, -1, 1}, {1, 1, 1}, {-1, 1, 1}},
+        {{1, -1, -1}, {-1, -1, -1}, {-1, 1, -1}, {1, 1, -1}},
+    };
+    api.Begin(GL_QUADS);
+    for (const auto& face : kFaces) {
+        for (const auto& v : face) {
+            api.TexCoord3f(v[0], v[1], v[2]);
+            api.Vertex3f(v[0] * h, v[1] * h, v[2] * h);
+        }
+    }
+    api.End();
+    return std::nullopt;
+}
+
+std::optional<Error> draw_sun_sprite(const Api& api, const SunSpriteTexture& texture,
+                                     const SkyBoxView& view, const glm::dvec3& sun_dir) {
+    double near_plane = 0, far_plane = 0;
+    if (!near_far(view.projection, near_plane, far_plane)) {
+        return Error{"projection",
+                     "projection: expected a perspective projection with far >= 4 * near > 0"};
+    }
+    const double length = glm::length(sun_dir);
+    if (!std::isfinite(length) || std::abs(length - 1.0) > 1e-3) {
+        return Error{"sun_dir", "sun_dir must be a unit vector"};
+    }
+    const glm::dvec3 sun = sun_dir / length;
+    const glm::dvec3 helper = std::abs(sun.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
+    const glm::dvec3 u = glm::normalize(glm::cross(helper, sun));
+    const glm::dvec3 v = glm::cross(sun, u);
+    const double h = 0.99 * far_plane / std::sqrt(3.0);
+    const double t = std::tan(texture.half_width_rad());
+    detail::StateSaver s(api);
+    common_state(api, s, view, GL_TEXTURE_2D, texture.id());
+    s.enable(GL_BLEND, true);
+    s.blend_func(GL_ONE, GL_ONE);
+    api.Begin(GL_QUADS);
+    static constexpr float kCorners[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (const auto& c : kCorners) {
+        const glm::dvec3 p = h * (sun + (2.0 * c[0] - 1.0) * t * u + (2.0 * c[1] - 1.0) * t * v);
+        api.TexCoord2f(c[0], c[1]);
+        api.Vertex3f(static_cast<GLfloat>(p.x), static_cast<GLfloat>(p.y),
+                     static_cast<GLfloat>(p.z));
+    }
+    api.End();
+    return std::nullopt;
+}
+
+}  // namespace aerial::gl

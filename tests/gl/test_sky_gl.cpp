@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -67,18 +68,21 @@ class SkyGl : public ::testing::Test {
         ASSERT_TRUE(ctx.ok()) << ctx.error().message;
         ctx_.emplace(std::move(ctx).value());
         RecordProperty("GL_RENDERER", ctx_->api().caps.renderer);
-        aerial::View view;
-        view.eye = {0.0, 0.0, 100.0};
-        const double e = 12.0 * aerial::kPi / 180.0;
-        view.sun_dir = {0.9 * std::cos(e), 0.436 * std::cos(e), std::sin(e)};
-        view.sun_dir = glm::normalize(view.sun_dir);
-        auto sky = aerial::prepare_sky(*aerial::atmosphere_preset("earth"), view,
-                                       aerial::SkyMethod::height_chained);
-        ASSERT_TRUE(sky.ok());
-        sky_.emplace(*sky);
-        auto cubemap = aerial::compute_sky_cubemap(*sky_, kCubemap);
-        ASSERT_TRUE(cubemap.ok());
-        faces_ = aerial::cubemap_to_rgba8(*cubemap, kExposure, aerial::ToneCurve::exponential);
+        // The sky and its cubemap are the same for every test: computed once per process.
+        static const auto shared = [] {
+            aerial::View view;
+            view.eye = {0.0, 0.0, 100.0};
+            const double e = 12.0 * aerial::kPi / 180.0;
+            view.sun_dir =
+                glm::normalize(glm::dvec3(0.9 * std::cos(e), 0.436 * std::cos(e), std::sin(e)));
+            auto sky = aerial::prepare_sky(*aerial::atmosphere_preset("earth"), view,
+                                           aerial::SkyMethod::height_chained);
+            auto cubemap = aerial::compute_sky_cubemap(*sky, kCubemap);
+            return std::make_pair(*sky, aerial::cubemap_to_rgba8(*cubemap, kExposure,
+                                                                 aerial::ToneCurve::exponential));
+        }();
+        sky_.emplace(shared.first);
+        faces_ = shared.second;
     }
     const aerial::gl::Api& gl() const { return ctx_->api(); }
     void clear() {

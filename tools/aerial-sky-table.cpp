@@ -1,19 +1,26 @@
 // aerial-sky-table: each sky method against `reference`, by sun elevation (aerial/sky.hpp). Prints
 // one row per method and elevation: the largest relative error over the probe directions, and
 // the largest and mean difference in 8-bit steps after the auto exposure and tone curve.
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "aerial/aerial.hpp"
+#include "aerial/gl_api.hpp"
+#include "aerial/headless.hpp"
+#include "aerial/sky_gl.hpp"
 #include "common/cli.hpp"
 #include "common/png.hpp"
 
@@ -28,6 +35,65 @@ struct Row {
     bool has_relative;
 };
 
+/// The GL sky box of an RGBA8 cubemap against `reference`, pixel by pixel: five 90 deg views
+/// (four azimuths at 30 deg elevation, one at the zenith) of size x size pixels, every
+/// `stride`-th pixel above the horizon.
+aerial::Result<aerial::SkyError> measure_gl_sky_box(
+    aerial::headless::Context& context, const aerial::SkyContext& reference, double exposure,
+    const std::array<std::vector<std::uint8_t>, 6>& faces, int cubemap_size, int stride) {
+    const aerial::gl::Api& api = context.api();
+    auto texture = aerial::gl::SkyCubemapTexture::create(api, faces, cubemap_size);
+    if (!texture) return texture.error();
+    const int size = context.width();
+    aerial::SkyError error;
+    double sum = 0;
+    std::size_t n = 0;
+    const double near_plane = 0.5, far_plane = 1000.0;
+    for (int view = 0; view < 5; ++view) {
+        const double az = view * aerial::kPi / 2, el = view < 4 ? aerial::kPi / 6 : aerial::kPi / 2;
+        const glm::dvec3 forward(std::cos(el) * std::sin(az), std::cos(el) * std::cos(az),
+                                 std::sin(el));
+        const glm::dvec3 helper = view < 4 ? glm::dvec3(0, 0, 1) : glm::dvec3(0, 1, 0);
+        const glm::dvec3 right = glm::normalize(glm::cross(forward, helper));
+        const glm::dvec3 up = glm::cross(right, forward);
+        aerial::gl::SkyBoxView v;
+        v.projection = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, -1, 0, 0, 0, 0};
+        v.projection[10] = float(-(far_plane + near_plane) / (far_plane - near_plane));
+        v.projection[14] = float(-2.0 * far_plane * near_plane / (far_plane - near_plane));
+        v.view_rotation = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
+        for (int c = 0; c < 3; ++c) {
+            v.view_rotation[std::size_t(c * 4)] = float(right[c]);
+            v.view_rotation[std::size_t(c * 4 + 1)] = float(up[c]);
+            v.view_rotation[std::size_t(c * 4 + 2)] = float(-forward[c]);
+        }
+        api.ClearColor(0, 0, 0, 1);
+        api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        if (auto e = aerial::gl::draw_sky_box(api, *texture, v)) return *e;
+        const std::vector<std::uint8_t> image = context.read_rgba8();
+        for (int row = stride / 2; row < size; row += stride) {
+            for (int x = stride / 2; x < size; x += stride) {
+                const double nx = 2.0 * (x + 0.5) / size - 1.0;
+                const double ny = 2.0 * ((size - 1 - row) + 0.5) / size - 1.0;
+                const glm::dvec3 d = glm::normalize(forward + nx * right + ny * up);
+                if (d.z < 0) continue;
+                const glm::dvec3 want = aerial::tone_map(aerial::sky_radiance(reference, d),
+                                                         exposure, aerial::ToneCurve::exponential) *
+                                        255.0;
+                const std::size_t k = (std::size_t(row) * std::size_t(size) + std::size_t(x)) * 4;
+                double worst = 0;
+                for (int c = 0; c < 3; ++c) {
+                    worst = std::max(worst, std::abs(double(image[k + std::size_t(c)]) - want[c]));
+                }
+                error.max_lsb = std::max(error.max_lsb, worst);
+                sum += worst;
+                ++n;
+            }
+        }
+    }
+    error.mean_lsb = n > 0 ? sum / double(n) : 0.0;
+    return error;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -39,9 +105,9 @@ int main(int argc, char** argv) {
         "interpolated across its triangles; 'cubemap N' is an RGBA8 cubemap of height-chained\n"
         "sampled bilinearly (what the GL sky box shows, within 1 step)."};
     std::string preset = "earth", atmosphere_file, dome = "12x32", elevations_text = "0,2,10,45,90";
-    std::string csv_path, panorama_path, panorama_size = "192x48";
+    std::string csv_path, panorama_path, panorama_size = "192x48", gl_backend;
     double eye_altitude_m = 100.0;
-    int cubemap_size = 64, elevation_steps = 18, azimuth_steps = 24;
+    int cubemap_size = 64, elevation_steps = 18, azimuth_steps = 24, gl_stride = 2;
     app.add_option("--preset", preset, "atmosphere preset (earth, hp2002, hazy, foggy, mars)");
     app.add_option("--atmosphere", atmosphere_file, "atmosphere JSON file (instead of --preset)");
     app.add_option("--eye-altitude", eye_altitude_m, "eye altitude, m (default 100)");
@@ -50,13 +116,22 @@ int main(int argc, char** argv) {
     app.add_option("--elevations", elevations_text, "sun elevations, deg (default 0,2,10,45,90)");
     app.add_option("--probe", elevation_steps, "probe rows from horizon to zenith (default 18)");
     app.add_option("--csv", csv_path, "also write the rows as CSV to this file");
+    app.add_option("--gl", gl_backend,
+                   "also draw the cubemap with the GL sky box on this headless context (osmesa or\n"
+                   "egl) and compare 64x64-pixel views with reference every 2nd pixel: row 'gl\n"
+                   "cubemap N' (slow: reference per pixel)");
     app.add_option(
         "--panorama", panorama_path,
         "write a PNG of panoramas instead of the table: per sun elevation, strips of\n"
         "reference, height-chained, dome-height, dome-hp, dome-hp-single (azimuth 0..360\n"
         "left to right, elevation 90..0 top to bottom, auto exposure)");
     app.add_option("--panorama-size", panorama_size, "size of one strip WxH (default 192x48)");
+    app.add_option("--gl-stride", gl_stride, "--gl compares every Nth pixel (default 2)");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
+    if (gl_stride < 1 || gl_stride > 64) {
+        return aerial::tools::fail(
+            kTool, "--gl-stride: must be in 1 .. 64, got " + std::to_string(gl_stride));
+    }
 
     auto atmosphere = atmosphere_file.empty() ? aerial::atmosphere_preset(preset)
                                               : aerial::load_atmosphere_json(atmosphere_file);
@@ -143,6 +218,20 @@ int main(int argc, char** argv) {
         std::printf("wrote %s (%d x %d)\n", panorama_path.c_str(), image.width, image.height);
         return 0;
     }
+    std::optional<aerial::headless::Context> context;
+    if (!gl_backend.empty()) {
+        auto backend = aerial::headless::parse_backend(gl_backend);
+        if (!backend) {
+            return aerial::tools::fail(kTool,
+                                       "--gl: expected osmesa or egl, got '" + gl_backend + "'");
+        }
+        auto created = aerial::headless::Context::create({*backend, 64, 64});
+        if (!created) return aerial::tools::fail(kTool, "--gl: " + created.error().message);
+        context.emplace(std::move(created).value());
+        if (!aerial::gl::cube_maps_supported(context->api())) {
+            return aerial::tools::fail(kTool, "--gl: the context has no cube maps");
+        }
+    }
     std::ofstream csv;
     if (!csv_path.empty()) {
         csv.open(csv_path);
@@ -177,6 +266,14 @@ int main(int argc, char** argv) {
             aerial::cubemap_to_rgba8(*cubemap, probe->exposure, aerial::ToneCurve::exponential);
         rows.push_back({"cubemap " + std::to_string(cubemap_size), elevation_deg,
                         aerial::measure_sky_cubemap(*probe, faces, cubemap_size), false});
+        if (context) {
+            auto reference = aerial::prepare_sky(*atmosphere, view, aerial::SkyMethod::reference);
+            auto gl_error = measure_gl_sky_box(*context, *reference, probe->exposure, faces,
+                                               cubemap_size, gl_stride);
+            if (!gl_error) return aerial::tools::fail(kTool, "--gl: " + gl_error.error().message);
+            rows.push_back(
+                {"gl cubemap " + std::to_string(cubemap_size), elevation_deg, *gl_error, false});
+        }
         for (const Row& r : rows) {
             char rel[32];
             if (r.has_relative) {

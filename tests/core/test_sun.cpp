@@ -180,6 +180,7 @@ TEST(SunIrradianceProfile, MatchesTheDirectComputationBetweenSamples) {
             }
         }
     }
+    EXPECT_EQ(aerial::SunIrradianceProfile().at(100.0), glm::dvec3(0.0)) << "not built";
     EXPECT_EQ(aerial::SunIrradianceProfile::build(a, 0.1, 100.0, 100.0).error().field,
               "max_altitude_m");
     EXPECT_EQ(aerial::SunIrradianceProfile::build(a, 0.1, 0.0, 100.0, 1).error().field, "samples");

@@ -60,7 +60,8 @@ const std::vector<SkyMethod>& all_sky_methods();
 /// ground below the horizon). Tabulated on a grid that is dense near the horizon.
 struct VirtualDome {
     std::vector<double> radius_m;  ///< by table index, see radius_at
-    /// The radius for a direction at this elevation (radians, -pi/2 .. pi/2), interpolated.
+    /// The radius for a direction at this elevation (radians, -pi/2 .. pi/2), interpolated; 0
+    /// for a dome that was not fitted.
     double radius_at(double elevation_rad) const;
 };
 

@@ -103,7 +103,8 @@ class SunIrradianceProfile {
                                               double sun_elevation_rad, double min_altitude_m,
                                               double max_altitude_m, int samples = 65);
 
-    /// The sun irradiance at an altitude (clamped to the table's range).
+    /// The sun irradiance at an altitude (clamped to the table's range); zero for a profile that
+    /// was default-constructed instead of built.
     glm::dvec3 at(double altitude_m) const;
 
     double min_altitude_m() const { return min_; }

@@ -104,6 +104,7 @@ Result<SkyMethod> parse_sky_method(std::string_view name) {
 }
 
 double VirtualDome::radius_at(double elevation_rad) const {
+    if (radius_m.size() < 2) return 0.0;  // not fitted
     const double n = double(radius_m.size() - 1);
     const double x = (dome_u(elevation_rad) + 1.0) * 0.5 * n;
     const std::size_t i = std::min(std::size_t(std::max(x, 0.0)), radius_m.size() - 2);

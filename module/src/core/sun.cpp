@@ -257,6 +257,7 @@ Result<SunIrradianceProfile> SunIrradianceProfile::build(const Atmosphere& atmos
 }
 
 glm::dvec3 SunIrradianceProfile::at(double altitude_m) const {
+    if (depth_.size() < 2) return glm::dvec3(0.0);  // default-constructed: not built
     const double n = double(depth_.size() - 1);
     const double x = std::clamp((altitude_m - min_) / (max_ - min_), 0.0, 1.0) * n;
     const std::size_t i = std::min(std::size_t(x), depth_.size() - 2);

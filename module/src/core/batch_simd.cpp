@@ -64,6 +64,7 @@ struct FrameConstants {
     float eye[3], sun[3], up[3];
     float meters_per_unit;
     float max_distance_m;
+    float max_distance_sq_m2;  // its square: the test on |d|^2, before any square root
     // Phase functions: Rayleigh 3/(16 pi) (1 + c^2); Henyey–Greenstein
     // hg_numerator / base^(3/2), base = hg_a + hg_b (1 - c'), c' = sign(g) c (see Phases).
     float rayleigh_phase_scale;
@@ -97,6 +98,7 @@ inline FrameConstants make_frame_constants(const Frame<float>& f) {
     }
     k.meters_per_unit = f.meters_per_unit;
     k.max_distance_m = float(kMaxDistanceM);
+    k.max_distance_sq_m2 = float(kMaxDistanceM * kMaxDistanceM);
     k.rayleigh_phase_scale = float(3.0 / (16.0 * kPi));
     // From g in double: near |g| = 1, 1 - |g| and 1 - g^2 lose digits in float.
     const double abs_g = std::abs(f.atmosphere.mie_g);
@@ -205,10 +207,59 @@ HWY_INLINE VF FastLog2(VF x) {
 constexpr float kLog2E = 1.44269504088896340736f;
 constexpr float kLn2 = 0.69314718055994530942f;
 
+/// exp(x) and expm1(x) from one range reduction, both to full relative precision (x <= 88):
+/// x = n ln2 + r with n = round(x / ln2), |r| <= ln2 / 2 (ln2 in two parts, Cody–Waite), and
+/// q = e^r - 1 by its Taylor polynomial of degree kDegree (truncation relative to q at |r| =
+/// ln2 / 2: 1.5e-8 for degree 7, 6.6e-6 for degree 5); then exp(x) = 2^n q + 2^n and expm1(x) =
+/// 2^n q + (2^n - 1), which has no cancellation (for n = 0 it is q itself). Below -87.33 both
+/// are the limits 0 and -1. 2^n comes from the exponent bits of the rounding constant: no
+/// float-int conversions.
+template <int kDegree>
+HWY_INLINE void ExpAndExpm1(VF x, VF& exp_x, VF& expm1_x) {
+    static_assert(kDegree == 5 || kDegree == 7, "degree 5 (fast) or 7 (accurate)");
+    const DF d;
+    const DI di;
+    constexpr float kLn2Hi = 0.693145751953125f;  // 15 bits: n kLn2Hi is exact for |n| <= 128
+    constexpr float kLn2Lo = 1.42860682030941723212e-6f;
+    const MF underflow = hn::Lt(x, K(-87.33f));
+    const VF clamped = hn::Min(hn::Max(x, K(-87.33f)), K(88.0f));
+    const VF shifted = hn::MulAdd(clamped, K(1.44269504088896340736f), K(12582912.0f));
+    const VF n = hn::Sub(shifted, K(12582912.0f));
+    const VF r = hn::NegMulAdd(n, K(kLn2Lo), hn::NegMulAdd(n, K(kLn2Hi), clamped));
+    VF p;
+    if constexpr (kDegree == 7) {
+        p = hn::MulAdd(r, K(1.0f / 5040.0f), K(1.0f / 720.0f));
+        p = hn::MulAdd(p, r, K(1.0f / 120.0f));
+        p = hn::MulAdd(p, r, K(1.0f / 24.0f));
+    } else {
+        p = hn::MulAdd(r, K(1.0f / 120.0f), K(1.0f / 24.0f));
+    }
+    p = hn::MulAdd(p, r, K(1.0f / 6.0f));
+    p = hn::MulAdd(p, r, K(0.5f));
+    const VF q = hn::MulAdd(hn::Mul(p, r), r, r);  // r + r^2 (1/2 + r/6 + ...)
+    const VF scale =
+        hn::BitCast(d, hn::ShiftLeft<23>(hn::Add(hn::BitCast(di, shifted), hn::Set(di, 127))));
+    exp_x = hn::IfThenZeroElse(underflow, hn::MulAdd(scale, q, scale));
+    expm1_x = hn::IfThenElse(underflow, K(-1.0f), hn::MulAdd(scale, q, hn::Sub(scale, K(1.0f))));
+}
+
+/// 1 / sqrt(x) for normal x > 0: the hardware estimate and one Newton step (relative error
+/// about 2e-7 where the estimate has 12 bits).
+HWY_INLINE VF RefinedRsqrt(VF x) {
+#if HWY_ARCH_X86 && HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128
+    const VF r = hn::ApproximateReciprocalSqrt(x);
+    return hn::Mul(r, hn::NegMulAdd(hn::Mul(K(0.5f), x), hn::Mul(r, r), K(1.5f)));
+#else
+    // Elsewhere the estimate may have 8 bits or fewer: one step would leave 2e-5.
+    return hn::Div(K(1.0f), hn::Sqrt(x));
+#endif
+}
+
 // ---- The two precisions -----------------------------------------------------------------------
 
 /// Highway's functions (about 1 ulp).
 struct AccurateMath {
+    static constexpr int kExpDegree = 7;  ///< of ExpAndExpm1
     static HWY_INLINE VF Exp(VF x) { return hn::Exp(DF(), x); }
     static HWY_INLINE VF Log(VF x) { return hn::Log(DF(), x); }
     static HWY_INLINE VF Expm1Far(VF x) { return hn::Expm1(DF(), x); }
@@ -221,6 +272,7 @@ struct AccurateMath {
 /// Polynomial exp2/log2; expm1 as exp - 1 beyond the series (relative error about 1e-5 there);
 /// log1p with the rounding of 1 + x added back.
 struct FastMath {
+    static constexpr int kExpDegree = 5;  ///< of ExpAndExpm1
     static HWY_INLINE VF Exp(VF x) { return FastExp2(hn::Mul(x, K(kLog2E))); }
     static HWY_INLINE VF Log(VF x) { return hn::Mul(FastLog2(x), K(kLn2)); }
     static HWY_INLINE VF Expm1Far(VF x) { return hn::Sub(Exp(x), K(1.0f)); }
@@ -440,33 +492,159 @@ HWY_INLINE Segment MakeSegment(const FrameConstants& k, VF x, VF y, VF z) {
 
 // ---- hoffman-preetham -------------------------------------------------------------------------
 
+/// The 2002 model for one vector of positions (engine units): F_ex, and L_in when
+/// kInScattering; invalid lanes (NaN, Inf, farther than kMaxDistanceM) get F_ex = 1, L_in = 0.
+/// Returns the valid lanes. The distance s and the direction d / s come from one refined
+/// reciprocal square root of |d|^2 (no square root, no division); per channel one ExpAndExpm1
+/// gives F_ex = exp(-tau) and the path length s phi(tau) = -expm1(-tau) / beta_ex with
+/// tau = beta_ex s, exact down to tau = 0 without a series; the phases are computed once per
+/// vertex (the Henyey–Greenstein power with a second refined reciprocal square root).
+template <class M, bool kInScattering>
+HWY_INLINE MF HoffmanPreethamVector(const FrameConstants& k, VF x, VF y, VF z, VF (&extinction)[3],
+                                    VF (&in_scattering)[3]) {
+    const VF scale = K(k.meters_per_unit);
+    const VF dx = hn::MulSub(x, scale, K(k.eye[0]));
+    const VF dy = hn::MulSub(y, scale, K(k.eye[1]));
+    const VF dz = hn::MulSub(z, scale, K(k.eye[2]));
+    const VF s2 = Dot(dx, dy, dz, dx, dy, dz);
+    const MF valid = hn::Le(s2, K(k.max_distance_sq_m2));  // false for NaN
+    // Below the smallest normal float |d| is 0 (1e-19 m): the vertex is at the eye.
+    const MF positive = hn::Ge(s2, K(kTiny));
+    const VF inv_s = RefinedRsqrt(hn::IfThenElse(positive, s2, K(1.0f)));
+    const VF s = hn::IfThenElseZero(positive, hn::Mul(s2, inv_s));
+    VF length[3];
+    for (int c = 0; c < 3; ++c) {
+        VF exp_minus_tau, expm1_minus_tau;
+        ExpAndExpm1<M::kExpDegree>(hn::Mul(K(-k.hp_extinction[c]), s), exp_minus_tau,
+                                   expm1_minus_tau);
+        extinction[c] = hn::IfThenElse(valid, exp_minus_tau, K(1.0f));
+        // 1 / beta_ex is 0 where beta_ex is: then beta_R = beta_Ms = 0 and L_in is 0 anyway.
+        length[c] = hn::Mul(expm1_minus_tau, K(-k.hp_inv_extinction[c]));
+    }
+    if constexpr (kInScattering) {
+        // Phases (see Phases): 1 - c' from the chord |d/s - sign(g) sun|^2 / 2.
+        const VF cx = hn::MulSub(dx, inv_s, K(k.hg_peak[0]));
+        const VF cy = hn::MulSub(dy, inv_s, K(k.hg_peak[1]));
+        const VF cz = hn::MulSub(dz, inv_s, K(k.hg_peak[2]));
+        const VF one_minus_c = hn::IfThenElse(
+            positive, Clamp(hn::Mul(Dot(cx, cy, cz, cx, cy, cz), K(0.5f)), 0.0f, 2.0f),
+            K(k.hg_one_minus_c_at_sun));
+        const VF c = hn::Sub(K(1.0f), one_minus_c);
+        const VF rayleigh = hn::Mul(K(k.rayleigh_phase_scale), hn::MulAdd(c, c, K(1.0f)));
+        const VF inv_root_base = RefinedRsqrt(hn::MulAdd(K(k.hg_b), one_minus_c, K(k.hg_a)));
+        const VF mie = hn::Mul(hn::Mul(K(k.hg_numerator), inv_root_base),
+                               hn::Mul(inv_root_base, inv_root_base));
+        for (int ch = 0; ch < 3; ++ch) {
+            // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau).
+            const VF angular =
+                hn::MulAdd(K(k.hp_rayleigh[ch]), rayleigh, hn::Mul(K(k.hp_mie[ch]), mie));
+            in_scattering[ch] = hn::IfThenElseZero(valid, hn::Mul(angular, length[ch]));
+        }
+    } else {
+        (void)in_scattering;
+    }
+    return valid;
+}
+
 template <class M, bool kInScattering>
 std::size_t ShadeHoffmanPreetham(const FrameConstants& k, const KernelBlock& b) {
     return ForEachVector(b, [&k](VF x, VF y, VF z, const VectorOut& out) {
-        const Segment seg = MakeSegment(k, x, y, z);
-        VF extinction[3];
+        VF extinction[3], in_scattering[3];
+        const MF valid =
+            HoffmanPreethamVector<M, kInScattering>(k, x, y, z, extinction, in_scattering);
         for (int c = 0; c < 3; ++c) {
-            extinction[c] = M::Exp(hn::Mul(K(-k.hp_extinction[c]), seg.s));
-            out.Extinction(c, hn::IfThenElse(seg.valid, extinction[c], K(1.0f)));
-            out.SunIrradiance(c, hn::IfThenElseZero(seg.valid, K(k.sun_eye[c])));
+            out.Extinction(c, extinction[c]);
+            out.SunIrradiance(c, hn::IfThenElseZero(valid, K(k.sun_eye[c])));
+            if constexpr (kInScattering) out.InScattering(c, in_scattering[c]);
+        }
+        return valid;
+    });
+}
+
+// ---- hoffman-preetham straight to RGBA8 -------------------------------------------------------
+
+/// 8-bit codes of v * scale by the batch API's rule floor(clamp(v * scale, 0, 1) * 255 + 0.5),
+/// with the same float operations as to_unorm8 (a multiply, then an add, no fused
+/// multiply-add), as 32-bit lanes.
+HWY_INLINE hn::Vec<DI> Unorm8(VF v) {
+    const VF clamped = hn::Min(hn::Max(v, hn::Zero(DF())), K(1.0f));
+    return hn::ConvertTo(DI(), hn::Add(hn::Mul(clamped, K(255.0f)), K(0.5f)));
+}
+
+/// R, G, B codes and alpha 255 as little-endian RGBA8 words.
+HWY_INLINE hn::Vec<DI> PackWords(hn::Vec<DI> r, hn::Vec<DI> g, hn::Vec<DI> b) {
+    const DI di;
+    return hn::Or(hn::Or(r, hn::ShiftLeft<8>(g)),
+                  hn::Or(hn::ShiftLeft<16>(b), hn::Set(di, static_cast<int32_t>(0xFF000000u))));
+}
+
+/// Stores one vector of words at `out` (stride bytes apart), the first n lanes only when
+/// n < lanes.
+HWY_INLINE void StoreWords(hn::Vec<DI> words, std::uint8_t* out, std::size_t stride,
+                           std::size_t n) {
+    const DI di;
+    const std::size_t lanes = hn::Lanes(di);
+    if (stride == 4 && n == lanes) {
+        hn::StoreU(words, di, reinterpret_cast<int32_t*>(out));
+        return;
+    }
+    HWY_ALIGN int32_t buffer[kMaxLanes];
+    hn::Store(words, di, buffer);
+    for (std::size_t j = 0; j < n; ++j) std::memcpy(out + j * stride, &buffer[j], 4);
+}
+
+/// The 2002 model from positions to the caller's RGBA8 arrays in one pass: positions loaded
+/// (deinterleaved when kPackedXyz: x, y, z floats back to back; else three arrays), F_ex and
+/// L_in computed in registers and stored as codes, no float arrays in between. `exposure`
+/// multiplies L_in before the clamp (ToneCurve::clamp). The codes are those of the float path
+/// (ShadeHoffmanPreetham) through the 8-bit rule, bit for bit.
+template <class M, bool kPackedXyz, bool kInScattering>
+std::size_t ShadeHoffmanPreethamRgba8(const FrameConstants& k, const Rgba8Job& job) {
+    const DF d;
+    const std::size_t lanes = hn::Lanes(d);
+    const VF exposure = K(job.exposure);
+    HWY_ALIGN float pad[3 * kMaxLanes] = {};
+    std::size_t invalid = 0;
+    for (std::size_t i = 0; i < job.count; i += lanes) {
+        const std::size_t n = std::min(lanes, job.count - i);
+        VF x, y, z;
+        if constexpr (kPackedXyz) {
+            const float* p = job.x + 3 * i;
+            if (HWY_UNLIKELY(n < lanes)) {
+                std::memcpy(pad, p, 3 * n * sizeof(float));
+                p = pad;
+            }
+            hn::LoadInterleaved3(d, p, x, y, z);
+        } else if (HWY_LIKELY(n == lanes)) {
+            x = hn::LoadU(d, job.x + i);
+            y = hn::LoadU(d, job.y + i);
+            z = hn::LoadU(d, job.z + i);
+        } else {
+            std::memcpy(pad, job.x + i, n * sizeof(float));
+            std::memcpy(pad + kMaxLanes, job.y + i, n * sizeof(float));
+            std::memcpy(pad + 2 * kMaxLanes, job.z + i, n * sizeof(float));
+            x = hn::Load(d, pad);
+            y = hn::Load(d, pad + kMaxLanes);
+            z = hn::Load(d, pad + 2 * kMaxLanes);
+        }
+        VF extinction[3], in_scattering[3];
+        const MF valid =
+            HoffmanPreethamVector<M, kInScattering>(k, x, y, z, extinction, in_scattering);
+        invalid += hn::CountTrue(d, hn::AndNot(valid, hn::FirstN(d, n)));
+        if (job.extinction) {
+            StoreWords(
+                PackWords(Unorm8(extinction[0]), Unorm8(extinction[1]), Unorm8(extinction[2])),
+                job.extinction + i * job.extinction_stride, job.extinction_stride, n);
         }
         if constexpr (kInScattering) {
-            VF rayleigh, mie;
-            Phases<M>(k, seg.dx, seg.dy, seg.dz, seg.s, rayleigh, mie);
-            for (int c = 0; c < 3; ++c) {
-                // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), phi(tau) = (1 - e^-tau) / tau;
-                // s phi(tau) = (1 - F_ex) / beta_ex beyond the series: no division per vertex.
-                const VF minus_tau = hn::Mul(K(-k.hp_extinction[c]), seg.s);
-                const VF length = hn::IfThenElse(
-                    NearZero(minus_tau), hn::Mul(seg.s, ExpAverageSeries(minus_tau)),
-                    hn::Mul(hn::Sub(K(1.0f), extinction[c]), K(k.hp_inv_extinction[c])));
-                const VF angular =
-                    hn::MulAdd(K(k.hp_rayleigh[c]), rayleigh, hn::Mul(K(k.hp_mie[c]), mie));
-                out.InScattering(c, hn::IfThenElseZero(seg.valid, hn::Mul(angular, length)));
-            }
+            StoreWords(PackWords(Unorm8(hn::Mul(in_scattering[0], exposure)),
+                                 Unorm8(hn::Mul(in_scattering[1], exposure)),
+                                 Unorm8(hn::Mul(in_scattering[2], exposure))),
+                       job.in_scattering + i * job.in_scattering_stride, job.in_scattering_stride,
+                       n);
         }
-        return seg.valid;
-    });
+    }
+    return invalid;
 }
 
 // ---- height -----------------------------------------------------------------------------------
@@ -734,6 +912,27 @@ std::size_t ShadeBlockSimd(const Frame<float>& frame, const KernelBlock& block, 
                 : ShadeWith<AccurateMath>(k, frame.model, block);
 }
 
+std::size_t ShadeHoffmanPreethamRgba8Simd(const Frame<float>& frame, const Rgba8Job& job,
+                                          bool fast) {
+    if (job.count == 0) return 0;
+    const FrameConstants k = simd::make_frame_constants(frame);
+    const bool in_scattering = job.in_scattering != nullptr;
+    if (fast) {
+        if (job.packed_xyz) {
+            return in_scattering ? ShadeHoffmanPreethamRgba8<FastMath, true, true>(k, job)
+                                 : ShadeHoffmanPreethamRgba8<FastMath, true, false>(k, job);
+        }
+        return in_scattering ? ShadeHoffmanPreethamRgba8<FastMath, false, true>(k, job)
+                             : ShadeHoffmanPreethamRgba8<FastMath, false, false>(k, job);
+    }
+    if (job.packed_xyz) {
+        return in_scattering ? ShadeHoffmanPreethamRgba8<AccurateMath, true, true>(k, job)
+                             : ShadeHoffmanPreethamRgba8<AccurateMath, true, false>(k, job);
+    }
+    return in_scattering ? ShadeHoffmanPreethamRgba8<AccurateMath, false, true>(k, job)
+                         : ShadeHoffmanPreethamRgba8<AccurateMath, false, false>(k, job);
+}
+
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
 
 /// Applies a vector function to n floats (any n), through padded copies for the tail.
@@ -823,6 +1022,7 @@ HWY_AFTER_NAMESPACE();
 namespace aerial::detail {
 
 HWY_EXPORT(ShadeBlockSimd);
+HWY_EXPORT(ShadeHoffmanPreethamRgba8Simd);
 HWY_EXPORT(TargetName);
 HWY_EXPORT(PackRgba8);
 HWY_EXPORT(Deinterleave3);
@@ -836,6 +1036,12 @@ std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block
         return shade_block_scalar(frame, block);  // the reference model has no SIMD kernel
     }
     return HWY_DYNAMIC_DISPATCH(ShadeBlockSimd)(frame, block, precision == KernelPrecision::fast);
+}
+
+std::size_t shade_hoffman_preetham_rgba8(const Frame<float>& frame, const Rgba8Job& job,
+                                         KernelPrecision precision) {
+    return HWY_DYNAMIC_DISPATCH(ShadeHoffmanPreethamRgba8Simd)(frame, job,
+                                                               precision == KernelPrecision::fast);
 }
 
 const char* simd_target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }

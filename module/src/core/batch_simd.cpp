@@ -63,6 +63,8 @@ constexpr float kSunWeights[3] = {5.0f / 18.0f, 8.0f / 18.0f, 5.0f / 18.0f};
 struct FrameConstants {
     float eye[3], sun[3], up[3];
     float meters_per_unit;
+    bool unit_scale;     // meters_per_unit == 1
+    float eye_units[3];  // the eye in engine units (View::eye)
     float max_distance_m;
     float max_distance_sq_m2;  // its square: the test on |d|^2, before any square root
     // Phase functions: Rayleigh 3/(16 pi) (1 + c^2); Henyey–Greenstein
@@ -73,6 +75,7 @@ struct FrameConstants {
     // hoffman-preetham: beta_R E_eye and beta_Ms E_eye per channel (1/m), total extinction and
     // its inverse (0 where the extinction is 0), E_eye.
     float hp_rayleigh[3], hp_mie[3], hp_extinction[3], hp_inv_extinction[3], sun_eye[3];
+    float hp_minus_extinction[3], hp_minus_inv_extinction[3];  // their negatives
     // height.
     float rayleigh[3], mie_scattering[3], mie_extinction[3], sun_top[3];
     float radius_m, radius_sq_m2, two_radius_m, inv_two_radius;
@@ -97,6 +100,8 @@ inline FrameConstants make_frame_constants(const Frame<float>& f) {
         k.hg_peak[i] = f.mie_g < 0.0f ? -f.sun_dir[i] : f.sun_dir[i];
     }
     k.meters_per_unit = f.meters_per_unit;
+    k.unit_scale = f.meters_per_unit == 1.0f;
+    for (int i = 0; i < 3; ++i) k.eye_units[i] = float(f.view.eye[i]);
     k.max_distance_m = float(kMaxDistanceM);
     k.max_distance_sq_m2 = float(kMaxDistanceM * kMaxDistanceM);
     k.rayleigh_phase_scale = float(3.0 / (16.0 * kPi));
@@ -116,6 +121,8 @@ inline FrameConstants make_frame_constants(const Frame<float>& f) {
         k.hp_mie[c] = f.mie_scattering[c] * f.sun_irradiance_eye[c];
         k.hp_extinction[c] = f.rayleigh_scattering[c] + f.mie_extinction[c];
         k.hp_inv_extinction[c] = k.hp_extinction[c] > 0.0f ? 1.0f / k.hp_extinction[c] : 0.0f;
+        k.hp_minus_extinction[c] = -k.hp_extinction[c];
+        k.hp_minus_inv_extinction[c] = -k.hp_inv_extinction[c];
     }
     k.radius_m = f.planet_radius_m;
     k.radius_sq_m2 = f.planet_radius_m * f.planet_radius_m;
@@ -207,13 +214,14 @@ HWY_INLINE VF FastLog2(VF x) {
 constexpr float kLog2E = 1.44269504088896340736f;
 constexpr float kLn2 = 0.69314718055994530942f;
 
-/// exp(x) and expm1(x) from one range reduction, both to full relative precision (x <= 88):
-/// x = n ln2 + r with n = round(x / ln2), |r| <= ln2 / 2 (ln2 in two parts, Cody–Waite), and
-/// q = e^r - 1 by its Taylor polynomial of degree kDegree (truncation relative to q at |r| =
-/// ln2 / 2: 1.5e-8 for degree 7, 6.6e-6 for degree 5); then exp(x) = 2^n q + 2^n and expm1(x) =
-/// 2^n q + (2^n - 1), which has no cancellation (for n = 0 it is q itself). Below -87.33 both
-/// are the limits 0 and -1. 2^n comes from the exponent bits of the rounding constant: no
-/// float-int conversions.
+/// exp(x) and expm1(x) for x <= 0 (minus an optical depth) from one range reduction, both to
+/// full relative precision: x = n ln2 + r with n = round(x / ln2), |r| <= ln2 / 2 (ln2 in two
+/// parts, Cody–Waite), and q = e^r - 1 by its Taylor polynomial of degree kDegree (truncation
+/// relative to q at |r| = ln2 / 2: 1.5e-8 for degree 7, 6.6e-6 for degree 5); then exp(x) =
+/// 2^n q + 2^n and expm1(x) = 2^n q + (2^n - 1), which has no cancellation (for n = 0 it is q
+/// itself). Below -87.33 both are their values there (1.2e-38 and -1: 0 and -1 to 8 bits and
+/// to any use of them here). 2^n comes from the exponent bits of the rounding constant: no
+/// float-int conversions. NaN gives the values at -87.33.
 template <int kDegree>
 HWY_INLINE void ExpAndExpm1(VF x, VF& exp_x, VF& expm1_x) {
     static_assert(kDegree == 5 || kDegree == 7, "degree 5 (fast) or 7 (accurate)");
@@ -221,8 +229,7 @@ HWY_INLINE void ExpAndExpm1(VF x, VF& exp_x, VF& expm1_x) {
     const DI di;
     constexpr float kLn2Hi = 0.693145751953125f;  // 15 bits: n kLn2Hi is exact for |n| <= 128
     constexpr float kLn2Lo = 1.42860682030941723212e-6f;
-    const MF underflow = hn::Lt(x, K(-87.33f));
-    const VF clamped = hn::Min(hn::Max(x, K(-87.33f)), K(88.0f));
+    const VF clamped = hn::Max(x, K(-87.33f));
     const VF shifted = hn::MulAdd(clamped, K(1.44269504088896340736f), K(12582912.0f));
     const VF n = hn::Sub(shifted, K(12582912.0f));
     const VF r = hn::NegMulAdd(n, K(kLn2Lo), hn::NegMulAdd(n, K(kLn2Hi), clamped));
@@ -239,8 +246,8 @@ HWY_INLINE void ExpAndExpm1(VF x, VF& exp_x, VF& expm1_x) {
     const VF q = hn::MulAdd(hn::Mul(p, r), r, r);  // r + r^2 (1/2 + r/6 + ...)
     const VF scale =
         hn::BitCast(d, hn::ShiftLeft<23>(hn::Add(hn::BitCast(di, shifted), hn::Set(di, 127))));
-    exp_x = hn::IfThenZeroElse(underflow, hn::MulAdd(scale, q, scale));
-    expm1_x = hn::IfThenElse(underflow, K(-1.0f), hn::MulAdd(scale, q, hn::Sub(scale, K(1.0f))));
+    exp_x = hn::MulAdd(scale, q, scale);
+    expm1_x = hn::MulAdd(scale, q, hn::Sub(scale, K(1.0f)));
 }
 
 /// 1 / sqrt(x) for normal x > 0: the hardware estimate and one Newton step (relative error
@@ -502,10 +509,18 @@ HWY_INLINE Segment MakeSegment(const FrameConstants& k, VF x, VF y, VF z) {
 template <class M, bool kInScattering>
 HWY_INLINE MF HoffmanPreethamVector(const FrameConstants& k, VF x, VF y, VF z, VF (&extinction)[3],
                                     VF (&in_scattering)[3]) {
-    const VF scale = K(k.meters_per_unit);
-    const VF dx = hn::MulSub(x, scale, K(k.eye[0]));
-    const VF dy = hn::MulSub(y, scale, K(k.eye[1]));
-    const VF dz = hn::MulSub(z, scale, K(k.eye[2]));
+    // Offset from the eye in engine units, then scaled: the difference is exact near the eye
+    // (Sterbenz), where scaling first would round both terms at the size of the distance to the
+    // origin; and no fused operation, so that every target rounds alike.
+    VF dx = hn::Sub(x, K(k.eye_units[0]));
+    VF dy = hn::Sub(y, K(k.eye_units[1]));
+    VF dz = hn::Sub(z, K(k.eye_units[2]));
+    if (!k.unit_scale) {
+        const VF scale = K(k.meters_per_unit);
+        dx = hn::Mul(dx, scale);
+        dy = hn::Mul(dy, scale);
+        dz = hn::Mul(dz, scale);
+    }
     const VF s2 = Dot(dx, dy, dz, dx, dy, dz);
     const MF valid = hn::Le(s2, K(k.max_distance_sq_m2));  // false for NaN
     // Below the smallest normal float |d| is 0 (1e-19 m): the vertex is at the eye.
@@ -515,11 +530,11 @@ HWY_INLINE MF HoffmanPreethamVector(const FrameConstants& k, VF x, VF y, VF z, V
     VF length[3];
     for (int c = 0; c < 3; ++c) {
         VF exp_minus_tau, expm1_minus_tau;
-        ExpAndExpm1<M::kExpDegree>(hn::Mul(K(-k.hp_extinction[c]), s), exp_minus_tau,
+        ExpAndExpm1<M::kExpDegree>(hn::Mul(K(k.hp_minus_extinction[c]), s), exp_minus_tau,
                                    expm1_minus_tau);
         extinction[c] = hn::IfThenElse(valid, exp_minus_tau, K(1.0f));
         // 1 / beta_ex is 0 where beta_ex is: then beta_R = beta_Ms = 0 and L_in is 0 anyway.
-        length[c] = hn::Mul(expm1_minus_tau, K(-k.hp_inv_extinction[c]));
+        length[c] = hn::Mul(expm1_minus_tau, K(k.hp_minus_inv_extinction[c]));
     }
     if constexpr (kInScattering) {
         // Phases (see Phases): 1 - c' from the chord |d/s - sign(g) sun|^2 / 2.
@@ -563,12 +578,30 @@ std::size_t ShadeHoffmanPreetham(const FrameConstants& k, const KernelBlock& b) 
 
 // ---- hoffman-preetham straight to RGBA8 -------------------------------------------------------
 
-/// 8-bit codes of v * scale by the batch API's rule floor(clamp(v * scale, 0, 1) * 255 + 0.5),
-/// with the same float operations as to_unorm8 (a multiply, then an add, no fused
-/// multiply-add), as 32-bit lanes.
+/// float to int32 by truncation for values well inside the int32 range: the bare conversion
+/// instruction on x86 (Highway's ConvertTo adds a fix-up for out-of-range values, five
+/// operations per vector).
+HWY_INLINE hn::Vec<DI> TruncateInRange(VF v) {
+#if HWY_ARCH_X86 && HWY_TARGET == HWY_AVX2
+    return hn::Vec<DI>{_mm256_cvttps_epi32(v.raw)};
+#elif HWY_ARCH_X86 && (HWY_TARGET == HWY_SSE4 || HWY_TARGET == HWY_SSSE3)
+    return hn::Vec<DI>{_mm_cvttps_epi32(v.raw)};
+#elif HWY_ARCH_X86 && (HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL)
+    return hn::Vec<DI>{_mm512_cvttps_epi32(v.raw)};
+#else
+    return hn::ConvertTo(DI(), v);
+#endif
+}
+
+/// 8-bit codes of v by the batch API's rule floor(clamp(v, 0, 1) * 255 + 0.5), with the same
+/// float operations as to_unorm8 (a multiply, then an add: the library is built without
+/// contraction into fused multiply-adds), as 32-bit lanes. kNonNegative: v >= 0 is known (F_ex,
+/// from an exponential), the lower clamp is left out.
+template <bool kNonNegative = false>
 HWY_INLINE hn::Vec<DI> Unorm8(VF v) {
-    const VF clamped = hn::Min(hn::Max(v, hn::Zero(DF())), K(1.0f));
-    return hn::ConvertTo(DI(), hn::Add(hn::Mul(clamped, K(255.0f)), K(0.5f)));
+    // Max first: it gives 0 for NaN (the second operand), as to_unorm8 does.
+    const VF clamped = hn::Min(kNonNegative ? v : hn::Max(v, hn::Zero(DF())), K(1.0f));
+    return TruncateInRange(hn::Add(hn::Mul(clamped, K(255.0f)), K(0.5f)));
 }
 
 /// R, G, B codes and alpha 255 as little-endian RGBA8 words.
@@ -599,7 +632,10 @@ HWY_INLINE void StoreWords(hn::Vec<DI> words, std::uint8_t* out, std::size_t str
 /// multiplies L_in before the clamp (ToneCurve::clamp). The codes are those of the float path
 /// (ShadeHoffmanPreetham) through the 8-bit rule, bit for bit.
 template <class M, bool kPackedXyz, bool kInScattering>
-std::size_t ShadeHoffmanPreethamRgba8(const FrameConstants& k, const Rgba8Job& job) {
+std::size_t ShadeHoffmanPreethamRgba8(const FrameConstants& constants, const Rgba8Job& work) {
+    // Local copies: the byte stores below cannot alias them, so the constants stay in registers.
+    const FrameConstants k = constants;
+    const Rgba8Job job = work;
     const DF d;
     const std::size_t lanes = hn::Lanes(d);
     const VF exposure = K(job.exposure);
@@ -632,9 +668,9 @@ std::size_t ShadeHoffmanPreethamRgba8(const FrameConstants& k, const Rgba8Job& j
             HoffmanPreethamVector<M, kInScattering>(k, x, y, z, extinction, in_scattering);
         invalid += hn::CountTrue(d, hn::AndNot(valid, hn::FirstN(d, n)));
         if (job.extinction) {
-            StoreWords(
-                PackWords(Unorm8(extinction[0]), Unorm8(extinction[1]), Unorm8(extinction[2])),
-                job.extinction + i * job.extinction_stride, job.extinction_stride, n);
+            StoreWords(PackWords(Unorm8<true>(extinction[0]), Unorm8<true>(extinction[1]),
+                                 Unorm8<true>(extinction[2])),
+                       job.extinction + i * job.extinction_stride, job.extinction_stride, n);
         }
         if constexpr (kInScattering) {
             StoreWords(PackWords(Unorm8(hn::Mul(in_scattering[0], exposure)),
@@ -967,15 +1003,12 @@ void PackRgba8(const float* HWY_RESTRICT r, const float* HWY_RESTRICT g,
                const float* HWY_RESTRICT b, std::size_t n, float scale,
                std::uint32_t* HWY_RESTRICT out) {
     const DF d;
-    const hn::RebindToSigned<DF> di;
     const hn::RebindToUnsigned<DF> du;
     const std::size_t lanes = hn::Lanes(d);
-    const VF vscale = hn::Set(d, scale), zero = hn::Zero(d), one = hn::Set(d, 1.0f);
-    const VF v255 = hn::Set(d, 255.0f), half = hn::Set(d, 0.5f);
+    const VF vscale = hn::Set(d, scale);
     const auto alpha = hn::Set(du, 0xFF000000u);
     auto code = [&](const float* p) {
-        const VF v = hn::Min(hn::Max(hn::Mul(hn::LoadU(d, p), vscale), zero), one);
-        return hn::BitCast(du, hn::ConvertTo(di, hn::Add(hn::Mul(v, v255), half)));
+        return hn::BitCast(du, Unorm8(hn::Mul(hn::LoadU(d, p), vscale)));
     };
     std::size_t i = 0;
     for (; i + lanes <= n; i += lanes) {

@@ -1,8 +1,9 @@
-// The one-pass path of the batch API (hoffman-preetham, F_ex and L_in as RGBA8 only): its codes
-// are the 8-bit rule applied to the float path's values on every SIMD target, whatever the
-// layout, strides, threads and tails; they are within half a step of the double model on a
-// million vertices including extreme atmospheres, views and points; concurrent callers share
-// the worker pool safely.
+// The 8-bit rule of the batch API on its SIMD paths. The one-pass path (hoffman-preetham, F_ex
+// and L_in as RGBA8 only): its codes are the rule applied to the float path's values on every
+// SIMD target, whatever the layout, strides, threads and tails; they are within half a step of
+// the double model on a million vertices including extreme atmospheres, views and points;
+// concurrent callers share the worker pool safely. The general path: every variant (F_ex, lit,
+// L_in; both models, precisions and tone curves; AoS and SoA; threads) is the rule on its floats.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -321,6 +322,105 @@ TEST(OnePassRgba8, CodesWithinHalfAStepOfTheDoubleModelOnAMillionVertices) {
     // The fast kernel's exponential (relative error 6.6e-6) moves a value by at most 0.002 LSB.
     EXPECT_LE(worst[1].extinction, 0.5 + 5e-3);
     EXPECT_LE(worst[1].in_scattering, 0.5 + 5e-3);
+}
+
+TEST(BatchRule, EveryVariantIsTheRuleOnItsKernelsFloats) {
+    // The general path (any output set): each RGBA8 output is the documented rule applied to the
+    // float values the same kernel gives, for both models, both SIMD precisions, both tone
+    // curves, strided AoS and SoA positions, on one thread and on several (which must agree).
+    struct Vertex {
+        float position[3];
+        float normal[3];
+    };
+    ExtremeSampler random(75);
+    constexpr std::size_t n = 2500;
+    std::vector<Vertex> v(n);
+    std::vector<float> x(n), y(n), z(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3 p(random.uniform(-3e4, 3e4), random.uniform(-3e4, 3e4),
+                           random.uniform(-50, 3000));
+        const glm::dvec3 normal = random.unit();
+        for (int c = 0; c < 3; ++c) {
+            v[i].position[c] = float(p[c]);
+            v[i].normal[c] = float(normal[c]);
+        }
+        x[i] = v[i].position[0];
+        y[i] = v[i].position[1];
+        z[i] = v[i].position[2];
+    }
+    aerial::Lighting lighting;
+    lighting.normals = v.data()->normal;
+    lighting.normal_stride_bytes = sizeof(Vertex);
+    lighting.ambient = {0.02f, 0.03f, 0.05f};
+    lighting.albedo = {0.8f, 0.7f, 0.6f};
+    aerial::View view;
+    view.eye = {100.0, -200.0, 150.0};
+    view.sun_dir = glm::normalize(glm::dvec3(0.2, 0.7, 0.3));
+    const aerial::Positions layouts[] = {
+        aerial::Positions::aos(v.data()->position, n, sizeof(Vertex)),
+        aerial::Positions::soa(x.data(), y.data(), z.data(), n)};
+    for (Model model : {Model::hoffman_preetham, Model::height}) {
+        const auto frame =
+            *aerial::prepare_frame<float>(*aerial::atmosphere_preset("earth"), view, model);
+        for (Kernel kernel : {Kernel::simd, Kernel::simd_fast}) {
+            for (auto tone : {aerial::ToneCurve::clamp, aerial::ToneCurve::exponential}) {
+                std::vector<std::uint8_t> first_codes;
+                for (const auto& positions : layouts) {
+                    for (unsigned threads : {1u, 2u}) {
+                        SCOPED_TRACE(std::string(aerial::model_name(model)) + " " +
+                                     kernel_name(kernel) + " threads " + std::to_string(threads));
+                        std::vector<std::uint8_t> e(4 * n), lit(4 * n), l(4 * n);
+                        std::vector<float> f(3 * n), li(3 * n), sun(3 * n);
+                        aerial::BatchOutputs out;
+                        out.extinction_rgba8 = e.data();
+                        out.lit_rgba8 = lit.data();
+                        out.in_scattering_rgba8 = l.data();
+                        out.extinction_rgb = f.data();
+                        out.in_scattering_rgb = li.data();
+                        out.sun_irradiance_rgb = sun.data();
+                        aerial::BatchSettings settings;
+                        settings.kernel = kernel;
+                        settings.threads = threads;
+                        settings.min_vertices_per_thread = 500;
+                        settings.display = {30.0f, tone};
+                        settings.lighting = &lighting;
+                        const auto stats = aerial::shade_into(frame, positions, out, settings);
+                        ASSERT_TRUE(stats.ok()) << stats.error().message;
+                        EXPECT_EQ(stats->threads_used, threads);
+                        for (std::size_t i = 0; i < n; ++i) {
+                            const glm::vec3 normal(v[i].normal[0], v[i].normal[1], v[i].normal[2]);
+                            const float n_dot_l = std::max(glm::dot(normal, frame.sun_dir), 0.0f);
+                            for (int c = 0; c < 3; ++c) {
+                                const float fe = f[3 * i + c], le = li[3 * i + c];
+                                ASSERT_TRUE(std::isfinite(fe) && std::isfinite(le));
+                                ASSERT_EQ(e[4 * i + c], aerial::to_unorm8(fe)) << "vertex " << i;
+                                ASSERT_EQ(l[4 * i + c], aerial::to_unorm8(aerial::display_value(
+                                                            settings.display, le)))
+                                    << "vertex " << i;
+                                const float lit_value =
+                                    fe * lighting.albedo[c] *
+                                    (sun[3 * i + c] * n_dot_l + lighting.ambient[c]);
+                                ASSERT_EQ(lit[4 * i + c], aerial::to_unorm8(aerial::display_value(
+                                                              settings.display, lit_value)))
+                                    << "vertex " << i;
+                            }
+                            ASSERT_EQ(e[4 * i + 3], 255);
+                            ASSERT_EQ(lit[4 * i + 3], 255);
+                            ASSERT_EQ(l[4 * i + 3], 255);
+                        }
+                        std::vector<std::uint8_t> codes = e;
+                        codes.insert(codes.end(), lit.begin(), lit.end());
+                        codes.insert(codes.end(), l.begin(), l.end());
+                        if (first_codes.empty()) {
+                            first_codes = codes;
+                        } else {
+                            EXPECT_EQ(codes, first_codes) << "layouts and thread counts differ";
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
 
 TEST(OnePassRgba8, ConcurrentCallersShareTheWorkersSafely) {

@@ -7,6 +7,10 @@
 //             absolute 2e-6 in log2).
 // Both take expm1(z) from its Taylor series for |z| < 1/2 and from an exp already computed
 // beyond it where there is one (F_ex), which keeps the per-vertex cost at one exp per channel.
+// The 2002 model, whose cost is all in the exponentials, has its own (ExpAndExpm1): exp and
+// expm1 from one range reduction, a degree-7 (accurate) or degree-5 (fast) polynomial, and the
+// distance and the Henyey–Greenstein power from refined reciprocal square roots; it also runs
+// from positions straight to RGBA8 codes in one pass (ShadeHoffmanPreethamRgba8).
 // The scaled complementary error function of the Chapman factor is the rational form of
 // Numerical Recipes (erfcc, fractional error below 1.2e-7 for every y >= 0), kept in log form so
 // that log(H Ch) costs one log and no exp.
@@ -521,39 +525,42 @@ HWY_INLINE MF HoffmanPreethamVector(const FrameConstants& k, VF x, VF y, VF z, V
         dy = hn::Mul(dy, scale);
         dz = hn::Mul(dz, scale);
     }
+    const MF valid = hn::Le(Dot(dx, dy, dz, dx, dy, dz), K(k.max_distance_sq_m2));  // not NaN
+    // Invalid lanes are moved onto the eye, where F_ex = exp(0) = 1 and L_in = 0 exactly.
+    dx = hn::IfThenElseZero(valid, dx);
+    dy = hn::IfThenElseZero(valid, dy);
+    dz = hn::IfThenElseZero(valid, dz);
     const VF s2 = Dot(dx, dy, dz, dx, dy, dz);
-    const MF valid = hn::Le(s2, K(k.max_distance_sq_m2));  // false for NaN
-    // Below the smallest normal float |d| is 0 (1e-19 m): the vertex is at the eye.
+    // Below the smallest normal float |d| is 0 (1e-19 m): the vertex is at the eye, s = 0, and
+    // L_in = 0 whatever the phase made of d / s (finite: inv_s is 1 there).
     const MF positive = hn::Ge(s2, K(kTiny));
     const VF inv_s = RefinedRsqrt(hn::IfThenElse(positive, s2, K(1.0f)));
     const VF s = hn::IfThenElseZero(positive, hn::Mul(s2, inv_s));
     VF length[3];
     for (int c = 0; c < 3; ++c) {
-        VF exp_minus_tau, expm1_minus_tau;
-        ExpAndExpm1<M::kExpDegree>(hn::Mul(K(k.hp_minus_extinction[c]), s), exp_minus_tau,
-                                   expm1_minus_tau);
-        extinction[c] = hn::IfThenElse(valid, exp_minus_tau, K(1.0f));
-        // 1 / beta_ex is 0 where beta_ex is: then beta_R = beta_Ms = 0 and L_in is 0 anyway.
-        length[c] = hn::Mul(expm1_minus_tau, K(k.hp_minus_inv_extinction[c]));
+        ExpAndExpm1<M::kExpDegree>(hn::Mul(K(k.hp_minus_extinction[c]), s), extinction[c],
+                                   length[c]);
+        // s phi(tau) = -expm1(-tau) / beta_ex; 1 / beta_ex is 0 where beta_ex is: then beta_R =
+        // beta_Ms = 0 and L_in is 0 anyway.
+        length[c] = hn::Mul(length[c], K(k.hp_minus_inv_extinction[c]));
     }
     if constexpr (kInScattering) {
-        // Phases (see Phases): 1 - c' from the chord |d/s - sign(g) sun|^2 / 2.
+        // Phases (see Phases): 1 - c' from the chord |d/s - sign(g) sun|^2 / 2, at most 2 but
+        // for rounding.
         const VF cx = hn::MulSub(dx, inv_s, K(k.hg_peak[0]));
         const VF cy = hn::MulSub(dy, inv_s, K(k.hg_peak[1]));
         const VF cz = hn::MulSub(dz, inv_s, K(k.hg_peak[2]));
-        const VF one_minus_c = hn::IfThenElse(
-            positive, Clamp(hn::Mul(Dot(cx, cy, cz, cx, cy, cz), K(0.5f)), 0.0f, 2.0f),
-            K(k.hg_one_minus_c_at_sun));
+        const VF one_minus_c = hn::Min(hn::Mul(Dot(cx, cy, cz, cx, cy, cz), K(0.5f)), K(2.0f));
         const VF c = hn::Sub(K(1.0f), one_minus_c);
         const VF rayleigh = hn::Mul(K(k.rayleigh_phase_scale), hn::MulAdd(c, c, K(1.0f)));
         const VF inv_root_base = RefinedRsqrt(hn::MulAdd(K(k.hg_b), one_minus_c, K(k.hg_a)));
         const VF mie = hn::Mul(hn::Mul(K(k.hg_numerator), inv_root_base),
                                hn::Mul(inv_root_base, inv_root_base));
         for (int ch = 0; ch < 3; ++ch) {
-            // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau).
+            // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), >= 0.
             const VF angular =
                 hn::MulAdd(K(k.hp_rayleigh[ch]), rayleigh, hn::Mul(K(k.hp_mie[ch]), mie));
-            in_scattering[ch] = hn::IfThenElseZero(valid, hn::Mul(angular, length[ch]));
+            in_scattering[ch] = hn::Mul(angular, length[ch]);
         }
     } else {
         (void)in_scattering;
@@ -595,8 +602,8 @@ HWY_INLINE hn::Vec<DI> TruncateInRange(VF v) {
 
 /// 8-bit codes of v by the batch API's rule floor(clamp(v, 0, 1) * 255 + 0.5), with the same
 /// float operations as to_unorm8 (a multiply, then an add: the library is built without
-/// contraction into fused multiply-adds), as 32-bit lanes. kNonNegative: v >= 0 is known (F_ex,
-/// from an exponential), the lower clamp is left out.
+/// contraction into fused multiply-adds), as 32-bit lanes. kNonNegative: v >= 0 is known (F_ex
+/// from an exponential, L_in a product of non-negative factors), the lower clamp is left out.
 template <bool kNonNegative = false>
 HWY_INLINE hn::Vec<DI> Unorm8(VF v) {
     // Max first: it gives 0 for NaN (the second operand), as to_unorm8 does.
@@ -673,9 +680,9 @@ std::size_t ShadeHoffmanPreethamRgba8(const FrameConstants& constants, const Rgb
                        job.extinction + i * job.extinction_stride, job.extinction_stride, n);
         }
         if constexpr (kInScattering) {
-            StoreWords(PackWords(Unorm8(hn::Mul(in_scattering[0], exposure)),
-                                 Unorm8(hn::Mul(in_scattering[1], exposure)),
-                                 Unorm8(hn::Mul(in_scattering[2], exposure))),
+            StoreWords(PackWords(Unorm8<true>(hn::Mul(in_scattering[0], exposure)),
+                                 Unorm8<true>(hn::Mul(in_scattering[1], exposure)),
+                                 Unorm8<true>(hn::Mul(in_scattering[2], exposure))),
                        job.in_scattering + i * job.in_scattering_stride, job.in_scattering_stride,
                        n);
         }

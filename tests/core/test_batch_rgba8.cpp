@@ -5,12 +5,17 @@
 // concurrent callers share the worker pool safely. The general path: every variant (F_ex, lit,
 // L_in; both models, precisions and tone curves; AoS and SoA; threads) is the rule on its floats.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -444,6 +449,44 @@ TEST(OnePassRgba8, ConcurrentCallersShareTheWorkersSafely) {
         EXPECT_EQ(g.in_scattering, want.in_scattering);
         EXPECT_EQ(g.invalid, want.invalid);
     }
+}
+
+TEST(OnePassRgba8, AChildOfForkWorksAloneAndFinishes) {
+    // The parent's workers do not exist in a child process: a batch there must run on the
+    // child's own thread instead of waiting for them.
+    ExtremeSampler random(76);
+    Case c;
+    while (!make_case(random, 40000, &c)) {
+    }
+    const Codes want = one_pass(c, Kernel::simd, 2);  // starts the workers here
+    const pid_t child = fork();
+    ASSERT_GE(child, 0) << "fork failed";
+    if (child == 0) {
+        std::vector<std::uint8_t> e(4 * c.size());
+        aerial::BatchOutputs out;
+        out.extinction_rgba8 = e.data();
+        aerial::BatchSettings settings;
+        settings.threads = 2;
+        settings.min_vertices_per_thread = 256;
+        const auto stats = aerial::shade_into(
+            c.frame, aerial::Positions::aos(c.xyz.data(), c.size()), out, settings);
+        const bool ok = stats.ok() && stats->threads_used == 1 && e == want.extinction;
+        _exit(ok ? 0 : 1);
+    }
+    int status = 0;
+    pid_t done = 0;
+    for (int waited_ms = 0; waited_ms < 60000 && done == 0; waited_ms += 10) {
+        done = waitpid(child, &status, WNOHANG);
+        if (done == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (done == 0) {
+        kill(child, SIGKILL);
+        waitpid(child, &status, 0);
+        FAIL() << "the child's batch did not finish within 60 s (waiting for absent workers?)";
+    }
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 0)
+        << "the child's batch used other threads or gave other codes than the parent's";
 }
 
 }  // namespace

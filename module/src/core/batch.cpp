@@ -15,6 +15,10 @@
 #include <thread>
 #include <vector>
 
+#if defined(__unix__) || defined(__APPLE__)
+#include <unistd.h>
+#endif
+
 #include "batch_kernels.hpp"
 #include "format.hpp"
 
@@ -247,7 +251,9 @@ class WorkerPool {
     unsigned run(unsigned threads, std::size_t tasks,
                  const std::function<void(std::size_t)>& task) {
         std::unique_lock<std::mutex> batch(batch_mutex_, std::try_to_lock);
-        unsigned helpers = batch.owns_lock() && tasks > 1 ? grow(threads - 1) : 0u;
+        // In a child of fork() the workers are gone: it works alone.
+        const bool usable = batch.owns_lock() && tasks > 1 && same_process();
+        unsigned helpers = usable ? grow(std::min(threads - 1, kMaxWorkers)) : 0u;
         helpers = static_cast<unsigned>(std::min<std::size_t>(helpers, tasks - 1));
         if (helpers == 0) {
             for (std::size_t t = 0; t < tasks; ++t) task(t);
@@ -280,7 +286,18 @@ class WorkerPool {
     }
 
   private:
+    /// Workers at most, whatever BatchSettings::threads asks for.
+    static constexpr unsigned kMaxWorkers = 255;
+
     WorkerPool() = default;
+
+    bool same_process() const {
+#if defined(__unix__) || defined(__APPLE__)
+        return getpid() == pid_;
+#else
+        return true;
+#endif
+    }
 
     /// At least `helpers` workers if threads can be had; returns how many there are.
     unsigned grow(unsigned helpers) {
@@ -326,6 +343,9 @@ class WorkerPool {
     unsigned running_ = 0;  // workers of the current batch not yet done
     std::uint64_t generation_ = 0;
     bool stop_ = false;
+#if defined(__unix__) || defined(__APPLE__)
+    const pid_t pid_ = getpid();  // the process the workers were started in
+#endif
 };
 
 std::optional<Error> check_stride(const char* field, std::size_t stride, std::size_t element) {

@@ -134,20 +134,9 @@ int main(int argc, char** argv) {
         }
     };
     // Every variant once per repetition, in turn, so that a disturbance of the shared machine
-    // hits them all alike; the best time of each is kept. The scalar loop, 20 to 40 times
-    // slower, runs on a tenth of the batch (its rate does not depend on the batch size).
-    const std::size_t scalar_vertices = std::max<std::size_t>(1, vertices / 10);
-    const aerial::Positions scalar_positions = aerial::Positions::aos(xyz.data(), scalar_vertices);
-    auto scalar_loop = [&] {
-        aerial::BatchSettings settings;
-        settings.kernel = aerial::Kernel::scalar;
-        settings.threads = 1;
-        settings.display.exposure = 20.0f;
-        const auto stats = aerial::shade_into(*frame, scalar_positions, out, settings);
-        if (!stats) std::fprintf(stderr, "%s\n", stats.error().message.c_str());
-    };
+    // hits them all alike; the best time of each is kept.
     const std::vector<std::function<void()>> variants = {stream_loop,
-                                                         scalar_loop,
+                                                         batch(aerial::Kernel::scalar, 1),
                                                          batch(aerial::Kernel::simd, 1),
                                                          batch(aerial::Kernel::simd_fast, 1),
                                                          batch(aerial::Kernel::simd, 0),
@@ -155,7 +144,7 @@ int main(int argc, char** argv) {
     const std::vector<double> best = best_of_interleaved(repetitions, variants);
     const double mverts = double(vertices) / 1e6;
     const double stream = mverts / best[0];
-    const double scalar = double(scalar_vertices) / 1e6 / best[1];
+    const double scalar = mverts / best[1];
     const double simd = mverts / best[2];
     const double simd_fast = mverts / best[3];
     const double simd_threads = mverts / best[4];

@@ -40,14 +40,18 @@ std::vector<float> terrain_positions(std::size_t count) {
     return xyz;
 }
 
-/// Best wall time of `repetitions` runs, seconds.
-double best_of(int repetitions, const std::function<void()>& run) {
-    double best = 1e300;
+/// Best wall time of each run over `repetitions` rounds, seconds; each round runs every one
+/// once, in order.
+std::vector<double> best_of_interleaved(int repetitions,
+                                        const std::vector<std::function<void()>>& runs) {
+    std::vector<double> best(runs.size(), 1e300);
     for (int r = 0; r < repetitions; ++r) {
-        const auto start = std::chrono::steady_clock::now();
-        run();
-        const auto stop = std::chrono::steady_clock::now();
-        best = std::min(best, std::chrono::duration<double>(stop - start).count());
+        for (std::size_t i = 0; i < runs.size(); ++i) {
+            const auto start = std::chrono::steady_clock::now();
+            runs[i]();
+            const auto stop = std::chrono::steady_clock::now();
+            best[i] = std::min(best[i], std::chrono::duration<double>(stop - start).count());
+        }
     }
     return best;
 }
@@ -60,7 +64,7 @@ int main(int argc, char** argv) {
         "path (F_ex and L_in as RGBA8) with a plain std::exp loop (scalar), the SIMD\n"
         "kernels on one thread and on all, against a loop that only reads the same\n"
         "positions and writes the same bytes (stream, the memory limit); best of\n"
-        "several repetitions, all in one run.",
+        "several repetitions, the variants interleaved, all in one run.",
         kTool};
     bool cpu_throughput = false;
     std::size_t vertices = 2'000'000;
@@ -106,39 +110,45 @@ int main(int argc, char** argv) {
     out.extinction_rgba8 = extinction.data();
     out.in_scattering_rgba8 = in_scattering.data();
 
-    auto run_batch = [&](aerial::Kernel kernel, unsigned threads) {
-        aerial::BatchSettings settings;
-        settings.kernel = kernel;
-        settings.threads = threads;
-        settings.display.exposure = 20.0f;
-        return best_of(repetitions, [&] {
+    auto batch = [&](aerial::Kernel kernel, unsigned threads) {
+        return [&, kernel, threads] {
+            aerial::BatchSettings settings;
+            settings.kernel = kernel;
+            settings.threads = threads;
+            settings.display.exposure = 20.0f;
             const auto stats = aerial::shade_into(*frame, positions, out, settings);
             if (!stats) std::fprintf(stderr, "%s\n", stats.error().message.c_str());
-        });
+        };
     };
     // The memory limit: read the same positions, write the same 8 bytes per vertex.
-    auto run_stream = [&] {
-        return best_of(repetitions, [&] {
-            std::uint32_t* e = reinterpret_cast<std::uint32_t*>(extinction.data());
-            std::uint32_t* l = reinterpret_cast<std::uint32_t*>(in_scattering.data());
-            for (std::size_t i = 0; i < vertices; ++i) {
-                std::uint32_t a, b, c;
-                std::memcpy(&a, &xyz[3 * i], 4);
-                std::memcpy(&b, &xyz[3 * i + 1], 4);
-                std::memcpy(&c, &xyz[3 * i + 2], 4);
-                e[i] = a ^ b;
-                l[i] = b ^ c;
-            }
-        });
+    auto stream_loop = [&] {
+        std::uint32_t* e = reinterpret_cast<std::uint32_t*>(extinction.data());
+        std::uint32_t* l = reinterpret_cast<std::uint32_t*>(in_scattering.data());
+        for (std::size_t i = 0; i < vertices; ++i) {
+            std::uint32_t a, b, c;
+            std::memcpy(&a, &xyz[3 * i], 4);
+            std::memcpy(&b, &xyz[3 * i + 1], 4);
+            std::memcpy(&c, &xyz[3 * i + 2], 4);
+            e[i] = a ^ b;
+            l[i] = b ^ c;
+        }
     };
-
+    // Every variant once per repetition, in turn, so that a disturbance of the shared machine
+    // hits them all alike; the best time of each is kept.
+    const std::vector<std::function<void()>> variants = {stream_loop,
+                                                         batch(aerial::Kernel::scalar, 1),
+                                                         batch(aerial::Kernel::simd, 1),
+                                                         batch(aerial::Kernel::simd_fast, 1),
+                                                         batch(aerial::Kernel::simd, 0),
+                                                         batch(aerial::Kernel::simd_fast, 0)};
+    const std::vector<double> best = best_of_interleaved(repetitions, variants);
     const double mverts = double(vertices) / 1e6;
-    const double stream = mverts / run_stream();
-    const double scalar = mverts / run_batch(aerial::Kernel::scalar, 1);
-    const double simd = mverts / run_batch(aerial::Kernel::simd, 1);
-    const double simd_fast = mverts / run_batch(aerial::Kernel::simd_fast, 1);
-    const double simd_threads = mverts / run_batch(aerial::Kernel::simd, 0);
-    const double simd_fast_threads = mverts / run_batch(aerial::Kernel::simd_fast, 0);
+    const double stream = mverts / best[0];
+    const double scalar = mverts / best[1];
+    const double simd = mverts / best[2];
+    const double simd_fast = mverts / best[3];
+    const double simd_threads = mverts / best[4];
+    const double simd_fast_threads = mverts / best[5];
     std::printf("model=%s preset=%s vertices=%zu repetitions=%d simd_target=%s threads=%u\n",
                 model_text.c_str(), preset.c_str(), vertices, repetitions, aerial::simd_target(),
                 std::max(1u, std::thread::hardware_concurrency()));

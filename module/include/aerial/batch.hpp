@@ -103,7 +103,7 @@ struct BatchOutputs {
 /// Which implementation computes the model.
 enum class Kernel {
     simd,       ///< Highway SIMD (hoffman-preetham, height), accurate exp/log: within 0.5 LSB
-    simd_fast,  ///< Highway SIMD with polynomial exp2/log2: faster, error measured (< 1 LSB)
+    simd_fast,  ///< Highway SIMD with lower-degree polynomials: faster, error measured (< 1 LSB)
     scalar,     ///< plain loop over scatter<float> with std::exp; the only one for `reference`
 };
 
@@ -111,6 +111,9 @@ struct BatchSettings {
     Display display;
     Kernel kernel = Kernel::simd;
     /// Worker threads, including the caller's: 0 = all hardware threads, 1 = the caller only.
+    /// The workers are created on first need and kept (joined at exit); a split batch is cut
+    /// into about 8 chunks per thread, taken by whichever thread is free. One batch at a time
+    /// uses them: a call made while another application thread's batch has them runs alone.
     unsigned threads = 0;
     /// Batches smaller than this many vertices per thread are not split (no thread overhead).
     std::size_t min_vertices_per_thread = 32768;
@@ -123,7 +126,11 @@ struct BatchStats {
     unsigned threads_used = 1;
 };
 
-/// Shades every vertex of `positions` into `outputs`. Errors (nothing is written): a null array
+/// Shades every vertex of `positions` into `outputs`. With the hoffman-preetham model, a SIMD
+/// kernel, and only extinction_rgba8 and/or in_scattering_rgba8 (clamp curve) asked for, the
+/// vertices go from positions to codes in one pass, with no float arrays in between (the
+/// fastest case, and the codes are those the float path's values give under the 8-bit rule).
+/// Errors (nothing is written): a null array
 /// with count > 0, a stride smaller than its element, lit_rgba8 without lighting normals,
 /// exposure <= 0 or not finite, no output at all. `reference` runs on the scalar kernel whatever
 /// `settings.kernel` says.

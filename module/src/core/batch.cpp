@@ -5,11 +5,19 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
 #include <cstring>
+#include <functional>
+#include <mutex>
 #include <system_error>
 #include <thread>
 #include <vector>
+
+#if defined(__unix__) || defined(__APPLE__)
+#include <unistd.h>
+#endif
 
 #include "batch_kernels.hpp"
 #include "format.hpp"
@@ -38,6 +46,9 @@ struct Plan {
     const Positions& positions;
     const BatchOutputs& out;
     const BatchSettings& settings;
+    /// hoffman-preetham on the SIMD kernels with only F_ex and L_in (clamp curve) as RGBA8:
+    /// one pass from positions to codes (detail::shade_hoffman_preetham_rgba8).
+    bool one_pass_rgba8;
     bool need_extinction;
     bool need_in_scattering;
     bool need_sun;
@@ -91,8 +102,59 @@ void store_display_rgba8(const Display& display, std::uint8_t* base, std::size_t
     store_rgba8(base, stride, first, n, value);
 }
 
+/// The one-pass path: positions straight to codes, through a scratch block only for strided
+/// positions.
+std::size_t shade_range_rgba8(const Plan& plan, std::size_t first, std::size_t last) {
+    const Positions& pos = plan.positions;
+    const BatchOutputs& out = plan.out;
+    const detail::KernelPrecision precision = plan.settings.kernel == Kernel::simd_fast
+                                                  ? detail::KernelPrecision::fast
+                                                  : detail::KernelPrecision::accurate;
+    detail::Rgba8Job job;
+    job.exposure = plan.settings.display.exposure;
+    job.extinction_stride = plan.extinction_rgba8_stride;
+    job.in_scattering_stride = plan.in_scattering_rgba8_stride;
+    auto point_outputs_at = [&](std::size_t begin) {
+        job.extinction =
+            out.extinction_rgba8 ? out.extinction_rgba8 + begin * job.extinction_stride : nullptr;
+        job.in_scattering = out.in_scattering_rgba8
+                                ? out.in_scattering_rgba8 + begin * job.in_scattering_stride
+                                : nullptr;
+    };
+    const bool packed_xyz =
+        pos.stride_bytes == 3 * sizeof(float) && pos.y == pos.x + 1 && pos.z == pos.x + 2;
+    if (packed_xyz || pos.stride_bytes == sizeof(float)) {
+        job.packed_xyz = packed_xyz;
+        job.x = packed_xyz ? pos.x + 3 * first : pos.x + first;
+        job.y = packed_xyz ? nullptr : pos.y + first;
+        job.z = packed_xyz ? nullptr : pos.z + first;
+        job.count = last - first;
+        point_outputs_at(first);
+        return detail::shade_hoffman_preetham_rgba8(plan.frame, job, precision);
+    }
+    alignas(64) float x[kBlockSize], y[kBlockSize], z[kBlockSize];
+    std::size_t invalid = 0;
+    for (std::size_t begin = first; begin < last; begin += kBlockSize) {
+        const std::size_t n = std::min(kBlockSize, last - begin);
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::size_t offset = (begin + i) * pos.stride_bytes;
+            x[i] = *advance(pos.x, offset);
+            y[i] = *advance(pos.y, offset);
+            z[i] = *advance(pos.z, offset);
+        }
+        job.x = x;
+        job.y = y;
+        job.z = z;
+        job.count = n;
+        point_outputs_at(begin);
+        invalid += detail::shade_hoffman_preetham_rgba8(plan.frame, job, precision);
+    }
+    return invalid;
+}
+
 /// Shades vertices [first, last) block by block; returns the invalid-vertex count.
 std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
+    if (plan.one_pass_rgba8) return shade_range_rgba8(plan, first, last);
     const Positions& pos = plan.positions;
     const BatchOutputs& out = plan.out;
     const bool simd =
@@ -170,6 +232,122 @@ std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
     return invalid;
 }
 
+/// Chunks per thread of a split batch.
+constexpr std::size_t kChunksPerThread = 8;
+
+/// Threads that outlive the calls: a batch split over threads pays for no thread creation. One
+/// batch at a time uses them; a call that finds them busy (another thread of the application is
+/// in shade_into) works alone. Workers are created on first need, up to the largest number of
+/// threads asked for, and joined at exit.
+class WorkerPool {
+  public:
+    static WorkerPool& instance() {
+        static WorkerPool pool;
+        return pool;
+    }
+
+    /// Runs task(0) ... task(tasks - 1) on the calling thread and up to threads - 1 workers;
+    /// returns the number of threads that took part.
+    unsigned run(unsigned threads, std::size_t tasks,
+                 const std::function<void(std::size_t)>& task) {
+        std::unique_lock<std::mutex> batch(batch_mutex_, std::try_to_lock);
+        // In a child of fork() the workers are gone: it works alone.
+        const bool usable = batch.owns_lock() && tasks > 1 && same_process();
+        unsigned helpers = usable ? grow(std::min(threads - 1, kMaxWorkers)) : 0u;
+        helpers = static_cast<unsigned>(std::min<std::size_t>(helpers, tasks - 1));
+        if (helpers == 0) {
+            for (std::size_t t = 0; t < tasks; ++t) task(t);
+            return 1;
+        }
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            task_ = &task;
+            tasks_ = tasks;
+            next_.store(0, std::memory_order_relaxed);
+            seats_ = helpers;
+            running_ = helpers;
+            ++generation_;
+        }
+        wake_.notify_all();
+        work();
+        std::unique_lock<std::mutex> lock(mutex_);
+        done_.wait(lock, [this] { return running_ == 0; });
+        task_ = nullptr;
+        return helpers + 1;
+    }
+
+    ~WorkerPool() {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        for (auto& w : workers_) w.join();
+    }
+
+  private:
+    /// Workers at most, whatever BatchSettings::threads asks for.
+    static constexpr unsigned kMaxWorkers = 255;
+
+    WorkerPool() = default;
+
+    bool same_process() const {
+#if defined(__unix__) || defined(__APPLE__)
+        return getpid() == pid_;
+#else
+        return true;
+#endif
+    }
+
+    /// At least `helpers` workers if threads can be had; returns how many there are.
+    unsigned grow(unsigned helpers) {
+        while (workers_.size() < helpers) {
+            try {
+                workers_.emplace_back([this] { loop(); });
+            } catch (const std::system_error&) {
+                break;  // no more threads to be had: work with those there are
+            }
+        }
+        return static_cast<unsigned>(std::min<std::size_t>(workers_.size(), helpers));
+    }
+
+    void work() {
+        for (std::size_t t; (t = next_.fetch_add(1, std::memory_order_relaxed)) < tasks_;) {
+            (*task_)(t);
+        }
+    }
+
+    void loop() {
+        std::uint64_t seen = 0;
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            wake_.wait(lock, [&] { return stop_ || (generation_ != seen && seats_ > 0); });
+            if (stop_) return;
+            seen = generation_;
+            --seats_;
+            lock.unlock();
+            work();
+            lock.lock();
+            if (--running_ == 0) done_.notify_one();
+        }
+    }
+
+    std::mutex batch_mutex_;  // one batch at a time
+    std::mutex mutex_;        // guards everything below
+    std::condition_variable wake_, done_;
+    std::vector<std::thread> workers_;
+    const std::function<void(std::size_t)>* task_ = nullptr;
+    std::size_t tasks_ = 0;
+    std::atomic<std::size_t> next_{0};
+    unsigned seats_ = 0;    // workers still to join the current batch
+    unsigned running_ = 0;  // workers of the current batch not yet done
+    std::uint64_t generation_ = 0;
+    bool stop_ = false;
+#if defined(__unix__) || defined(__APPLE__)
+    const pid_t pid_ = getpid();  // the process the workers were started in
+#endif
+};
+
 std::optional<Error> check_stride(const char* field, std::size_t stride, std::size_t element) {
     if (stride != 0 && stride < element) {
         return Error{field, std::string(field) + " must be 0 (packed) or >= " +
@@ -228,10 +406,16 @@ Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positi
     }
 
     auto packed = [](std::size_t stride, std::size_t element) { return stride ? stride : element; };
+    const bool one_pass_rgba8 =
+        frame.model == Model::hoffman_preetham && settings.kernel != Kernel::scalar &&
+        !out.lit_rgba8 && !out.extinction_rgb && !out.in_scattering_rgb &&
+        !out.sun_irradiance_rgb &&
+        (!out.in_scattering_rgba8 || settings.display.tone == ToneCurve::clamp);
     const Plan plan{frame,
                     positions,
                     out,
                     settings,
+                    one_pass_rgba8,
                     out.extinction_rgba8 || out.lit_rgba8 || out.extinction_rgb,
                     out.in_scattering_rgba8 || out.in_scattering_rgb,
                     out.lit_rgba8 || out.sun_irradiance_rgb,
@@ -255,26 +439,18 @@ Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positi
         stats.invalid_vertices = shade_range(plan, 0, positions.count);
         return stats;
     }
-    // Contiguous chunks, whole blocks each: the caller's thread takes the first.
+    // About kChunksPerThread chunks of whole blocks per thread, taken in turn by whichever thread
+    // is free: a thread slowed down by other work on the machine takes fewer.
     const std::size_t blocks = (positions.count + kBlockSize - 1) / kBlockSize;
-    std::vector<std::size_t> invalid(threads, 0);
-    std::vector<std::thread> workers;
-    workers.reserve(threads - 1);
-    auto chunk = [&](unsigned t) {
-        const std::size_t first = std::min(positions.count, blocks * t / threads * kBlockSize);
-        const std::size_t last = std::min(positions.count, blocks * (t + 1) / threads * kBlockSize);
-        invalid[t] = shade_range(plan, first, last);
-    };
-    for (unsigned t = 1; t < threads; ++t) {
-        try {
-            workers.emplace_back(chunk, t);
-        } catch (const std::system_error&) {
-            chunk(t);  // no thread to be had: do that chunk here rather than fail
-        }
-    }
-    chunk(0);
-    for (auto& w : workers) w.join();
-    for (std::size_t v : invalid) stats.invalid_vertices += v;
+    const std::size_t chunks =
+        std::min<std::size_t>(blocks, std::size_t(threads) * kChunksPerThread);
+    std::atomic<std::size_t> invalid{0};
+    stats.threads_used = WorkerPool::instance().run(threads, chunks, [&](std::size_t c) {
+        const std::size_t first = std::min(positions.count, blocks * c / chunks * kBlockSize);
+        const std::size_t last = std::min(positions.count, blocks * (c + 1) / chunks * kBlockSize);
+        invalid.fetch_add(shade_range(plan, first, last), std::memory_order_relaxed);
+    });
+    stats.invalid_vertices = invalid.load();
     return stats;
 }
 

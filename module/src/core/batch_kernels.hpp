@@ -20,8 +20,12 @@ inline constexpr std::size_t kBlockSize = 256;
 
 /// How the kernels compute exp/log.
 enum class KernelPrecision {
-    accurate,  ///< Highway's Exp/Log/Expm1/Log1p (about 1 ulp)
-    fast,      ///< low-degree polynomial exp2/log2 (error measured by the tests, well below 1 LSB)
+    /// Highway's Exp/Log/Expm1/Log1p (about 1 ulp); hoffman-preetham: exp and expm1 from one
+    /// range reduction and a degree-7 polynomial (relative error about 1e-7)
+    accurate,
+    /// low-degree polynomial exp2/log2; hoffman-preetham: the same exp/expm1 with degree 5
+    /// (relative error 7e-6); errors measured by the tests, well below 1 LSB
+    fast,
 };
 
 /// One block of work. Positions are in engine units, like View::eye. Any output pointer may be
@@ -44,6 +48,27 @@ struct KernelBlock {
 std::size_t shade_block_scalar(const Frame<float>& frame, const KernelBlock& block);
 std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block,
                              KernelPrecision precision);
+
+/// The 2002 model straight from positions to RGBA8 codes, one pass, no float arrays (the batch
+/// API's fast path for F_ex and L_in with ToneCurve::clamp). Pointers start at the first vertex.
+struct Rgba8Job {
+    const float* x = nullptr;  ///< packed_xyz: x, y, z floats back to back from here
+    const float* y = nullptr;  ///< else three tightly packed arrays
+    const float* z = nullptr;
+    bool packed_xyz = false;
+    std::size_t count = 0;
+    std::uint8_t* extinction = nullptr;     ///< F_ex codes, or null
+    std::size_t extinction_stride = 4;      ///< bytes
+    std::uint8_t* in_scattering = nullptr;  ///< codes of L_in * exposure, or null
+    std::size_t in_scattering_stride = 4;
+    float exposure = 1.0f;
+};
+
+/// Shades job.count vertices of the hoffman-preetham frame `frame` into the job's arrays: the
+/// codes are, bit for bit, the 8-bit rule applied to what shade_block_simd gives in float with
+/// the same precision. Returns the number of invalid vertices.
+std::size_t shade_hoffman_preetham_rgba8(const Frame<float>& frame, const Rgba8Job& job,
+                                         KernelPrecision precision);
 
 /// RGBA8 words (R in the lowest byte, A = 255) of n vertices: each channel times `scale`, then
 /// floor(clamp(v, 0, 1) * 255 + 0.5), bit-identical to to_unorm8(v * scale) for finite v.

@@ -7,6 +7,10 @@
 //             absolute 2e-6 in log2).
 // Both take expm1(z) from its Taylor series for |z| < 1/2 and from an exp already computed
 // beyond it where there is one (F_ex), which keeps the per-vertex cost at one exp per channel.
+// The 2002 model, whose cost is all in the exponentials, has its own (ExpAndExpm1): exp and
+// expm1 from one range reduction, a degree-7 (accurate) or degree-5 (fast) polynomial, and the
+// distance and the Henyey–Greenstein power from refined reciprocal square roots; it also runs
+// from positions straight to RGBA8 codes in one pass (ShadeHoffmanPreethamRgba8).
 // The scaled complementary error function of the Chapman factor is the rational form of
 // Numerical Recipes (erfcc, fractional error below 1.2e-7 for every y >= 0), kept in log form so
 // that log(H Ch) costs one log and no exp.
@@ -63,7 +67,10 @@ constexpr float kSunWeights[3] = {5.0f / 18.0f, 8.0f / 18.0f, 5.0f / 18.0f};
 struct FrameConstants {
     float eye[3], sun[3], up[3];
     float meters_per_unit;
+    bool unit_scale;     // meters_per_unit == 1
+    float eye_units[3];  // the eye in engine units (View::eye)
     float max_distance_m;
+    float max_distance_sq_m2;  // its square: the test on |d|^2, before any square root
     // Phase functions: Rayleigh 3/(16 pi) (1 + c^2); Henyey–Greenstein
     // hg_numerator / base^(3/2), base = hg_a + hg_b (1 - c'), c' = sign(g) c (see Phases).
     float rayleigh_phase_scale;
@@ -72,6 +79,7 @@ struct FrameConstants {
     // hoffman-preetham: beta_R E_eye and beta_Ms E_eye per channel (1/m), total extinction and
     // its inverse (0 where the extinction is 0), E_eye.
     float hp_rayleigh[3], hp_mie[3], hp_extinction[3], hp_inv_extinction[3], sun_eye[3];
+    float hp_minus_extinction[3], hp_minus_inv_extinction[3];  // their negatives
     // height.
     float rayleigh[3], mie_scattering[3], mie_extinction[3], sun_top[3];
     float radius_m, radius_sq_m2, two_radius_m, inv_two_radius;
@@ -96,7 +104,10 @@ inline FrameConstants make_frame_constants(const Frame<float>& f) {
         k.hg_peak[i] = f.mie_g < 0.0f ? -f.sun_dir[i] : f.sun_dir[i];
     }
     k.meters_per_unit = f.meters_per_unit;
+    k.unit_scale = f.meters_per_unit == 1.0f;
+    for (int i = 0; i < 3; ++i) k.eye_units[i] = float(f.view.eye[i]);
     k.max_distance_m = float(kMaxDistanceM);
+    k.max_distance_sq_m2 = float(kMaxDistanceM * kMaxDistanceM);
     k.rayleigh_phase_scale = float(3.0 / (16.0 * kPi));
     // From g in double: near |g| = 1, 1 - |g| and 1 - g^2 lose digits in float.
     const double abs_g = std::abs(f.atmosphere.mie_g);
@@ -114,6 +125,8 @@ inline FrameConstants make_frame_constants(const Frame<float>& f) {
         k.hp_mie[c] = f.mie_scattering[c] * f.sun_irradiance_eye[c];
         k.hp_extinction[c] = f.rayleigh_scattering[c] + f.mie_extinction[c];
         k.hp_inv_extinction[c] = k.hp_extinction[c] > 0.0f ? 1.0f / k.hp_extinction[c] : 0.0f;
+        k.hp_minus_extinction[c] = -k.hp_extinction[c];
+        k.hp_minus_inv_extinction[c] = -k.hp_inv_extinction[c];
     }
     k.radius_m = f.planet_radius_m;
     k.radius_sq_m2 = f.planet_radius_m * f.planet_radius_m;
@@ -205,10 +218,59 @@ HWY_INLINE VF FastLog2(VF x) {
 constexpr float kLog2E = 1.44269504088896340736f;
 constexpr float kLn2 = 0.69314718055994530942f;
 
+/// exp(x) and expm1(x) for x <= 0 (minus an optical depth) from one range reduction, both to
+/// full relative precision: x = n ln2 + r with n = round(x / ln2), |r| <= ln2 / 2 (ln2 in two
+/// parts, Cody–Waite), and q = e^r - 1 by its Taylor polynomial of degree kDegree (truncation
+/// relative to q at |r| = ln2 / 2: 1.5e-8 for degree 7, 6.6e-6 for degree 5); then exp(x) =
+/// 2^n q + 2^n and expm1(x) = 2^n q + (2^n - 1), which has no cancellation (for n = 0 it is q
+/// itself). Below -87.33 both are their values there (1.2e-38 and -1: 0 and -1 to 8 bits and
+/// to any use of them here). 2^n comes from the exponent bits of the rounding constant: no
+/// float-int conversions. NaN gives the values at -87.33.
+template <int kDegree>
+HWY_INLINE void ExpAndExpm1(VF x, VF& exp_x, VF& expm1_x) {
+    static_assert(kDegree == 5 || kDegree == 7, "degree 5 (fast) or 7 (accurate)");
+    const DF d;
+    const DI di;
+    constexpr float kLn2Hi = 0.693145751953125f;  // 15 bits: n kLn2Hi is exact for |n| <= 128
+    constexpr float kLn2Lo = 1.42860682030941723212e-6f;
+    const VF clamped = hn::Max(x, K(-87.33f));
+    const VF shifted = hn::MulAdd(clamped, K(1.44269504088896340736f), K(12582912.0f));
+    const VF n = hn::Sub(shifted, K(12582912.0f));
+    const VF r = hn::NegMulAdd(n, K(kLn2Lo), hn::NegMulAdd(n, K(kLn2Hi), clamped));
+    VF p;
+    if constexpr (kDegree == 7) {
+        p = hn::MulAdd(r, K(1.0f / 5040.0f), K(1.0f / 720.0f));
+        p = hn::MulAdd(p, r, K(1.0f / 120.0f));
+        p = hn::MulAdd(p, r, K(1.0f / 24.0f));
+    } else {
+        p = hn::MulAdd(r, K(1.0f / 120.0f), K(1.0f / 24.0f));
+    }
+    p = hn::MulAdd(p, r, K(1.0f / 6.0f));
+    p = hn::MulAdd(p, r, K(0.5f));
+    const VF q = hn::MulAdd(hn::Mul(p, r), r, r);  // r + r^2 (1/2 + r/6 + ...)
+    const VF scale =
+        hn::BitCast(d, hn::ShiftLeft<23>(hn::Add(hn::BitCast(di, shifted), hn::Set(di, 127))));
+    exp_x = hn::MulAdd(scale, q, scale);
+    expm1_x = hn::MulAdd(scale, q, hn::Sub(scale, K(1.0f)));
+}
+
+/// 1 / sqrt(x) for normal x > 0: the hardware estimate and one Newton step (relative error
+/// about 2e-7 where the estimate has 12 bits).
+HWY_INLINE VF RefinedRsqrt(VF x) {
+#if HWY_ARCH_X86 && HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128
+    const VF r = hn::ApproximateReciprocalSqrt(x);
+    return hn::Mul(r, hn::NegMulAdd(hn::Mul(K(0.5f), x), hn::Mul(r, r), K(1.5f)));
+#else
+    // Elsewhere the estimate may have 8 bits or fewer: one step would leave 2e-5.
+    return hn::Div(K(1.0f), hn::Sqrt(x));
+#endif
+}
+
 // ---- The two precisions -----------------------------------------------------------------------
 
 /// Highway's functions (about 1 ulp).
 struct AccurateMath {
+    static constexpr int kExpDegree = 7;  ///< of ExpAndExpm1
     static HWY_INLINE VF Exp(VF x) { return hn::Exp(DF(), x); }
     static HWY_INLINE VF Log(VF x) { return hn::Log(DF(), x); }
     static HWY_INLINE VF Expm1Far(VF x) { return hn::Expm1(DF(), x); }
@@ -221,6 +283,7 @@ struct AccurateMath {
 /// Polynomial exp2/log2; expm1 as exp - 1 beyond the series (relative error about 1e-5 there);
 /// log1p with the rounding of 1 + x added back.
 struct FastMath {
+    static constexpr int kExpDegree = 5;  ///< of ExpAndExpm1
     static HWY_INLINE VF Exp(VF x) { return FastExp2(hn::Mul(x, K(kLog2E))); }
     static HWY_INLINE VF Log(VF x) { return hn::Mul(FastLog2(x), K(kLn2)); }
     static HWY_INLINE VF Expm1Far(VF x) { return hn::Sub(Exp(x), K(1.0f)); }
@@ -440,33 +503,191 @@ HWY_INLINE Segment MakeSegment(const FrameConstants& k, VF x, VF y, VF z) {
 
 // ---- hoffman-preetham -------------------------------------------------------------------------
 
+/// The 2002 model for one vector of positions (engine units): F_ex, and L_in when
+/// kInScattering; invalid lanes (NaN, Inf, farther than kMaxDistanceM) get F_ex = 1, L_in = 0.
+/// Returns the valid lanes. The distance s and the direction d / s come from one refined
+/// reciprocal square root of |d|^2 (no square root, no division); per channel one ExpAndExpm1
+/// gives F_ex = exp(-tau) and the path length s phi(tau) = -expm1(-tau) / beta_ex with
+/// tau = beta_ex s, exact down to tau = 0 without a series; the phases are computed once per
+/// vertex (the Henyey–Greenstein power with a second refined reciprocal square root).
+template <class M, bool kInScattering>
+HWY_INLINE MF HoffmanPreethamVector(const FrameConstants& k, VF x, VF y, VF z, VF (&extinction)[3],
+                                    VF (&in_scattering)[3]) {
+    // Offset from the eye in engine units, then scaled: the difference is exact near the eye
+    // (Sterbenz), where scaling first would round both terms at the size of the distance to the
+    // origin; and no fused operation, so that every target rounds alike.
+    VF dx = hn::Sub(x, K(k.eye_units[0]));
+    VF dy = hn::Sub(y, K(k.eye_units[1]));
+    VF dz = hn::Sub(z, K(k.eye_units[2]));
+    if (!k.unit_scale) {
+        const VF scale = K(k.meters_per_unit);
+        dx = hn::Mul(dx, scale);
+        dy = hn::Mul(dy, scale);
+        dz = hn::Mul(dz, scale);
+    }
+    const MF valid = hn::Le(Dot(dx, dy, dz, dx, dy, dz), K(k.max_distance_sq_m2));  // not NaN
+    // Invalid lanes are moved onto the eye, where F_ex = exp(0) = 1 and L_in = 0 exactly.
+    dx = hn::IfThenElseZero(valid, dx);
+    dy = hn::IfThenElseZero(valid, dy);
+    dz = hn::IfThenElseZero(valid, dz);
+    const VF s2 = Dot(dx, dy, dz, dx, dy, dz);
+    // Below the smallest normal float |d| is 0 (1e-19 m): the vertex is at the eye, s = 0, and
+    // L_in = 0 whatever the phase made of d / s (finite: inv_s is 1 there).
+    const MF positive = hn::Ge(s2, K(kTiny));
+    const VF inv_s = RefinedRsqrt(hn::IfThenElse(positive, s2, K(1.0f)));
+    const VF s = hn::IfThenElseZero(positive, hn::Mul(s2, inv_s));
+    VF length[3];
+    for (int c = 0; c < 3; ++c) {
+        ExpAndExpm1<M::kExpDegree>(hn::Mul(K(k.hp_minus_extinction[c]), s), extinction[c],
+                                   length[c]);
+        // s phi(tau) = -expm1(-tau) / beta_ex; 1 / beta_ex is 0 where beta_ex is: then beta_R =
+        // beta_Ms = 0 and L_in is 0 anyway.
+        length[c] = hn::Mul(length[c], K(k.hp_minus_inv_extinction[c]));
+    }
+    if constexpr (kInScattering) {
+        // Phases (see Phases): 1 - c' from the chord |d/s - sign(g) sun|^2 / 2, at most 2 but
+        // for rounding.
+        const VF cx = hn::MulSub(dx, inv_s, K(k.hg_peak[0]));
+        const VF cy = hn::MulSub(dy, inv_s, K(k.hg_peak[1]));
+        const VF cz = hn::MulSub(dz, inv_s, K(k.hg_peak[2]));
+        const VF one_minus_c = hn::Min(hn::Mul(Dot(cx, cy, cz, cx, cy, cz), K(0.5f)), K(2.0f));
+        const VF c = hn::Sub(K(1.0f), one_minus_c);
+        const VF rayleigh = hn::Mul(K(k.rayleigh_phase_scale), hn::MulAdd(c, c, K(1.0f)));
+        const VF inv_root_base = RefinedRsqrt(hn::MulAdd(K(k.hg_b), one_minus_c, K(k.hg_a)));
+        const VF mie = hn::Mul(hn::Mul(K(k.hg_numerator), inv_root_base),
+                               hn::Mul(inv_root_base, inv_root_base));
+        for (int ch = 0; ch < 3; ++ch) {
+            // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), >= 0.
+            const VF angular =
+                hn::MulAdd(K(k.hp_rayleigh[ch]), rayleigh, hn::Mul(K(k.hp_mie[ch]), mie));
+            in_scattering[ch] = hn::Mul(angular, length[ch]);
+        }
+    } else {
+        (void)in_scattering;
+    }
+    return valid;
+}
+
 template <class M, bool kInScattering>
 std::size_t ShadeHoffmanPreetham(const FrameConstants& k, const KernelBlock& b) {
     return ForEachVector(b, [&k](VF x, VF y, VF z, const VectorOut& out) {
-        const Segment seg = MakeSegment(k, x, y, z);
-        VF extinction[3];
+        VF extinction[3], in_scattering[3];
+        const MF valid =
+            HoffmanPreethamVector<M, kInScattering>(k, x, y, z, extinction, in_scattering);
         for (int c = 0; c < 3; ++c) {
-            extinction[c] = M::Exp(hn::Mul(K(-k.hp_extinction[c]), seg.s));
-            out.Extinction(c, hn::IfThenElse(seg.valid, extinction[c], K(1.0f)));
-            out.SunIrradiance(c, hn::IfThenElseZero(seg.valid, K(k.sun_eye[c])));
+            out.Extinction(c, extinction[c]);
+            out.SunIrradiance(c, hn::IfThenElseZero(valid, K(k.sun_eye[c])));
+            if constexpr (kInScattering) out.InScattering(c, in_scattering[c]);
+        }
+        return valid;
+    });
+}
+
+// ---- hoffman-preetham straight to RGBA8 -------------------------------------------------------
+
+/// float to int32 by truncation for values well inside the int32 range: the bare conversion
+/// instruction on x86 (Highway's ConvertTo adds a fix-up for out-of-range values, five
+/// operations per vector).
+HWY_INLINE hn::Vec<DI> TruncateInRange(VF v) {
+#if HWY_ARCH_X86 && HWY_TARGET == HWY_AVX2
+    return hn::Vec<DI>{_mm256_cvttps_epi32(v.raw)};
+#elif HWY_ARCH_X86 && (HWY_TARGET == HWY_SSE4 || HWY_TARGET == HWY_SSSE3)
+    return hn::Vec<DI>{_mm_cvttps_epi32(v.raw)};
+#elif HWY_ARCH_X86 && (HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL)
+    return hn::Vec<DI>{_mm512_cvttps_epi32(v.raw)};
+#else
+    return hn::ConvertTo(DI(), v);
+#endif
+}
+
+/// 8-bit codes of v by the batch API's rule floor(clamp(v, 0, 1) * 255 + 0.5), with the same
+/// float operations as to_unorm8 (a multiply, then an add: the library is built without
+/// contraction into fused multiply-adds), as 32-bit lanes. kNonNegative: v >= 0 is known (F_ex
+/// from an exponential, L_in a product of non-negative factors), the lower clamp is left out.
+template <bool kNonNegative = false>
+HWY_INLINE hn::Vec<DI> Unorm8(VF v) {
+    // Max first: it gives 0 for NaN (the second operand), as to_unorm8 does.
+    const VF clamped = hn::Min(kNonNegative ? v : hn::Max(v, hn::Zero(DF())), K(1.0f));
+    return TruncateInRange(hn::Add(hn::Mul(clamped, K(255.0f)), K(0.5f)));
+}
+
+/// R, G, B codes and alpha 255 as little-endian RGBA8 words.
+HWY_INLINE hn::Vec<DI> PackWords(hn::Vec<DI> r, hn::Vec<DI> g, hn::Vec<DI> b) {
+    const DI di;
+    return hn::Or(hn::Or(r, hn::ShiftLeft<8>(g)),
+                  hn::Or(hn::ShiftLeft<16>(b), hn::Set(di, static_cast<int32_t>(0xFF000000u))));
+}
+
+/// Stores one vector of words at `out` (stride bytes apart), the first n lanes only when
+/// n < lanes.
+HWY_INLINE void StoreWords(hn::Vec<DI> words, std::uint8_t* out, std::size_t stride,
+                           std::size_t n) {
+    const DI di;
+    const std::size_t lanes = hn::Lanes(di);
+    if (stride == 4 && n == lanes) {
+        hn::StoreU(words, di, reinterpret_cast<int32_t*>(out));
+        return;
+    }
+    HWY_ALIGN int32_t buffer[kMaxLanes];
+    hn::Store(words, di, buffer);
+    for (std::size_t j = 0; j < n; ++j) std::memcpy(out + j * stride, &buffer[j], 4);
+}
+
+/// The 2002 model from positions to the caller's RGBA8 arrays in one pass: positions loaded
+/// (deinterleaved when kPackedXyz: x, y, z floats back to back; else three arrays), F_ex and
+/// L_in computed in registers and stored as codes, no float arrays in between. `exposure`
+/// multiplies L_in before the clamp (ToneCurve::clamp). The codes are those of the float path
+/// (ShadeHoffmanPreetham) through the 8-bit rule, bit for bit.
+template <class M, bool kPackedXyz, bool kInScattering>
+std::size_t ShadeHoffmanPreethamRgba8(const FrameConstants& constants, const Rgba8Job& work) {
+    // Local copies: the byte stores below cannot alias them, so the constants stay in registers.
+    const FrameConstants k = constants;
+    const Rgba8Job job = work;
+    const DF d;
+    const std::size_t lanes = hn::Lanes(d);
+    const VF exposure = K(job.exposure);
+    HWY_ALIGN float pad[3 * kMaxLanes] = {};
+    std::size_t invalid = 0;
+    for (std::size_t i = 0; i < job.count; i += lanes) {
+        const std::size_t n = std::min(lanes, job.count - i);
+        VF x, y, z;
+        if constexpr (kPackedXyz) {
+            const float* p = job.x + 3 * i;
+            if (HWY_UNLIKELY(n < lanes)) {
+                std::memcpy(pad, p, 3 * n * sizeof(float));
+                p = pad;
+            }
+            hn::LoadInterleaved3(d, p, x, y, z);
+        } else if (HWY_LIKELY(n == lanes)) {
+            x = hn::LoadU(d, job.x + i);
+            y = hn::LoadU(d, job.y + i);
+            z = hn::LoadU(d, job.z + i);
+        } else {
+            std::memcpy(pad, job.x + i, n * sizeof(float));
+            std::memcpy(pad + kMaxLanes, job.y + i, n * sizeof(float));
+            std::memcpy(pad + 2 * kMaxLanes, job.z + i, n * sizeof(float));
+            x = hn::Load(d, pad);
+            y = hn::Load(d, pad + kMaxLanes);
+            z = hn::Load(d, pad + 2 * kMaxLanes);
+        }
+        VF extinction[3], in_scattering[3];
+        const MF valid =
+            HoffmanPreethamVector<M, kInScattering>(k, x, y, z, extinction, in_scattering);
+        invalid += hn::CountTrue(d, hn::AndNot(valid, hn::FirstN(d, n)));
+        if (job.extinction) {
+            StoreWords(PackWords(Unorm8<true>(extinction[0]), Unorm8<true>(extinction[1]),
+                                 Unorm8<true>(extinction[2])),
+                       job.extinction + i * job.extinction_stride, job.extinction_stride, n);
         }
         if constexpr (kInScattering) {
-            VF rayleigh, mie;
-            Phases<M>(k, seg.dx, seg.dy, seg.dz, seg.s, rayleigh, mie);
-            for (int c = 0; c < 3; ++c) {
-                // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), phi(tau) = (1 - e^-tau) / tau;
-                // s phi(tau) = (1 - F_ex) / beta_ex beyond the series: no division per vertex.
-                const VF minus_tau = hn::Mul(K(-k.hp_extinction[c]), seg.s);
-                const VF length = hn::IfThenElse(
-                    NearZero(minus_tau), hn::Mul(seg.s, ExpAverageSeries(minus_tau)),
-                    hn::Mul(hn::Sub(K(1.0f), extinction[c]), K(k.hp_inv_extinction[c])));
-                const VF angular =
-                    hn::MulAdd(K(k.hp_rayleigh[c]), rayleigh, hn::Mul(K(k.hp_mie[c]), mie));
-                out.InScattering(c, hn::IfThenElseZero(seg.valid, hn::Mul(angular, length)));
-            }
+            StoreWords(PackWords(Unorm8<true>(hn::Mul(in_scattering[0], exposure)),
+                                 Unorm8<true>(hn::Mul(in_scattering[1], exposure)),
+                                 Unorm8<true>(hn::Mul(in_scattering[2], exposure))),
+                       job.in_scattering + i * job.in_scattering_stride, job.in_scattering_stride,
+                       n);
         }
-        return seg.valid;
-    });
+    }
+    return invalid;
 }
 
 // ---- height -----------------------------------------------------------------------------------
@@ -734,6 +955,27 @@ std::size_t ShadeBlockSimd(const Frame<float>& frame, const KernelBlock& block, 
                 : ShadeWith<AccurateMath>(k, frame.model, block);
 }
 
+std::size_t ShadeHoffmanPreethamRgba8Simd(const Frame<float>& frame, const Rgba8Job& job,
+                                          bool fast) {
+    if (job.count == 0) return 0;
+    const FrameConstants k = simd::make_frame_constants(frame);
+    const bool in_scattering = job.in_scattering != nullptr;
+    if (fast) {
+        if (job.packed_xyz) {
+            return in_scattering ? ShadeHoffmanPreethamRgba8<FastMath, true, true>(k, job)
+                                 : ShadeHoffmanPreethamRgba8<FastMath, true, false>(k, job);
+        }
+        return in_scattering ? ShadeHoffmanPreethamRgba8<FastMath, false, true>(k, job)
+                             : ShadeHoffmanPreethamRgba8<FastMath, false, false>(k, job);
+    }
+    if (job.packed_xyz) {
+        return in_scattering ? ShadeHoffmanPreethamRgba8<AccurateMath, true, true>(k, job)
+                             : ShadeHoffmanPreethamRgba8<AccurateMath, true, false>(k, job);
+    }
+    return in_scattering ? ShadeHoffmanPreethamRgba8<AccurateMath, false, true>(k, job)
+                         : ShadeHoffmanPreethamRgba8<AccurateMath, false, false>(k, job);
+}
+
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
 
 /// Applies a vector function to n floats (any n), through padded copies for the tail.
@@ -768,15 +1010,12 @@ void PackRgba8(const float* HWY_RESTRICT r, const float* HWY_RESTRICT g,
                const float* HWY_RESTRICT b, std::size_t n, float scale,
                std::uint32_t* HWY_RESTRICT out) {
     const DF d;
-    const hn::RebindToSigned<DF> di;
     const hn::RebindToUnsigned<DF> du;
     const std::size_t lanes = hn::Lanes(d);
-    const VF vscale = hn::Set(d, scale), zero = hn::Zero(d), one = hn::Set(d, 1.0f);
-    const VF v255 = hn::Set(d, 255.0f), half = hn::Set(d, 0.5f);
+    const VF vscale = hn::Set(d, scale);
     const auto alpha = hn::Set(du, 0xFF000000u);
     auto code = [&](const float* p) {
-        const VF v = hn::Min(hn::Max(hn::Mul(hn::LoadU(d, p), vscale), zero), one);
-        return hn::BitCast(du, hn::ConvertTo(di, hn::Add(hn::Mul(v, v255), half)));
+        return hn::BitCast(du, Unorm8(hn::Mul(hn::LoadU(d, p), vscale)));
     };
     std::size_t i = 0;
     for (; i + lanes <= n; i += lanes) {
@@ -823,6 +1062,7 @@ HWY_AFTER_NAMESPACE();
 namespace aerial::detail {
 
 HWY_EXPORT(ShadeBlockSimd);
+HWY_EXPORT(ShadeHoffmanPreethamRgba8Simd);
 HWY_EXPORT(TargetName);
 HWY_EXPORT(PackRgba8);
 HWY_EXPORT(Deinterleave3);
@@ -836,6 +1076,12 @@ std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block
         return shade_block_scalar(frame, block);  // the reference model has no SIMD kernel
     }
     return HWY_DYNAMIC_DISPATCH(ShadeBlockSimd)(frame, block, precision == KernelPrecision::fast);
+}
+
+std::size_t shade_hoffman_preetham_rgba8(const Frame<float>& frame, const Rgba8Job& job,
+                                         KernelPrecision precision) {
+    return HWY_DYNAMIC_DISPATCH(ShadeHoffmanPreethamRgba8Simd)(frame, job,
+                                                               precision == KernelPrecision::fast);
 }
 
 const char* simd_target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }

@@ -25,6 +25,7 @@ PACKAGES=(
     libegl-dev
     libegl-mesa0
     liblcms2-dev
+    libopenmesh-dev
     python3
 )
 

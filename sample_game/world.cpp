@@ -10,6 +10,13 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kTextureSize = 256;
+/// Display value of a white surface under the ground's irradiance (see settings_for).
+constexpr double kExposureKey = 8.0;
+/// The same for the exponential tone curve 1 - exp(-x), which needs more to reach the same level.
+constexpr double kExposureKeyExponential = 12.0;
+/// Ground reflectance over pi (the lit colour is albedo x irradiance, radiance needs the 1/pi);
+/// the texture (mean about 0.45) carries the colour.
+constexpr float kGroundAlbedo = float(0.3 / kPi);
 
 double smoothstep(double a, double b, double x) {
     const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
@@ -90,7 +97,7 @@ World build_world(const WorldOptions& options) {
             terrain_group->add(aerial::scene::make_terrain_tile(
                 "tile " + std::to_string(i) + " " + std::to_string(j),
                 std::make_shared<const aerial::scene::MeshData>(std::move(mesh.value())), texture,
-                glm::vec3(0.35f)));
+                glm::vec3(kGroundAlbedo)));
             ++world.tiles;
         }
     }
@@ -150,7 +157,8 @@ aerial::scene::Camera camera_for(const World& world, const FlightState& s, doubl
 
 aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& s,
                                                           const std::string& preset,
-                                                          aerial::Model model) {
+                                                          aerial::Model model,
+                                                          aerial::ToneCurve tone) {
     auto atmosphere = aerial::atmosphere_preset(preset);
     if (!atmosphere) return atmosphere.error();
     aerial::scene::FrameSettings settings;
@@ -160,7 +168,12 @@ aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& s,
         haze.visibility_in_layer_m = 1200.0;
         haze.layer_thickness_m = 500.0;
         haze.visibility_aloft_m = 15000.0;
-        auto foggy = aerial::atmosphere_with_ground_haze(haze, settings.atmosphere);
+        // Real fog looks bright from every side because light scatters many times in it; a
+        // single-scattering model with the droplets' g = 0.85 leaves it dark away from the sun.
+        // The sample lowers g to 0.5 in its fog, a stand-in for that multiple scattering.
+        aerial::Atmosphere base = settings.atmosphere;
+        base.mie_g = 0.5;
+        auto foggy = aerial::atmosphere_with_ground_haze(haze, base);
         if (!foggy) return foggy.error();
         settings.atmosphere = *foggy;
     }
@@ -168,14 +181,19 @@ aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& s,
                         std::cos(s.sun_elevation_rad) * std::cos(s.sun_azimuth_rad),
                         std::sin(s.sun_elevation_rad)};
     settings.model = model;
-    // Exposure: the ground's irradiance (sun through the atmosphere on a level surface plus a
-    // fifth for the sky) mapped to a fixed display level, so noon and dusk both read.
-    const glm::dvec3 sun_top = settings.atmosphere.sun_irradiance;
-    const glm::dvec3 sun = sun_top * aerial::sun_transmittance(settings.atmosphere, 300.0,
-                                                                std::sin(s.sun_elevation_rad));
-    const double irradiance = sun.g * std::max(0.0, std::sin(s.sun_elevation_rad)) + 0.2 * sun_top.g * std::max(0.05, std::sin(s.sun_elevation_rad));
-    settings.display.exposure = float(std::clamp(2.2 / std::max(irradiance, 1e-3), 1.0, 40.0));
-    settings.display.tone = aerial::ToneCurve::clamp;
+    // Exposure: the irradiance of level ground (the sun through the atmosphere plus an
+    // estimate of the sky's) mapped to a fixed display level, so that noon and dusk both read.
+    const double sin_elevation = std::sin(s.sun_elevation_rad);
+    const glm::dvec3 sun = settings.atmosphere.sun_irradiance *
+                           aerial::sun_transmittance(settings.atmosphere, 300.0, sin_elevation);
+    const double irradiance = sun.g * std::max(0.0, sin_elevation) +
+                              0.15 * settings.atmosphere.sun_irradiance.g *
+                                  std::sqrt(std::max(0.01, sin_elevation));
+    // Dusk is allowed to stay darker than noon: the exposure follows the irradiance only in part.
+    const double key = tone == aerial::ToneCurve::exponential ? kExposureKeyExponential : kExposureKey;
+    settings.display.exposure =
+        float(std::clamp(key / std::pow(irradiance, 0.75), 2.0, 60.0));
+    settings.display.tone = tone;
     return settings;
 }
 

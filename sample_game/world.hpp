@@ -56,10 +56,12 @@ FlightState flight_at(const World& world, double t);
 
 aerial::scene::Camera camera_for(const World& world, const FlightState& state, double aspect);
 
-/// The atmosphere of `preset`, with a ground-fog layer (visibility 1.2 km in a 500 m layer)
-/// added when state.fog; an exposure that keeps the lit ground readable from noon to dusk.
+/// The atmosphere of `preset`, with a ground-fog layer (visibility 1.2 km in a 500 m layer,
+/// Mie g 0.5 standing in for multiple scattering) added when state.fog; an exposure that keeps the lit ground readable from noon to dusk, for
+/// the tone curve `tone` (the arb backend has only clamp; exponential never clips the sun's halo).
 aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& state,
                                                           const std::string& preset,
-                                                          aerial::Model model);
+                                                          aerial::Model model,
+                                                          aerial::ToneCurve tone);
 
 }  // namespace sample

@@ -119,6 +119,9 @@ struct FrameReport {
     std::size_t shaded_height = 0;            ///< nodes
     std::size_t shaded_reference = 0;         ///< nodes
     double milliseconds = 0.0;  ///< CPU time of render() (GL work is queued, not waited for)
+    /// The module's own CPU work within it: the update policy's decisions and the shading (no
+    /// GL calls, no sky).
+    double shading_milliseconds = 0.0;
     gl::Path path = gl::Path::automatic;  ///< the fixed-function path of the cpu backend
     glm::vec3 ambient{0.0f};              ///< the sky irradiance used for terrain
     /// The method of most shaded vertices this frame ("hoffman-preetham", "height", ...), or

@@ -694,6 +694,7 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
             report.nodes.push_back(nr);
             return;
         }
+        const auto shading_start = std::chrono::steady_clock::now();
         const bool lit = node.kind == NodeKind::terrain;
         const glm::vec3 albedo = node.albedo;
         const double lit_max = lit ? double(light_scale) * max3(glm::dvec3(albedo)) *
@@ -796,6 +797,9 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
         if (method == Method::height) ++report.shaded_height;
         if (method == Method::reference) ++report.shaded_reference;
         report.vertices_drawn += n;
+        report.shading_milliseconds += std::chrono::duration<double, std::milli>(
+                                           std::chrono::steady_clock::now() - shading_start)
+                                           .count();
 
         // Draw.
         const MeshData& mesh = *node.mesh;

@@ -16,7 +16,7 @@
 #include "aerial/headless.hpp"
 #include "aerial/scene_renderer.hpp"
 #include "common/png.hpp"
-#include "font.hpp"
+#include "game.hpp"
 #include "world.hpp"
 
 namespace {
@@ -50,18 +50,6 @@ bool parse_size(const std::string& text, int& width, int& height) {
     width = int(w);
     height = int(h);
     return true;
-}
-
-std::string upper(std::string s) {
-    for (char& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
-    return s;
-}
-
-std::string clock_text(double hours) {
-    const int minutes = int(std::lround(hours * 60.0));
-    char buffer[16];
-    std::snprintf(buffer, sizeof buffer, "%02d:%02d", (minutes / 60) % 24, minutes % 60);
-    return buffer;
 }
 
 /// A box-filtered thumbnail `factor` times smaller.
@@ -189,13 +177,30 @@ int main(int argc, char** argv) {
         return fail("--error-target: expected a finite value >= 0");
     }
     if (out.empty()) return fail("--out: expected a directory");
-    if (window) {
+    if (window && headless) return fail("--window: not together with --headless");
+    if (window && !sample::window_available()) {
         return fail("--window: this build has no window support (GLFW); use --headless");
     }
 
     sample::WorldOptions world_options;
     world_options.seed = seed;
     const sample::World world = sample::build_world(world_options);
+    sample::GameConfig config;
+    config.preset = preset;
+    config.model = *model;
+    config.backend = *backend;
+    config.path = *path;
+    config.policy = !no_policy;
+    config.error_target_lsb = error_target;
+    config.readout = !no_readout;
+    config.width = width;
+    config.height = height;
+    if (window) {
+        // Interactive until closed; with --frames given, that many frames, the last saved.
+        const bool counted = app.count("--frames") > 0;
+        return sample::run_window(world, config, counted ? frames : 0,
+                                  counted ? out + "/window.png" : "");
+    }
 
     auto context = aerial::headless::Context::create({*gl_backend, width, height});
     if (!context) return fail("--gl " + gl_text + ": " + context.error().message, 1);
@@ -222,50 +227,13 @@ int main(int argc, char** argv) {
     for (int i = 0; i < frames; ++i) {
         const double t = frames == 1 ? 0.0 : double(i) / double(frames - 1);
         const sample::FlightState state = sample::flight_at(world, t);
-        const aerial::scene::Camera camera =
-            sample::camera_for(world, state, double(width) / double(height));
-        auto settings = sample::settings_for(
-            state, preset, *model,
-            *backend == aerial::scene::Backend::cpu ? aerial::ToneCurve::exponential
-                                                    : aerial::ToneCurve::clamp);
-        if (!settings) return fail("--preset: " + settings.error().message);
-        settings.value().policy = !no_policy;
-        settings.value().error_target_lsb = error_target;
-
-        api.Viewport(0, 0, width, height);
-        api.ClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-        api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        const auto start = std::chrono::steady_clock::now();
-        auto report = renderer.value().render(*world.root, camera, *settings);
-        if (!report) return fail("frame " + std::to_string(i) + ": " + report.error().message, 1);
-        api.Finish();
-        const double ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                .count();
+        auto outcome = sample::render_frame(api, renderer.value(), world, state, config);
+        if (!outcome) return fail("frame " + std::to_string(i) + ": " + outcome.error().message, 1);
+        const aerial::scene::FrameReport& report = outcome->report;
+        const double ms = outcome->milliseconds;
         total_ms += ms;
-        total_shaded += double(report->vertices_shaded);
+        total_shaded += double(report.vertices_shaded);
         const double sun_deg = state.sun_elevation_rad * 180.0 / 3.14159265358979323846;
-        if (!no_readout) {
-            const int scale = std::max(1, height / 270);
-            char line[160];
-            std::snprintf(line, sizeof line, "FPS %.1f (%.0f MS, SHADING %.1f MS)  %s %s",
-                          1000.0 / ms, ms, report->shading_milliseconds,
-                          upper(clock_text(state.clock_hours)).c_str(),
-                          upper(state.fog ? preset + "+FOG" : preset).c_str());
-            sample::draw_text(api, width, height, 4 * scale, 4 * scale, scale, line);
-            std::snprintf(line, sizeof line, "SHADED %zu / %zu VERTS  CACHED %zu  CULLED %zu",
-                          report->vertices_shaded, report->vertices_drawn, report->cache_hits,
-                          report->culled);
-            sample::draw_text(api, width, height, 4 * scale, 14 * scale, scale, line);
-            std::snprintf(line, sizeof line, "METHOD %s  %s %s%s",
-                          upper(report->main_method()).c_str(), upper(backend_text).c_str(),
-                          *backend == aerial::scene::Backend::cpu
-                              ? upper(aerial::gl::path_name(report->path)).c_str()
-                              : "PROGRAM",
-                          no_policy ? "  NO POLICY" : "");
-            sample::draw_text(api, width, height, 4 * scale, 24 * scale, scale, line);
-            api.Finish();
-        }
         const aerial::tools::Rgb8Image image =
             aerial::tools::rgb_from_rgba8(width, height, context->read_rgba8());
         char name[64];
@@ -274,12 +242,12 @@ int main(int argc, char** argv) {
         thumbnails.push_back(shrink(image, factor));
         char row[512];
         std::snprintf(row, sizeof row, "%d,%.4f,%s,%.2f,%d,%.3f,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%s,%.3f,%.3f\n",
-                      i, t, clock_text(state.clock_hours).c_str(), sun_deg, state.fog ? 1 : 0,
-                      double(settings->display.exposure), report->vertices_shaded,
-                      report->vertices_drawn, report->cache_hits, report->culled, report->skipped,
-                      report->shaded_hoffman_preetham, report->shaded_height,
-                      report->shaded_reference, report->main_method().c_str(),
-                      report->shading_milliseconds, ms);
+                      i, t, sample::clock_text(state.clock_hours).c_str(), sun_deg, state.fog ? 1 : 0,
+                      double(outcome->settings.display.exposure), report.vertices_shaded,
+                      report.vertices_drawn, report.cache_hits, report.culled, report.skipped,
+                      report.shaded_hoffman_preetham, report.shaded_height,
+                      report.shaded_reference, report.main_method().c_str(),
+                      report.shading_milliseconds, ms);
         csv << row;
     }
     if (auto e = aerial::tools::write_png(out + "/contact_sheet.png", contact_sheet(thumbnails))) {

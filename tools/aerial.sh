@@ -26,6 +26,9 @@ PACKAGES=(
     libegl-mesa0
     liblcms2-dev
     libopenmesh-dev
+    libglfw3-dev
+    xvfb
+    xauth
     python3
 )
 

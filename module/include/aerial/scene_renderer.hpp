@@ -150,8 +150,8 @@ using SkyDrawer = std::function<void(const SkyDrawContext&)>;
 /// exponential atmosphere from the eye to space; directions below the horizon take the horizon's.
 SkyDrawer default_sky_drawer();
 /// The built-in sun: a flat disc of `angular_radius_rad` (default 3 times the real 0.27°, to be
-/// seen at low resolution) coloured by the sun's transmittance from space to the eye, brightest
-/// channel at 1.
+/// seen at low resolution) coloured by the sun's transmittance T from space to the eye:
+/// 1 - exp(-4 T / max(T)) per channel, white at noon, yellow to orange near the horizon.
 SkyDrawer default_sun_drawer(double angular_radius_rad = 0.0141);
 
 class SceneRenderer {

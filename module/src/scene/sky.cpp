@@ -16,6 +16,8 @@ constexpr int kDomeRings = 24;     ///< rings from 10° below the horizon to jus
 constexpr int kDomeSegments = 40;  ///< vertices a ring (961 vertices with the zenith)
 constexpr double kLowestElevationRad = -10.0 * kPi / 180.0;
 constexpr int kSunRimVertices = 24;
+/// The sun disc's colour is 1 - exp(-k T / max(T)) per channel (T: transmittance to the eye).
+constexpr float kSunSaturation = 4.0f;
 /// The eye may climb or sink this much (m) before the dome's fitted radii are recomputed.
 constexpr double kRefitAltitudeM = 25.0;
 
@@ -173,7 +175,11 @@ SkyDrawer default_sun_drawer(double angular_radius_rad) {
         const std::size_t n = positions.size() / 3;
         std::vector<std::uint8_t> colour(4 * n), black(4 * n, 0);
         for (std::size_t v = 0; v < n; ++v) {
-            for (int ch = 0; ch < 3; ++ch) colour[4 * v + std::size_t(ch)] = to_unorm8(float(t[ch] / brightest));
+            for (int ch = 0; ch < 3; ++ch) {
+                // Far brighter than the sky: saturating, white at noon, yellow to orange low.
+                colour[4 * v + std::size_t(ch)] =
+                    to_unorm8(1.0f - std::exp(-kSunSaturation * float(t[ch] / brightest)));
+            }
             colour[4 * v + 3] = 255;
         }
         gl::ApplyOptions apply = *c.apply;

@@ -32,10 +32,11 @@ struct Totals {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"Per-frame work of aerial::scene::SceneRenderer on the sample's world: static\n"
-                 "and flying (100 m/s at 30 frames/s) cameras, update policy on and off.\n"
-                 "Exit status: 0 on success, 2 on bad input, 1 when GL fails.",
-                 kTool};
+    CLI::App app{
+        "Per-frame work of aerial::scene::SceneRenderer on the sample's world: static\n"
+        "and flying (100 m/s at 30 frames/s) cameras, update policy on and off.\n"
+        "Exit status: 0 on success, 2 on bad input, 1 when GL fails.",
+        kTool};
     int frames = 31, width = 480, height = 270;
     std::string size = "480x270", model_text = "height", backend_text = "cpu", gl_text = "osmesa";
     app.add_option("--frames", frames, "Frames per scenario, 2..10000")->capture_default_str();
@@ -75,10 +76,9 @@ int main(int argc, char** argv) {
         bool policy;
         bool flying;
     };
-    for (const Scenario& sc : {Scenario{"static_policy", true, false},
-                               Scenario{"static_no_policy", false, false},
-                               Scenario{"flying_policy", true, true},
-                               Scenario{"flying_no_policy", false, true}}) {
+    for (const Scenario& sc :
+         {Scenario{"static_policy", true, false}, Scenario{"static_no_policy", false, false},
+          Scenario{"flying_policy", true, true}, Scenario{"flying_no_policy", false, true}}) {
         aerial::scene::RendererOptions options;
         options.backend = *backend;
         auto renderer = aerial::scene::SceneRenderer::create(api, options);
@@ -98,10 +98,10 @@ int main(int argc, char** argv) {
                 camera.target += glm::dvec3(0, 0, c0.eye.z - camera.eye.z);
                 camera.eye.z = c0.eye.z;
             }
-            auto settings = sample::settings_for(
-                state, "earth", *model,
-                *backend == aerial::scene::Backend::cpu ? aerial::ToneCurve::exponential
-                                                        : aerial::ToneCurve::clamp);
+            auto settings = sample::settings_for(state, "earth", *model,
+                                                 *backend == aerial::scene::Backend::cpu
+                                                     ? aerial::ToneCurve::exponential
+                                                     : aerial::ToneCurve::clamp);
             if (!settings) return fail(settings.error().message, 1);
             settings.value().policy = sc.policy;
             api.Viewport(0, 0, width, height);
@@ -126,7 +126,8 @@ int main(int argc, char** argv) {
         const double n = frames - 1;
         std::printf(
             "%s: frames=%d vertices_shaded=%.0f cache_hits=%.1f culled=%.1f "
-            "nodes_hoffman_preetham=%.1f nodes_%s=%.1f shading_ms=%.2f render_ms=%.2f frame_ms=%.2f\n",
+            "nodes_hoffman_preetham=%.1f nodes_%s=%.1f shading_ms=%.2f render_ms=%.2f "
+            "frame_ms=%.2f\n",
             sc.name, frames - 1, totals.vertices_shaded / n, totals.cache_hits / n,
             totals.culled / n, totals.hp_nodes / n, model_text.c_str(), totals.height_nodes / n,
             totals.shading_ms / n, totals.render_ms / n, totals.frame_ms / n);

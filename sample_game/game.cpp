@@ -30,10 +30,10 @@ aerial::Result<FrameOutcome> render_frame(const aerial::gl::Api& api,
                                           const GameConfig& config) {
     const aerial::scene::Camera camera =
         camera_for(world, state, double(config.width) / double(config.height));
-    auto settings = settings_for(state, config.preset, config.model,
-                                 config.backend == aerial::scene::Backend::cpu
-                                     ? aerial::ToneCurve::exponential
-                                     : aerial::ToneCurve::clamp);
+    auto settings =
+        settings_for(state, config.preset, config.model,
+                     config.backend == aerial::scene::Backend::cpu ? aerial::ToneCurve::exponential
+                                                                   : aerial::ToneCurve::clamp);
     if (!settings) return settings.error();
     settings.value().policy = config.policy;
     settings.value().error_target_lsb = config.error_target_lsb;
@@ -54,9 +54,8 @@ aerial::Result<FrameOutcome> render_frame(const aerial::gl::Api& api,
         const int scale = std::max(1, config.height / 270);
         const double ms = outcome.milliseconds;
         char line[160];
-        std::snprintf(line, sizeof line, "FPS %.1f (%.0f MS, SHADING %.1f MS)  %s %s",
-                      1000.0 / ms, ms, report->shading_milliseconds,
-                      clock_text(state.clock_hours).c_str(),
+        std::snprintf(line, sizeof line, "FPS %.1f (%.0f MS, SHADING %.1f MS)  %s %s", 1000.0 / ms,
+                      ms, report->shading_milliseconds, clock_text(state.clock_hours).c_str(),
                       upper(state.fog ? config.preset + "+FOG" : config.preset).c_str());
         draw_text(api, config.width, config.height, 4 * scale, 4 * scale, scale, line);
         std::snprintf(line, sizeof line, "SHADED %zu / %zu VERTS  CACHED %zu  CULLED %zu",

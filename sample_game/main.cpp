@@ -88,8 +88,9 @@ aerial::tools::Rgb8Image contact_sheet(const std::vector<aerial::tools::Rgb8Imag
         const int x0 = gap + int(i % std::size_t(columns)) * (tw + gap);
         const int y0 = gap + int(i / std::size_t(columns)) * (th + gap);
         for (int y = 0; y < th; ++y) {
-            std::copy_n(thumbs[i].pixel(0, y), std::size_t(tw) * 3,
-                        sheet.rgb.begin() + std::ptrdiff_t((std::size_t(y0 + y) * sheet.width + x0) * 3));
+            std::copy_n(
+                thumbs[i].pixel(0, y), std::size_t(tw) * 3,
+                sheet.rgb.begin() + std::ptrdiff_t((std::size_t(y0 + y) * sheet.width + x0) * 3));
         }
     }
     return sheet;
@@ -214,7 +215,8 @@ int main(int argc, char** argv) {
         return fail("--backend " + backend_text + ": " + renderer.error().message, status);
     }
 
-    if (auto e = aerial::tools::make_parent_directories(out + "/frames.csv")) return fail("--out " + *e);
+    if (auto e = aerial::tools::make_parent_directories(out + "/frames.csv"))
+        return fail("--out " + *e);
     std::ofstream csv(out + "/frames.csv");
     if (!csv) return fail("--out: cannot write " + out + "/frames.csv");
     csv << "frame,t,clock,sun_elevation_deg,fog,exposure,vertices_shaded,vertices_drawn,"
@@ -241,13 +243,13 @@ int main(int argc, char** argv) {
         if (auto e = aerial::tools::write_png(out + name, image)) return fail("--out " + *e);
         thumbnails.push_back(shrink(image, factor));
         char row[512];
-        std::snprintf(row, sizeof row, "%d,%.4f,%s,%.2f,%d,%.3f,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%s,%.3f,%.3f\n",
-                      i, t, sample::clock_text(state.clock_hours).c_str(), sun_deg, state.fog ? 1 : 0,
+        std::snprintf(row, sizeof row,
+                      "%d,%.4f,%s,%.2f,%d,%.3f,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%s,%.3f,%.3f\n", i,
+                      t, sample::clock_text(state.clock_hours).c_str(), sun_deg, state.fog ? 1 : 0,
                       double(outcome->settings.display.exposure), report.vertices_shaded,
                       report.vertices_drawn, report.cache_hits, report.culled, report.skipped,
-                      report.shaded_hoffman_preetham, report.shaded_height,
-                      report.shaded_reference, report.main_method().c_str(),
-                      report.shading_milliseconds, ms);
+                      report.shaded_hoffman_preetham, report.shaded_height, report.shaded_reference,
+                      report.main_method().c_str(), report.shading_milliseconds, ms);
         csv << row;
     }
     if (auto e = aerial::tools::write_png(out + "/contact_sheet.png", contact_sheet(thumbnails))) {

@@ -15,9 +15,7 @@
 namespace sample {
 namespace {
 
-void* load_gl(void*, const char* name) {
-    return reinterpret_cast<void*>(glfwGetProcAddress(name));
-}
+void* load_gl(void*, const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
 
 const char* const kPresets[] = {"earth", "hazy", "foggy", "hp2002", "mars"};
 
@@ -64,8 +62,9 @@ int run_window(const World& world, GameConfig config, int frames, const std::str
         FlightState state = flight_at(world, 0.0);
         double speed = 100.0, t_day = 0.0;  // m/s; 0 = noon .. 1 = dusk of the script
         auto last = std::chrono::steady_clock::now();
-        std::printf("aerial-sample: keys: arrows turn/climb, W/S speed, T/G time of day, F fog, "
-                    "P policy, 1-5 presets, Esc quits\n");
+        std::printf(
+            "aerial-sample: keys: arrows turn/climb, W/S speed, T/G time of day, F fog, "
+            "P policy, 1-5 presets, Esc quits\n");
         for (int frame = 0; !glfwWindowShouldClose(window) && (frames <= 0 || frame < frames);
              ++frame) {
             const auto now = std::chrono::steady_clock::now();
@@ -76,8 +75,10 @@ int run_window(const World& world, GameConfig config, int frames, const std::str
             if (down(GLFW_KEY_ESCAPE)) break;
             if (down(GLFW_KEY_LEFT)) state.heading_rad -= 0.8 * dt;
             if (down(GLFW_KEY_RIGHT)) state.heading_rad += 0.8 * dt;
-            if (down(GLFW_KEY_UP)) state.altitude_agl = std::min(5000.0, state.altitude_agl + 150 * dt);
-            if (down(GLFW_KEY_DOWN)) state.altitude_agl = std::max(20.0, state.altitude_agl - 150 * dt);
+            if (down(GLFW_KEY_UP))
+                state.altitude_agl = std::min(5000.0, state.altitude_agl + 150 * dt);
+            if (down(GLFW_KEY_DOWN))
+                state.altitude_agl = std::max(20.0, state.altitude_agl - 150 * dt);
             if (down(GLFW_KEY_W)) speed = std::min(1000.0, speed + 100 * dt);
             if (down(GLFW_KEY_S)) speed = std::max(0.0, speed - 100 * dt);
             if (down(GLFW_KEY_T)) t_day = std::max(0.0, t_day - 0.1 * dt);
@@ -120,7 +121,8 @@ int run_window(const World& world, GameConfig config, int frames, const std::str
                     for (int x = 0; x < config.width; ++x) {
                         for (int c = 0; c < 3; ++c) {
                             image.rgb[(std::size_t(y) * config.width + x) * 3 + c] =
-                                rgba[(std::size_t(config.height - 1 - y) * config.width + x) * 4 + c];
+                                rgba[(std::size_t(config.height - 1 - y) * config.width + x) * 4 +
+                                     c];
                         }
                     }
                 }

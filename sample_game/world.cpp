@@ -51,14 +51,16 @@ std::shared_ptr<aerial::scene::Texture> ground_texture(std::uint32_t seed) {
     for (int y = 0; y < kTextureSize; ++y) {
         for (int x = 0; x < kTextureSize; ++x) {
             const double u = (x + 0.5) / kTextureSize, v = (y + 0.5) / kTextureSize;
-            const double patches = 0.5 * noise(u, v, 4) + 0.3 * noise(u, v, 8) + 0.2 * noise(u, v, 16);
+            const double patches =
+                0.5 * noise(u, v, 4) + 0.3 * noise(u, v, 8) + 0.2 * noise(u, v, 16);
             const double grain = 0.6 * noise(u, v, 64) + 0.4 * noise(u, v, 128);
             const glm::dvec3 grass{0.30, 0.42, 0.16}, dry{0.50, 0.46, 0.28}, rock{0.52, 0.50, 0.47};
             glm::dvec3 c = glm::mix(grass, dry, smoothstep(0.45, 0.65, patches));
             c = glm::mix(c, rock, smoothstep(0.68, 0.8, patches));
             c *= 0.8 + 0.4 * grain;
             for (int ch = 0; ch < 3; ++ch) {
-                texture->rgb[(std::size_t(y) * kTextureSize + std::size_t(x)) * 3 + std::size_t(ch)] =
+                texture
+                    ->rgb[(std::size_t(y) * kTextureSize + std::size_t(x)) * 3 + std::size_t(ch)] =
                     std::uint8_t(std::clamp(c[ch], 0.0, 1.0) * 255.0 + 0.5);
             }
         }
@@ -130,7 +132,8 @@ FlightState flight_at(const World& world, double t) {
     double ground = ground_height(world, x, y);
     for (double d = 100.0; d <= 600.0; d += 100.0) {
         ground = std::max(ground, ground_height(world, x + std::sin(s.heading_rad) * d,
-                                                y + std::cos(s.heading_rad) * d) - 0.3 * d);
+                                                y + std::cos(s.heading_rad) * d) -
+                                      0.3 * d);
     }
     s.altitude_agl = 250.0 + (ground - ground_height(world, x, y));
     s.pitch_rad = -0.09;
@@ -145,7 +148,8 @@ aerial::scene::Camera camera_for(const World& world, const FlightState& s, doubl
     aerial::scene::Camera c;
     c.eye = {s.x, s.y, ground_height(world, s.x, s.y) + s.altitude_agl};
     const glm::dvec3 forward{std::sin(s.heading_rad) * std::cos(s.pitch_rad),
-                             std::cos(s.heading_rad) * std::cos(s.pitch_rad), std::sin(s.pitch_rad)};
+                             std::cos(s.heading_rad) * std::cos(s.pitch_rad),
+                             std::sin(s.pitch_rad)};
     c.target = c.eye + forward * 1000.0;
     c.up = {0.0, 0.0, 1.0};
     c.fov_y_rad = 50.0 * kPi / 180.0;
@@ -186,13 +190,13 @@ aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& s,
     const double sin_elevation = std::sin(s.sun_elevation_rad);
     const glm::dvec3 sun = settings.atmosphere.sun_irradiance *
                            aerial::sun_transmittance(settings.atmosphere, 300.0, sin_elevation);
-    const double irradiance = sun.g * std::max(0.0, sin_elevation) +
-                              0.15 * settings.atmosphere.sun_irradiance.g *
-                                  std::sqrt(std::max(0.01, sin_elevation));
+    const double irradiance =
+        sun.g * std::max(0.0, sin_elevation) +
+        0.15 * settings.atmosphere.sun_irradiance.g * std::sqrt(std::max(0.01, sin_elevation));
     // Dusk is allowed to stay darker than noon: the exposure follows the irradiance only in part.
-    const double key = tone == aerial::ToneCurve::exponential ? kExposureKeyExponential : kExposureKey;
-    settings.display.exposure =
-        float(std::clamp(key / std::pow(irradiance, 0.75), 2.0, 60.0));
+    const double key =
+        tone == aerial::ToneCurve::exponential ? kExposureKeyExponential : kExposureKey;
+    settings.display.exposure = float(std::clamp(key / std::pow(irradiance, 0.75), 2.0, 60.0));
     settings.display.tone = tone;
     return settings;
 }

@@ -42,8 +42,8 @@ double ground_height(const World& world, double x, double y);
 /// Where the flight is and what the sky is like.
 struct FlightState {
     double x = 0.0, y = 0.0, altitude_agl = 250.0;  ///< m; altitude above the ground below
-    double heading_rad = 0.0;                        ///< clockwise from +y (north)
-    double pitch_rad = -0.08;                        ///< negative looks down
+    double heading_rad = 0.0;                       ///< clockwise from +y (north)
+    double pitch_rad = -0.08;                       ///< negative looks down
     double sun_elevation_rad = 1.0;
     double sun_azimuth_rad = 3.14159;  ///< clockwise from +y
     bool fog = false;                  ///< the ground-fog layer is on
@@ -57,8 +57,9 @@ FlightState flight_at(const World& world, double t);
 aerial::scene::Camera camera_for(const World& world, const FlightState& state, double aspect);
 
 /// The atmosphere of `preset`, with a ground-fog layer (visibility 1.2 km in a 500 m layer,
-/// Mie g 0.5 standing in for multiple scattering) added when state.fog; an exposure that keeps the lit ground readable from noon to dusk, for
-/// the tone curve `tone` (the arb backend has only clamp; exponential never clips the sun's halo).
+/// Mie g 0.5 standing in for multiple scattering) added when state.fog; an exposure that keeps the
+/// lit ground readable from noon to dusk, for the tone curve `tone` (the arb backend has only
+/// clamp; exponential never clips the sun's halo).
 aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& state,
                                                           const std::string& preset,
                                                           aerial::Model model,

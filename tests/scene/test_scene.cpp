@@ -5,8 +5,8 @@
 #include <fstream>
 #include <string>
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "aerial/scene.hpp"
 

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
-#include <gtest/gtest.h>
 
 #include "aerial/gl_api.hpp"
 #include "aerial/gl_state.hpp"
@@ -52,10 +52,10 @@ struct TestScene {
                 spec.resolution = 17;
                 auto mesh = heightfield_mesh(
                     spec, [&](double x, double y) { return procedural_height(terrain, x, y); });
-                tiles.push_back(root->add(make_terrain_tile(
-                    "tile " + std::to_string(i) + " " + std::to_string(j),
-                    std::make_shared<MeshData>(std::move(mesh.value())), texture,
-                    glm::vec3(0.1f))));
+                tiles.push_back(root->add(
+                    make_terrain_tile("tile " + std::to_string(i) + " " + std::to_string(j),
+                                      std::make_shared<MeshData>(std::move(mesh.value())), texture,
+                                      glm::vec3(0.1f))));
             }
         }
         auto box = std::make_shared<MeshData>();
@@ -230,7 +230,8 @@ TEST_F(SceneRendererTest, PicksTheCheapestModelMeetingTheTarget) {
     renderer.value().clear_caches();
     s.error_target_lsb = 0.0;
     draw(renderer.value(), scene, test_camera(), s, &strict);
-    EXPECT_GT(strict.shaded_height, 0u) << "the 2002 model is not exact for hazy terrain 1-4 km away";
+    EXPECT_GT(strict.shaded_height, 0u)
+        << "the 2002 model is not exact for hazy terrain 1-4 km away";
 }
 
 TEST_F(SceneRendererTest, ReusedColoursStayWithinOneStepOfFreshOnes) {

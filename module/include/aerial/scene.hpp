@@ -44,10 +44,10 @@ std::optional<Error> validate(const Texture& texture);
 
 /// Triangles with per-vertex attributes, tightly packed floats.
 struct MeshData {
-    std::vector<float> positions;          ///< x, y, z per vertex, local engine units
-    std::vector<float> normals;            ///< empty, or unit x, y, z per vertex (for lighting)
-    std::vector<float> texcoords;          ///< empty, or s, t per vertex
-    std::vector<std::uint32_t> indices;    ///< three per triangle, each < vertex_count()
+    std::vector<float> positions;        ///< x, y, z per vertex, local engine units
+    std::vector<float> normals;          ///< empty, or unit x, y, z per vertex (for lighting)
+    std::vector<float> texcoords;        ///< empty, or s, t per vertex
+    std::vector<std::uint32_t> indices;  ///< three per triangle, each < vertex_count()
     std::size_t vertex_count() const { return positions.size() / 3; }
 };
 
@@ -63,10 +63,10 @@ Result<MeshData> load_mesh_file(const std::string& path);
 
 /// A square grid of heights sampled from a function: one terrain tile.
 struct HeightfieldSpec {
-    double origin_x = 0.0;   ///< x of the tile's first corner, engine units
-    double origin_y = 0.0;   ///< y of the tile's first corner
-    double size = 1000.0;    ///< side, engine units, > 0
-    int resolution = 33;     ///< vertices a side, 2 .. 4097
+    double origin_x = 0.0;          ///< x of the tile's first corner, engine units
+    double origin_y = 0.0;          ///< y of the tile's first corner
+    double size = 1000.0;           ///< side, engine units, > 0
+    int resolution = 33;            ///< vertices a side, 2 .. 4097
     double texture_repeat = 250.0;  ///< engine units per texture repetition, > 0
 };
 
@@ -79,10 +79,10 @@ Result<MeshData> heightfield_mesh(const HeightfieldSpec& spec,
 /// Procedural hills and ridges: fractal value noise, deterministic in `seed`.
 struct ProceduralTerrain {
     std::uint32_t seed = 1;
-    double amplitude = 600.0;     ///< largest height above base, engine units, >= 0
-    double feature_size = 4000.0; ///< wavelength of the largest hills, engine units, > 0
-    double base = 0.0;            ///< height of the lowest valleys
-    int octaves = 6;              ///< 1 .. 12
+    double amplitude = 600.0;      ///< largest height above base, engine units, >= 0
+    double feature_size = 4000.0;  ///< wavelength of the largest hills, engine units, > 0
+    double base = 0.0;             ///< height of the lowest valleys
+    int octaves = 6;               ///< 1 .. 12
 };
 
 /// Height of the procedural terrain at (x, y), in [base, base + amplitude].
@@ -102,11 +102,11 @@ const char* node_kind_name(NodeKind kind);
 struct Node {
     NodeKind kind = NodeKind::group;
     std::string name;
-    glm::dmat4 transform{1.0};  ///< local to the parent (affine), engine units
-    bool visible = true;        ///< false: the node and its children are not drawn
-    std::shared_ptr<const MeshData> mesh;      ///< mesh and terrain nodes
-    std::shared_ptr<const Texture> texture;    ///< optional; untextured means white
-    glm::vec3 albedo{1.0f};     ///< multiplies the lit colour of terrain (linear RGB)
+    glm::dmat4 transform{1.0};               ///< local to the parent (affine), engine units
+    bool visible = true;                     ///< false: the node and its children are not drawn
+    std::shared_ptr<const MeshData> mesh;    ///< mesh and terrain nodes
+    std::shared_ptr<const Texture> texture;  ///< optional; untextured means white
+    glm::vec3 albedo{1.0f};                  ///< multiplies the lit colour of terrain (linear RGB)
     std::vector<std::unique_ptr<Node>> children;
 
     /// Appends a child and returns it.

@@ -82,8 +82,8 @@ struct FrameSettings {
     /// where the policy measures that the two agree within error_target_lsb. The arb backend
     /// has programs for hoffman-preetham and height only.
     Model model = Model::height;
-    bool policy = true;              ///< the update policy above; false: shade everything
-    double error_target_lsb = 2.0;   ///< largest accepted 8-bit difference to `model`, >= 0
+    bool policy = true;             ///< the update policy above; false: shade everything
+    double error_target_lsb = 2.0;  ///< largest accepted 8-bit difference to `model`, >= 0
     /// Terrain lighting: sky irradiance added to the sun's (linear RGB); negative (default):
     /// computed from the sky seen from the eye (cosine-weighted L_in over the upper hemisphere).
     glm::vec3 ambient{-1.0f};
@@ -109,7 +109,7 @@ struct NodeReport {
 
 /// What one frame did.
 struct FrameReport {
-    std::vector<NodeReport> nodes;  ///< every mesh and terrain node, in traversal order
+    std::vector<NodeReport> nodes;    ///< every mesh and terrain node, in traversal order
     std::size_t vertices_shaded = 0;  ///< vertices whose F_ex and L_in were computed (cpu or GPU)
     std::size_t vertices_drawn = 0;   ///< vertices of drawn nodes (sky and sun excluded)
     std::size_t culled = 0;           ///< nodes

@@ -33,8 +33,8 @@ std::string lower_extension(const std::string& path) {
 Result<MeshData> load_mesh_file(const std::string& path) {
     const std::string ext = lower_extension(path);
     if (ext != "obj" && ext != "off" && ext != "ply") {
-        return Error{path, path + ": unknown mesh format '." + ext +
-                               "' (expected .obj, .off or .ply)"};
+        return Error{path,
+                     path + ": unknown mesh format '." + ext + "' (expected .obj, .off or .ply)"};
     }
     if (!std::ifstream(path).good()) {
         return Error{path, path + ": cannot open the file (missing or unreadable)"};

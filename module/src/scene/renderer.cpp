@@ -81,7 +81,8 @@ std::vector<std::vector<std::uint8_t>> mipmaps(const Texture& t) {
                     int sum = 0, n = 0;
                     for (int dy = 0; dy < (h > 1 ? 2 : 1); ++dy) {
                         for (int dx = 0; dx < (w > 1 ? 2 : 1); ++dx) {
-                            sum += src[(std::size_t(2 * y + dy) * w + std::size_t(2 * x + dx)) * 3 + c];
+                            sum += src[(std::size_t(2 * y + dy) * w + std::size_t(2 * x + dx)) * 3 +
+                                       c];
                             ++n;
                         }
                     }
@@ -211,7 +212,8 @@ const char* backend_name(Backend backend) { return backend == Backend::arb ? "ar
 Result<Backend> parse_backend(std::string_view name) {
     if (name == "cpu") return Backend::cpu;
     if (name == "arb") return Backend::arb;
-    return Error{"backend", "backend: '" + std::string(name) + "' is unknown (expected cpu or arb)"};
+    return Error{"backend",
+                 "backend: '" + std::string(name) + "' is unknown (expected cpu or arb)"};
 }
 
 const char* method_name(Method method) {
@@ -361,16 +363,16 @@ glm::vec3 sky_ambient(const FrameSettings& s) {
     view.eye = s.up * 2.0;
     auto frame = prepare_frame<double>(s.atmosphere, view, s.model);
     if (!frame) return glm::vec3(0.0f);
-    glm::dvec3 e1 = glm::normalize(glm::cross(s.up, std::abs(s.up.x) < 0.9 ? glm::dvec3(1, 0, 0)
-                                                                             : glm::dvec3(0, 1, 0)));
+    glm::dvec3 e1 = glm::normalize(
+        glm::cross(s.up, std::abs(s.up.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
     glm::dvec3 e2 = glm::cross(s.up, e1);
     glm::dvec3 sum{0.0};
     for (int i = 0; i < kAmbientStrata; ++i) {
         for (int j = 0; j < kAmbientStrata; ++j) {
             const double r = std::sqrt((i + 0.5) / kAmbientStrata);
             const double phi = 2.0 * kPi * (j + 0.5) / kAmbientStrata;
-            const glm::dvec3 dir = r * std::cos(phi) * e1 + r * std::sin(phi) * e2 +
-                                   std::sqrt(1.0 - r * r) * s.up;
+            const glm::dvec3 dir =
+                r * std::cos(phi) * e1 + r * std::sin(phi) * e2 + std::sqrt(1.0 - r * r) * s.up;
             sum += scatter(*frame, view.eye + dir * kAmbientSkyDistanceM).in_scattering;
         }
     }
@@ -437,8 +439,8 @@ PointOutputs point_outputs(const Frame<float>& frame, const glm::vec3& p, const 
         if (lit) {
             const float ndl =
                 normal ? std::max(0.0f, glm::dot(*normal, frame.sun_dir)) : 1.0f;  // corners: 1
-            primary = display_value(display, s.extinction[c] * albedo[c] *
-                                                 (s.sun_irradiance[c] * ndl + ambient[c]));
+            primary = display_value(
+                display, s.extinction[c] * albedo[c] * (s.sun_irradiance[c] * ndl + ambient[c]));
         }
         out.primary[c] = 255.0f * std::clamp(primary, 0.0f, 1.0f);
         out.secondary[c] = 255.0f * display_value(display, s.in_scattering[c]);
@@ -468,10 +470,10 @@ double model_difference_lsb(const Frame<float>& hp, const Frame<float>& frame, c
     const std::size_t step = std::max<std::size_t>(1, n / kMethodSampleVertices);
     for (std::size_t i = 0; i < n; i += step) {
         const glm::vec3 p(st.positions[3 * i], st.positions[3 * i + 1], st.positions[3 * i + 2]);
-        const glm::vec3 normal = st.normals.empty()
-                                     ? glm::vec3(0.0f)
-                                     : glm::vec3(st.normals[3 * i], st.normals[3 * i + 1],
-                                                 st.normals[3 * i + 2]);
+        const glm::vec3 normal =
+            st.normals.empty()
+                ? glm::vec3(0.0f)
+                : glm::vec3(st.normals[3 * i], st.normals[3 * i + 1], st.normals[3 * i + 2]);
         compare(p, st.normals.empty() ? nullptr : &normal);
     }
     return worst;
@@ -547,8 +549,9 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
         return Error{"error_target_lsb", "error_target_lsb: expected a value >= 0"};
     }
     if (im.options.backend == Backend::arb && settings.model == Model::reference) {
-        return Error{"model", "model: the arb backend has programs for hoffman-preetham and "
-                              "height, not reference"};
+        return Error{"model",
+                     "model: the arb backend has programs for hoffman-preetham and "
+                     "height, not reference"};
     }
     if (im.options.backend == Backend::arb && settings.display.tone != ToneCurve::clamp) {
         return Error{"display.tone", "display.tone: the arb backend has only the clamp tone curve"};
@@ -687,8 +690,7 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
         nr.name = node.name;
         const std::size_t n = st.positions.size() / 3;
         nr.vertices = n;
-        if (st.bounds.radius < 0.0 ||
-            sphere_outside(planes, st.bounds.centre, st.bounds.radius)) {
+        if (st.bounds.radius < 0.0 || sphere_outside(planes, st.bounds.centre, st.bounds.radius)) {
             nr.method = Method::culled;
             ++report.culled;
             report.nodes.push_back(nr);
@@ -697,16 +699,15 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
         const auto shading_start = std::chrono::steady_clock::now();
         const bool lit = node.kind == NodeKind::terrain;
         const glm::vec3 albedo = node.albedo;
-        const double lit_max = lit ? double(light_scale) * max3(glm::dvec3(albedo)) *
-                                         (max3(settings.atmosphere.sun_irradiance) +
-                                          max3(glm::dvec3(ambient)))
-                                   : 1.0;
+        const double lit_max =
+            lit ? double(light_scale) * max3(glm::dvec3(albedo)) *
+                      (max3(settings.atmosphere.sun_irradiance) + max3(glm::dvec3(ambient)))
+                : 1.0;
         // 1. Negligible scattering.
         Method method = method_of(settings.model);
         bool decided = false;
-        if (settings.policy &&
-            scattering_bound_lsb(*bound_frame, st.bounds, settings.display, lit_max) <
-                kSkipBelowLsb) {
+        if (settings.policy && scattering_bound_lsb(*bound_frame, st.bounds, settings.display,
+                                                    lit_max) < kSkipBelowLsb) {
             method = Method::skipped;
             decided = true;
         }
@@ -750,9 +751,11 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
                             const float ndl =
                                 st.normals.empty()
                                     ? 1.0f
-                                    : std::max(0.0f, st.normals[3 * i] * float(settings.sun_dir.x) +
-                                                         st.normals[3 * i + 1] * float(settings.sun_dir.y) +
-                                                         st.normals[3 * i + 2] * float(settings.sun_dir.z));
+                                    : std::max(
+                                          0.0f,
+                                          st.normals[3 * i] * float(settings.sun_dir.x) +
+                                              st.normals[3 * i + 1] * float(settings.sun_dir.y) +
+                                              st.normals[3 * i + 2] * float(settings.sun_dir.z));
                             v = display_value(settings.display,
                                               albedo[c] * (sun_e[c] * ndl + ambient[c]));
                         }
@@ -782,7 +785,8 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
             BatchSettings bs;
             bs.display = settings.display;
             bs.lighting = lit ? &lighting : nullptr;
-            auto stats = shade_into(frame_for(model), Positions::aos(st.positions.data(), n), out, bs);
+            auto stats =
+                shade_into(frame_for(model), Positions::aos(st.positions.data(), n), out, bs);
             if (!stats) {
                 failure = Error{stats.error().field, node.name + ": " + stats.error().message};
                 return;
@@ -827,7 +831,8 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
         if (cpu || method == Method::skipped) {
             gl::VertexColours colours{st.primary.data(), st.secondary.data(), 0, 0, n};
             auto drawn = gl::draw_with_colours(api, node_apply, colours, draw);
-            if (!drawn) failure = Error{drawn.error().field, node.name + ": " + drawn.error().message};
+            if (!drawn)
+                failure = Error{drawn.error().field, node.name + ": " + drawn.error().message};
             return;
         }
         // arb: the program computes F_ex and L_in; lighting is one factor per node on unit 1.
@@ -837,8 +842,8 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
             const float cos_sun = std::max(0.0f, float(glm::dot(settings.sun_dir, settings.up)));
             std::uint8_t texel[3];
             for (int c = 0; c < 3; ++c) {
-                texel[c] = to_unorm8(display_value(settings.display,
-                                                   albedo[c] * (sun_e[c] * cos_sun + ambient[c])));
+                texel[c] = to_unorm8(
+                    display_value(settings.display, albedo[c] * (sun_e[c] * cos_sun + ambient[c])));
             }
             api.ActiveTexture(GL_TEXTURE1);
             if (!im.light_texture) api.GenTextures(1, &im.light_texture);
@@ -855,7 +860,8 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
         arb.model = model;
         auto parameters = arb_program_parameters(frame_for(model), settings.display, arb);
         if (!parameters) {
-            failure = Error{parameters.error().field, node.name + ": " + parameters.error().message};
+            failure =
+                Error{parameters.error().field, node.name + ": " + parameters.error().message};
             return;
         }
         if (auto e = program.set_parameters(*parameters)) {

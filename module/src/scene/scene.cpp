@@ -43,7 +43,8 @@ std::optional<Error> validate_node(const Node& node, const std::string& path) {
         }
     }
     if (node.kind == NodeKind::mesh || node.kind == NodeKind::terrain) {
-        if (!node.mesh) return Error{path, path + ": " + node_kind_name(node.kind) + " without a mesh"};
+        if (!node.mesh)
+            return Error{path, path + ": " + node_kind_name(node.kind) + " without a mesh"};
         if (auto e = validate(*node.mesh)) return Error{path, path + ": mesh " + e->message};
         if (node.kind == NodeKind::terrain && node.mesh->normals.empty()) {
             return Error{path, path + ": terrain mesh without normals (lighting needs them)"};
@@ -93,7 +94,8 @@ std::optional<Error> validate(const Texture& texture) {
     }
     const std::size_t expected = std::size_t(texture.width) * std::size_t(texture.height) * 3;
     if (texture.rgb.size() != expected) {
-        return Error{"rgb", "rgb: expected " + count_text(expected) + " bytes (width x height x 3), got " +
+        return Error{"rgb", "rgb: expected " + count_text(expected) +
+                                " bytes (width x height x 3), got " +
                                 count_text(texture.rgb.size())};
     }
     return std::nullopt;
@@ -111,15 +113,17 @@ std::optional<Error> validate(const MeshData& mesh) {
     }
     const std::size_t n = mesh.vertex_count();
     if (!mesh.normals.empty() && mesh.normals.size() != 3 * n) {
-        return Error{"normals", "normals: expected " + count_text(3 * n) + " floats (3 a vertex), got " +
-                                    count_text(mesh.normals.size())};
+        return Error{"normals", "normals: expected " + count_text(3 * n) +
+                                    " floats (3 a vertex), got " + count_text(mesh.normals.size())};
     }
     if (!mesh.texcoords.empty() && mesh.texcoords.size() != 2 * n) {
         return Error{"texcoords", "texcoords: expected " + count_text(2 * n) +
-                                      " floats (2 a vertex), got " + count_text(mesh.texcoords.size())};
+                                      " floats (2 a vertex), got " +
+                                      count_text(mesh.texcoords.size())};
     }
     if (mesh.indices.size() % 3 != 0) {
-        return Error{"indices", "indices: expected 3 a triangle, got " + count_text(mesh.indices.size())};
+        return Error{"indices",
+                     "indices: expected 3 a triangle, got " + count_text(mesh.indices.size())};
     }
     for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
         if (mesh.indices[i] >= n) {
@@ -252,7 +256,9 @@ std::unique_ptr<Node> make_sky_dome(std::string name) {
     return make_node(NodeKind::sky_dome, std::move(name));
 }
 
-std::unique_ptr<Node> make_sun(std::string name) { return make_node(NodeKind::sun, std::move(name)); }
+std::unique_ptr<Node> make_sun(std::string name) {
+    return make_node(NodeKind::sun, std::move(name));
+}
 
 std::optional<Error> validate(const Node& root) { return validate_node(root, root.name); }
 

@@ -55,12 +55,14 @@ struct Dome {
         for (int i = 0; i <= kDomeRings; ++i) {
             // Rings crowd towards the horizon, where the colour changes fastest.
             const double t = double(i) / kDomeRings;
-            const double e = kLowestElevationRad + (kPi / 2 - kLowestElevationRad) * std::pow(t, 1.6);
+            const double e =
+                kLowestElevationRad + (kPi / 2 - kLowestElevationRad) * std::pow(t, 1.6);
             ring_elevation_rad.push_back(e);
             // The optical depth (green) of the exponential atmosphere from the eye to space;
             // below the horizon the horizon's (the ground hides those directions).
             const double cos_zenith = std::sin(std::max(0.0, e));
-            const double transmittance = sun_transmittance(a, std::max(0.0, altitude), cos_zenith).g;
+            const double transmittance =
+                sun_transmittance(a, std::max(0.0, altitude), cos_zenith).g;
             const double tau = transmittance > 0.0 ? -std::log(transmittance) : 50.0;
             ring_distance_m.push_back(beta > 0.0 ? tau / beta : 0.0);
         }
@@ -84,7 +86,8 @@ struct Dome {
     }
 
     bool needs_fit(const Atmosphere& a, const glm::dvec3& world_up, double altitude) const {
-        if (!fitted || up != world_up || std::abs(altitude - altitude_m) > kRefitAltitudeM) return true;
+        if (!fitted || up != world_up || std::abs(altitude - altitude_m) > kRefitAltitudeM)
+            return true;
         return a.rayleigh_scattering != atmosphere.rayleigh_scattering ||
                a.mie_scattering != atmosphere.mie_scattering ||
                a.mie_absorption != atmosphere.mie_absorption || a.mie_g != atmosphere.mie_g ||
@@ -113,15 +116,15 @@ void draw_dome(Dome& dome, const SkyDrawContext& c) {
         const int ring = apex ? kDomeRings : int(v / kDomeSegments);
         const double e = dome.ring_elevation_rad[std::size_t(ring)];
         const double phi = apex ? 0.0 : 2.0 * kPi * double(v % kDomeSegments) / kDomeSegments;
-        const glm::dvec3 dir = std::cos(e) * (std::cos(phi) * e1 + std::sin(phi) * e2) +
-                               std::sin(e) * s.up;
+        const glm::dvec3 dir =
+            std::cos(e) * (std::cos(phi) * e1 + std::sin(phi) * e2) + std::sin(e) * s.up;
         const glm::dvec3 p = c.camera->eye + dir * draw_radius;
         dome.positions[3 * v] = float(p.x);
         dome.positions[3 * v + 1] = float(p.y);
         dome.positions[3 * v + 2] = float(p.z);
         const auto lin = hoffman_preetham_closed_form<float>(
-            frame, float(dome.ring_distance_m[std::size_t(ring)]),
-            float(glm::dot(dir, s.sun_dir)), frame.sun_irradiance_eye);
+            frame, float(dome.ring_distance_m[std::size_t(ring)]), float(glm::dot(dir, s.sun_dir)),
+            frame.sun_irradiance_eye);
         for (int ch = 0; ch < 3; ++ch) {
             dome.colours[4 * v + std::size_t(ch)] =
                 to_unorm8(display_value(s.display, lin.in_scattering[ch]));
@@ -150,9 +153,9 @@ SkyDrawer default_sun_drawer(double angular_radius_rad) {
     return [angular_radius_rad](const SkyDrawContext& c) {
         const FrameSettings& s = *c.settings;
         const double cos_zenith = glm::dot(s.sun_dir, s.up);
-        const glm::dvec3 t = sun_transmittance(s.atmosphere, std::max(0.0, eye_altitude_m(c)),
-                                               cos_zenith) *
-                             s.atmosphere.sun_irradiance;
+        const glm::dvec3 t =
+            sun_transmittance(s.atmosphere, std::max(0.0, eye_altitude_m(c)), cos_zenith) *
+            s.atmosphere.sun_irradiance;
         const double brightest = std::max(t.x, std::max(t.y, t.z));
         if (!(brightest > 0.0)) return;  // below the horizon
         const double distance = 0.49 * c.camera->far_units;
@@ -188,7 +191,8 @@ SkyDrawer default_sun_drawer(double angular_radius_rad) {
         const gl::Api& api = *c.api;
         (void)gl::draw_with_colours(api, apply, colours, [&] {
             api.VertexPointer(3, GL_FLOAT, 0, positions.data());
-            api.DrawElements(GL_TRIANGLES, GLsizei(indices.size()), GL_UNSIGNED_INT, indices.data());
+            api.DrawElements(GL_TRIANGLES, GLsizei(indices.size()), GL_UNSIGNED_INT,
+                             indices.data());
         });
     };
 }

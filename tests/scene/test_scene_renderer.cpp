@@ -299,6 +299,36 @@ TEST_F(SceneRendererTest, ArbBackendShadesOnTheGpuEveryFrame) {
     EXPECT_EQ(rejected.error().field, "model");
 }
 
+TEST_F(SceneRendererTest, DrawsABlueSkyAtNoonAndCallsReplacedDrawers) {
+    auto renderer = SceneRenderer::create(api());
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    TestScene scene;
+    Camera up = test_camera();
+    up.target = up.eye + glm::dvec3(0, 1000, 600);  // 31° up: only sky
+    FrameSettings clear = test_settings();
+    clear.atmosphere = aerial::atmosphere_preset("earth").value();
+    clear.sun_dir = glm::normalize(glm::dvec3(0.2, -0.3, 0.9));
+    for (aerial::Model model : {aerial::Model::hoffman_preetham, aerial::Model::height}) {
+        clear.model = model;
+        const auto image = draw(renderer.value(), scene, up, clear);
+        const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
+        EXPECT_GT(image[p + 2], image[p]) << aerial::model_name(model) << ": "
+                                          << aerial_test::pixel_text(image, p / 4);
+        EXPECT_GT(image[p + 2], 60) << aerial::model_name(model);
+    }
+    int sky_calls = 0;
+    renderer.value().set_sky_drawer([&](const SkyDrawContext& c) {
+        ++sky_calls;
+        EXPECT_NE(c.hoffman_preetham, nullptr);
+        EXPECT_NE(c.model, nullptr);
+    });
+    renderer.value().set_sun_drawer(nullptr);
+    const auto image = draw(renderer.value(), scene, up, clear);
+    EXPECT_EQ(sky_calls, 1);
+    const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
+    EXPECT_EQ(image[p] + image[p + 1] + image[p + 2], 0) << "the replaced sky drew nothing";
+}
+
 TEST_F(SceneRendererTest, BadInputIsAnErrorNamingTheField) {
     auto renderer = SceneRenderer::create(api());
     ASSERT_TRUE(renderer) << renderer.error().message;

@@ -138,16 +138,22 @@ struct SkyDrawContext {
     const FrameSettings* settings = nullptr;
     const Camera* camera = nullptr;
     const Frame<float>* hoffman_preetham = nullptr;  ///< prepared for this frame's eye and sun
+    const Frame<float>* model = nullptr;  ///< the same for FrameSettings::model
     /// The renderer's fixed-function path (and combiner texture), for
     /// aerial::gl::draw_with_colours: sky colours can be drawn as L_in on a black primary.
     const gl::ApplyOptions* apply = nullptr;
 };
 using SkyDrawer = std::function<void(const SkyDrawContext&)>;
 
-/// The built-in sky: a per-vertex dome of about 1000 vertices around the eye shaded with the
-/// 2002 model along each direction to the edge of a virtual dome whose radius is fitted so that
-/// the constant sea-level density gives the optical depth (green channel) of the spherical
-/// exponential atmosphere from the eye to space; directions below the horizon take the horizon's.
+/// The built-in sky: a per-vertex dome of about 1000 vertices around the eye. With
+/// FrameSettings::model `hoffman-preetham` (or `reference`, too slow for a sky per frame) it is
+/// the 2002 talk's dome: each vertex shaded with the 2002 model along its direction to the edge
+/// of a virtual dome whose radius is fitted so that the constant sea-level density gives the
+/// optical depth (green channel) of the spherical exponential atmosphere from the eye to space.
+/// With `height` each vertex is shaded with the height model along its direction to the top of
+/// the atmosphere (the 2002 dome lights every ray with the sunlight that reaches the eye, which
+/// turns the sky olive overhead at a low sun; the height model takes the sun's colour where the
+/// light scatters). Directions below the horizon take the horizon's.
 SkyDrawer default_sky_drawer();
 /// The built-in sun: a flat disc of `angular_radius_rad` (default 3 times the real 0.27°, to be
 /// seen at low resolution) coloured by the sun's transmittance T from space to the eye:

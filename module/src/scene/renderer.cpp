@@ -672,6 +672,7 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
     sky_context.settings = &settings;
     sky_context.camera = &camera;
     sky_context.hoffman_preetham = &*hp;
+    sky_context.model = &*quality;
     sky_context.apply = &apply;
     if (im.sky && has_kind(root, NodeKind::sky_dome)) im.sky(sky_context);
     if (im.sun && has_kind(root, NodeKind::sun)) im.sun(sky_context);

@@ -111,6 +111,10 @@ void draw_dome(Dome& dome, const SkyDrawContext& c) {
     dome.colours.assign(4 * n, 255);
     dome.black.assign(4 * n, 0);
     const Frame<float>& frame = *c.hoffman_preetham;
+    const bool height = c.model != nullptr && c.model->model == Model::height;
+    const double top = s.atmosphere.atmosphere_radius_m;
+    const glm::dvec3 centre_to_eye =
+        c.camera->eye * s.meters_per_unit + s.up * s.atmosphere.planet_radius_m;
     for (std::size_t v = 0; v < n; ++v) {
         const bool apex = v + 1 == n;
         const int ring = apex ? kDomeRings : int(v / kDomeSegments);
@@ -122,12 +126,25 @@ void draw_dome(Dome& dome, const SkyDrawContext& c) {
         dome.positions[3 * v] = float(p.x);
         dome.positions[3 * v + 1] = float(p.y);
         dome.positions[3 * v + 2] = float(p.z);
-        const auto lin = hoffman_preetham_closed_form<float>(
-            frame, float(dome.ring_distance_m[std::size_t(ring)]), float(glm::dot(dir, s.sun_dir)),
-            frame.sun_irradiance_eye);
+        glm::vec3 in_scattering;
+        if (height) {
+            // To the top of the atmosphere along the direction (the horizon's below it).
+            const glm::dvec3 d = std::cos(std::max(0.0, e)) * (std::cos(phi) * e1 + std::sin(phi) * e2) +
+                                 std::sin(std::max(0.0, e)) * s.up;
+            const double b = glm::dot(centre_to_eye, d);
+            const double c2 = glm::dot(centre_to_eye, centre_to_eye) - top * top;
+            const double t = -b + std::sqrt(std::max(0.0, b * b - c2));
+            const glm::dvec3 point = c.camera->eye + d * (t / s.meters_per_unit);
+            in_scattering = scatter(*c.model, glm::vec3(point)).in_scattering;
+        } else {
+            in_scattering = hoffman_preetham_closed_form<float>(
+                                frame, float(dome.ring_distance_m[std::size_t(ring)]),
+                                float(glm::dot(dir, s.sun_dir)), frame.sun_irradiance_eye)
+                                .in_scattering;
+        }
         for (int ch = 0; ch < 3; ++ch) {
             dome.colours[4 * v + std::size_t(ch)] =
-                to_unorm8(display_value(s.display, lin.in_scattering[ch]));
+                to_unorm8(display_value(s.display, in_scattering[ch]));
         }
         dome.black[4 * v + 3] = 255;
     }

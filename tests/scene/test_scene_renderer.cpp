@@ -308,12 +308,13 @@ TEST_F(SceneRendererTest, DrawsABlueSkyAtNoonAndCallsReplacedDrawers) {
     FrameSettings clear = test_settings();
     clear.atmosphere = aerial::atmosphere_preset("earth").value();
     clear.sun_dir = glm::normalize(glm::dvec3(0.2, -0.3, 0.9));
+    clear.display.exposure = 20.0f;
     for (aerial::Model model : {aerial::Model::hoffman_preetham, aerial::Model::height}) {
         clear.model = model;
         const auto image = draw(renderer.value(), scene, up, clear);
         const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
-        EXPECT_GT(image[p + 2], image[p]) << aerial::model_name(model) << ": "
-                                          << aerial_test::pixel_text(image, p / 4);
+        EXPECT_GT(image[p + 2], image[p])
+            << aerial::model_name(model) << ": " << aerial_test::pixel_text(image, p / 4);
         EXPECT_GT(image[p + 2], 60) << aerial::model_name(model);
     }
     int sky_calls = 0;

@@ -138,7 +138,7 @@ struct SkyDrawContext {
     const FrameSettings* settings = nullptr;
     const Camera* camera = nullptr;
     const Frame<float>* hoffman_preetham = nullptr;  ///< prepared for this frame's eye and sun
-    const Frame<float>* model = nullptr;  ///< the same for FrameSettings::model
+    const Frame<float>* model = nullptr;             ///< the same for FrameSettings::model
     /// The renderer's fixed-function path (and combiner texture), for
     /// aerial::gl::draw_with_colours: sky colours can be drawn as L_in on a black primary.
     const gl::ApplyOptions* apply = nullptr;

@@ -129,8 +129,9 @@ void draw_dome(Dome& dome, const SkyDrawContext& c) {
         glm::vec3 in_scattering;
         if (height) {
             // To the top of the atmosphere along the direction (the horizon's below it).
-            const glm::dvec3 d = std::cos(std::max(0.0, e)) * (std::cos(phi) * e1 + std::sin(phi) * e2) +
-                                 std::sin(std::max(0.0, e)) * s.up;
+            const glm::dvec3 d =
+                std::cos(std::max(0.0, e)) * (std::cos(phi) * e1 + std::sin(phi) * e2) +
+                std::sin(std::max(0.0, e)) * s.up;
             const double b = glm::dot(centre_to_eye, d);
             const double c2 = glm::dot(centre_to_eye, centre_to_eye) - top * top;
             const double t = -b + std::sqrt(std::max(0.0, b * b - c2));

@@ -1,46 +1,50 @@
-// aerial-sample: renders a hazy landscape headless with the physics core (public API only) and
-// writes a PNG, optionally with CSV of the raw values the core returned.
+// aerial-sample: a flight over 16 × 16 km of procedural terrain with sky, sun and aerial
+// perspective from aerial::scene, headless by default: a scripted flythrough (noon to dusk,
+// a ground-fog segment) rendered to PNG frames, a contact sheet and a CSV of what each frame did.
+// Built only on the public API.
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <string>
-#include <thread>
 
 #include <CLI/CLI.hpp>
 
 #include "aerial/aerial.hpp"
+#include "aerial/headless.hpp"
+#include "aerial/scene_renderer.hpp"
 #include "common/png.hpp"
-#include "output.hpp"
-#include "render.hpp"
+#include "game.hpp"
+#include "world.hpp"
 
 namespace {
 
 constexpr const char* kTool = "aerial-sample";
-
 constexpr const char* kDescription =
-    "Renders a procedural landscape seen from 300 m above the ground, with aerial perspective\n"
-    "from the aerial physics core: per pixel, F_ex and L_in of the segment from the eye to the\n"
-    "terrain (or to a sky point 200 km away), colour = lit albedo * F_ex + L_in, then exposure\n"
-    "1 - exp(-k x) and sRGB. Writes a PNG and prints one summary line.\n"
-    "Exit status: 0 on success, 2 on bad input.";
+    "Flies over 16 x 16 km of procedural, textured terrain with a sky dome and a sun; F_ex and\n"
+    "L_in per vertex from the aerial module (aerial::scene, cpu colours or the ARB program),\n"
+    "applied by the fixed pipeline. Headless (default): renders a scripted flythrough (noon to\n"
+    "dusk, ground fog in the middle) to DIR/frame_NNNN.png, DIR/contact_sheet.png and\n"
+    "DIR/frames.csv, and prints one summary line.\n"
+    "Exit status: 0 on success, 2 on bad input, 1 when the GL context or rendering fails.";
 
-/// Largest accepted image side, pixels.
-constexpr int kMaxSide = 16384;
-/// Pixels per image row written to the CSV.
-constexpr int kCsvColumnsPerRow = 16;
+constexpr int kMaxSide = 4096;
+constexpr int kMaxFrames = 10000;
+constexpr int kThumbnailWidth = 240;
 
-int fail(const std::string& message) {
+int fail(const std::string& message, int status = 2) {
     std::cerr << kTool << ": " << message << '\n';
-    return 2;
+    return status;
 }
 
-/// Parses "WxH" with both sides in 1..kMaxSide.
 bool parse_size(const std::string& text, int& width, int& height) {
     unsigned long w = 0, h = 0;
     int consumed = 0;
     if (std::sscanf(text.c_str(), "%lux%lu%n", &w, &h, &consumed) != 2 ||
-        size_t(consumed) != text.size() || text[0] == '-' || w < 1 || h < 1 || w > kMaxSide ||
-        h > kMaxSide) {
+        std::size_t(consumed) != text.size() || text[0] == '-' || w < 16 || h < 16 ||
+        w > kMaxSide || h > kMaxSide) {
         return false;
     }
     width = int(w);
@@ -48,16 +52,48 @@ bool parse_size(const std::string& text, int& width, int& height) {
     return true;
 }
 
-std::string format_number(double v) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%g", v);
-    return buffer;
+/// A box-filtered thumbnail `factor` times smaller.
+aerial::tools::Rgb8Image shrink(const aerial::tools::Rgb8Image& image, int factor) {
+    aerial::tools::Rgb8Image out;
+    out.width = std::max(1, image.width / factor);
+    out.height = std::max(1, image.height / factor);
+    out.rgb.resize(std::size_t(out.width) * out.height * 3);
+    for (int y = 0; y < out.height; ++y) {
+        for (int x = 0; x < out.width; ++x) {
+            for (int c = 0; c < 3; ++c) {
+                int sum = 0;
+                for (int dy = 0; dy < factor; ++dy) {
+                    for (int dx = 0; dx < factor; ++dx) {
+                        sum += image.pixel(x * factor + dx, y * factor + dy)[c];
+                    }
+                }
+                out.rgb[(std::size_t(y) * out.width + x) * 3 + std::size_t(c)] =
+                    std::uint8_t((sum + factor * factor / 2) / (factor * factor));
+            }
+        }
+    }
+    return out;
 }
 
-std::string format_rgb(const glm::dvec3& v) {
-    char buffer[96];
-    std::snprintf(buffer, sizeof buffer, "%.4g,%.4g,%.4g", v.x, v.y, v.z);
-    return buffer;
+aerial::tools::Rgb8Image contact_sheet(const std::vector<aerial::tools::Rgb8Image>& thumbs) {
+    aerial::tools::Rgb8Image sheet;
+    if (thumbs.empty()) return sheet;
+    const int columns = std::min<int>(int(thumbs.size()), 6);
+    const int rows = (int(thumbs.size()) + columns - 1) / columns;
+    const int gap = 2, tw = thumbs[0].width, th = thumbs[0].height;
+    sheet.width = columns * (tw + gap) + gap;
+    sheet.height = rows * (th + gap) + gap;
+    sheet.rgb.assign(std::size_t(sheet.width) * sheet.height * 3, 32);
+    for (std::size_t i = 0; i < thumbs.size(); ++i) {
+        const int x0 = gap + int(i % std::size_t(columns)) * (tw + gap);
+        const int y0 = gap + int(i / std::size_t(columns)) * (th + gap);
+        for (int y = 0; y < th; ++y) {
+            std::copy_n(
+                thumbs[i].pixel(0, y), std::size_t(tw) * 3,
+                sheet.rgb.begin() + std::ptrdiff_t((std::size_t(y0 + y) * sheet.width + x0) * 3));
+        }
+    }
+    return sheet;
 }
 
 }  // namespace
@@ -65,27 +101,39 @@ std::string format_rgb(const glm::dvec3& v) {
 int main(int argc, char** argv) {
     CLI::App app{kDescription, kTool};
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-    std::string out = "build/out/sample.png", size = "640x360", preset = "earth",
-                model_text = "height", csv;
-    double sun_elevation_deg = 12.0, sun_azimuth_deg = 28.0, exposure = sample::kDefaultExposure;
-    app.add_option("--out", out, "PNG file to write (parent directories are created)")
+    std::string out = "build/out/flythrough", size = "480x270", preset = "earth",
+                model_text = "height", backend_text = "cpu", path_text = "automatic",
+                gl_text = "osmesa";
+    int frames = 24;
+    unsigned seed = 7;
+    double error_target = 2.0;
+    bool headless = false, window = false, no_policy = false, no_readout = false;
+    app.add_flag("--headless", headless, "Render the scripted flythrough off-screen (the default)");
+    app.add_flag("--window", window, "Fly interactively in a window (needs GLFW and a display)");
+    app.add_option("--frames", frames, "Frames of the flythrough, 1.." + std::to_string(kMaxFrames))
         ->capture_default_str();
-    app.add_option("--size", size, "Image size WxH in pixels")->capture_default_str();
-    app.add_option("--preset", preset, "Atmosphere preset: earth, hp2002, hazy, foggy, mars")
+    app.add_option("--out", out, "Directory for frame_NNNN.png, contact_sheet.png, frames.csv")
+        ->capture_default_str();
+    app.add_option("--size", size, "Image size WxH in pixels, 16.." + std::to_string(kMaxSide))
+        ->capture_default_str();
+    app.add_option("--preset", preset, "Atmosphere preset: earth, hazy, foggy, hp2002, mars")
         ->capture_default_str();
     app.add_option("--model", model_text,
-                   "hoffman-preetham, height or reference (reference is slow: minutes at 640x360)")
+                   "Model that sets the accuracy: hoffman-preetham, height, reference (cpu only)")
         ->capture_default_str();
-    app.add_option("--sun-elevation-deg", sun_elevation_deg,
-                   "Sun elevation above the horizon, degrees, -90..90")
+    app.add_option("--backend", backend_text, "cpu (colours from aerial::shade_into) or arb (GPU)")
         ->capture_default_str();
-    app.add_option("--sun-azimuth-deg", sun_azimuth_deg,
-                   "Sun azimuth, degrees clockwise from the view direction (north)")
+    app.add_option("--path", path_text,
+                   "Fixed-function path of the cpu backend: automatic, secondary-color, combiner, "
+                   "two-pass")
         ->capture_default_str();
-    app.add_option("--exposure", exposure, "Exposure k of 1 - exp(-k x), > 0")
+    app.add_option("--gl", gl_text, "Headless context: osmesa or egl")->capture_default_str();
+    app.add_option("--seed", seed, "Terrain seed")->capture_default_str();
+    app.add_option("--error-target", error_target,
+                   "Largest 8-bit difference to --model the update policy accepts, >= 0")
         ->capture_default_str();
-    app.add_option("--csv", csv,
-                   "Also write CSV: 16 pixels per row, x,y,surface,distance_m,fex_*,lin_*,esun_*");
+    app.add_flag("--no-policy", no_policy, "Shade every visible vertex every frame with --model");
+    app.add_flag("--no-readout", no_readout, "Leave out the on-screen readout (for goldens)");
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp&) {
@@ -97,64 +145,121 @@ int main(int argc, char** argv) {
         return fail(what + " (see --help)");
     }
 
-    sample::RenderSettings settings;
-    if (!parse_size(size, settings.width, settings.height)) {
-        return fail("--size: expected WxH with W and H in 1.." + std::to_string(kMaxSide) +
+    int width = 0, height = 0;
+    if (!parse_size(size, width, height)) {
+        return fail("--size: expected WxH with W and H in 16.." + std::to_string(kMaxSide) +
                     ", got '" + size + "'");
     }
-    auto atmosphere = aerial::atmosphere_preset(preset);
-    if (!atmosphere) return fail("--preset: " + atmosphere.error().message);
-    settings.atmosphere = *atmosphere;
+    if (frames < 1 || frames > kMaxFrames) {
+        return fail("--frames: expected 1.." + std::to_string(kMaxFrames) + ", got " +
+                    std::to_string(frames));
+    }
+    if (auto atmosphere = aerial::atmosphere_preset(preset); !atmosphere) {
+        return fail("--preset: " + atmosphere.error().message);
+    }
     auto model = aerial::parse_model(model_text);
     if (!model) return fail("--model: " + model.error().message);
-    settings.model = *model;
-    if (!(std::abs(sun_elevation_deg) <= 90.0)) {
-        return fail("--sun-elevation-deg: expected a value in -90..90, got " +
-                    format_number(sun_elevation_deg));
+    auto backend = aerial::scene::parse_backend(backend_text);
+    if (!backend) return fail("--backend: " + backend.error().message);
+    auto path = aerial::gl::parse_path(path_text);
+    if (!path) {
+        return fail("--path: '" + path_text +
+                    "' is unknown (expected automatic, secondary-color, combiner or two-pass)");
     }
-    if (!std::isfinite(sun_azimuth_deg)) {
-        return fail("--sun-azimuth-deg: expected a finite number of degrees");
+    if (*backend == aerial::scene::Backend::arb && *path != aerial::gl::Path::automatic) {
+        return fail("--path: only with --backend cpu");
     }
-    if (!(exposure > 0.0) || !std::isfinite(exposure)) {
-        return fail("--exposure: expected a finite value > 0, got " + format_number(exposure));
+    if (*backend == aerial::scene::Backend::arb && *model == aerial::Model::reference) {
+        return fail("--model: the arb backend has programs for hoffman-preetham and height only");
     }
-    if (out.empty()) return fail("--out: expected a file name");
-
-    const double elevation = sun_elevation_deg * aerial::kPi / 180.0;
-    const double azimuth = sun_azimuth_deg * aerial::kPi / 180.0;
-    settings.sun_dir = {std::cos(elevation) * std::sin(azimuth),
-                        std::cos(elevation) * std::cos(azimuth), std::sin(elevation)};
-    settings.threads = int(std::max(1u, std::thread::hardware_concurrency()));
-    if (settings.model == aerial::Model::reference) {
-        std::cerr << kTool
-                  << ": warning: --model reference integrates every pixel numerically; expect "
-                     "minutes at 640x360 (try --size 160x90)\n";
+    auto gl_backend = aerial::headless::parse_backend(gl_text);
+    if (!gl_backend) return fail("--gl: '" + gl_text + "' is unknown (expected osmesa or egl)");
+    if (!(error_target >= 0.0) || !std::isfinite(error_target)) {
+        return fail("--error-target: expected a finite value >= 0");
     }
-
-    auto image = sample::render(settings);
-    if (!image) return fail(image.error().message);
-
-    const aerial::tools::Rgb8Image png{image->width, image->height,
-                                       sample::encode_srgb8(*image, exposure)};
-    if (auto error = aerial::tools::write_png(out, png)) {
-        return fail("--out " + *error);
-    }
-    if (!csv.empty()) {
-        if (auto error = sample::write_csv(csv, *image, kCsvColumnsPerRow)) {
-            return fail("--csv " + *error);
-        }
+    if (out.empty()) return fail("--out: expected a directory");
+    if (window && headless) return fail("--window: not together with --headless");
+    if (window && !sample::window_available()) {
+        return fail("--window: this build has no window support (GLFW); use --headless");
     }
 
-    glm::dvec3 sum_extinction{0.0}, sum_in_scattering{0.0};
-    for (const sample::Pixel& p : image->pixels) {
-        sum_extinction += glm::dvec3(p.scattering.extinction);
-        sum_in_scattering += glm::dvec3(p.scattering.in_scattering);
+    sample::WorldOptions world_options;
+    world_options.seed = seed;
+    const sample::World world = sample::build_world(world_options);
+    sample::GameConfig config;
+    config.preset = preset;
+    config.model = *model;
+    config.backend = *backend;
+    config.path = *path;
+    config.policy = !no_policy;
+    config.error_target_lsb = error_target;
+    config.readout = !no_readout;
+    config.width = width;
+    config.height = height;
+    if (window) {
+        // Interactive until closed; with --frames given, that many frames, the last saved.
+        const bool counted = app.count("--frames") > 0;
+        return sample::run_window(world, config, counted ? frames : 0,
+                                  counted ? out + "/window.png" : "");
     }
-    const double n = double(image->pixels.size());
+
+    auto context = aerial::headless::Context::create({*gl_backend, width, height});
+    if (!context) return fail("--gl " + gl_text + ": " + context.error().message, 1);
+    const aerial::gl::Api& api = context->api();
+    aerial::scene::RendererOptions options;
+    options.backend = *backend;
+    options.path = *path;
+    auto renderer = aerial::scene::SceneRenderer::create(api, options);
+    if (!renderer) {
+        const int status = renderer.error().field == "path" ? 2 : 1;
+        return fail("--backend " + backend_text + ": " + renderer.error().message, status);
+    }
+
+    if (auto e = aerial::tools::make_parent_directories(out + "/frames.csv"))
+        return fail("--out " + *e);
+    std::ofstream csv(out + "/frames.csv");
+    if (!csv) return fail("--out: cannot write " + out + "/frames.csv");
+    csv << "frame,t,clock,sun_elevation_deg,fog,exposure,vertices_shaded,vertices_drawn,"
+           "cache_hits,culled,skipped,nodes_hoffman_preetham,nodes_height,nodes_reference,"
+           "method,shading_ms,ms\n";
+
+    std::vector<aerial::tools::Rgb8Image> thumbnails;
+    const int factor = std::max(1, width / kThumbnailWidth);
+    double total_ms = 0.0, total_shaded = 0.0;
+    for (int i = 0; i < frames; ++i) {
+        const double t = frames == 1 ? 0.0 : double(i) / double(frames - 1);
+        const sample::FlightState state = sample::flight_at(world, t);
+        auto outcome = sample::render_frame(api, renderer.value(), world, state, config);
+        if (!outcome) return fail("frame " + std::to_string(i) + ": " + outcome.error().message, 1);
+        const aerial::scene::FrameReport& report = outcome->report;
+        const double ms = outcome->milliseconds;
+        total_ms += ms;
+        total_shaded += double(report.vertices_shaded);
+        const double sun_deg = state.sun_elevation_rad * 180.0 / 3.14159265358979323846;
+        const aerial::tools::Rgb8Image image =
+            aerial::tools::rgb_from_rgba8(width, height, context->read_rgba8());
+        char name[64];
+        std::snprintf(name, sizeof name, "/frame_%04d.png", i);
+        if (auto e = aerial::tools::write_png(out + name, image)) return fail("--out " + *e);
+        thumbnails.push_back(shrink(image, factor));
+        char row[512];
+        std::snprintf(row, sizeof row,
+                      "%d,%.4f,%s,%.2f,%d,%.3f,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%s,%.3f,%.3f\n", i,
+                      t, sample::clock_text(state.clock_hours).c_str(), sun_deg, state.fog ? 1 : 0,
+                      double(outcome->settings.display.exposure), report.vertices_shaded,
+                      report.vertices_drawn, report.cache_hits, report.culled, report.skipped,
+                      report.shaded_hoffman_preetham, report.shaded_height, report.shaded_reference,
+                      report.main_method().c_str(), report.shading_milliseconds, ms);
+        csv << row;
+    }
+    if (auto e = aerial::tools::write_png(out + "/contact_sheet.png", contact_sheet(thumbnails))) {
+        return fail("--out " + *e);
+    }
     std::printf(
-        "%s: %dx%d preset=%s model=%s threads=%d time=%.2fs mean_fex=%s mean_lin=%s -> %s\n", kTool,
-        image->width, image->height, preset.c_str(), model_text.c_str(), settings.threads,
-        image->seconds, format_rgb(sum_extinction / n).c_str(),
-        format_rgb(sum_in_scattering / n).c_str(), out.c_str());
+        "%s: %d frames %dx%d preset=%s model=%s backend=%s policy=%s tiles=%zu vertices=%zu "
+        "mean_ms=%.2f mean_vertices_shaded=%.0f renderer=\"%s\" -> %s/\n",
+        kTool, frames, width, height, preset.c_str(), model_text.c_str(), backend_text.c_str(),
+        no_policy ? "off" : "on", world.tiles, world.vertices, total_ms / frames,
+        total_shaded / frames, api.caps.renderer.c_str(), out.c_str());
     return 0;
 }

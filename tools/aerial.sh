@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # aerial.sh — sets up, builds and runs the project: the two commands of the README's Quick start.
 #
-#   tools/aerial.sh run    installs what is missing, builds, renders the sample headless into build/out/
+#   tools/aerial.sh run    installs what is missing, builds, renders the sample's flythrough into build/out/flythrough/
 #   tools/aerial.sh test   installs what is missing, builds, runs the whole test suite (CTest)
 #   tools/aerial.sh goldens  re-renders the golden images of tests/golden/ (never run by tests)
 #
@@ -25,6 +25,10 @@ PACKAGES=(
     libegl-dev
     libegl-mesa0
     liblcms2-dev
+    libopenmesh-dev
+    libglfw3-dev
+    xvfb
+    xauth
     python3
 )
 
@@ -37,10 +41,12 @@ Usage: tools/aerial.sh COMMAND [ARGS...]
 
 Commands:
   run [FLAGS...]  install missing Debian packages, configure and build a Release build in
-                  $BUILD_DIR/ (CMake + Ninja), then render the sample headless:
-                  $BUILD_DIR/bin/aerial-sample --out $OUT_DIR/sample.png --csv $OUT_DIR/sample.csv
-                  FLAGS are passed on to aerial-sample (for example --model reference --size 320x180;
-                  see $BUILD_DIR/bin/aerial-sample --help).
+                  $BUILD_DIR/ (CMake + Ninja), then render the sample's headless flythrough
+                  (noon to dusk, a ground-fog segment):
+                  $BUILD_DIR/bin/aerial-sample --headless --frames 24 --out $OUT_DIR/flythrough
+                  which writes frame_NNNN.png, contact_sheet.png and frames.csv there.
+                  FLAGS are passed on to aerial-sample (for example --preset hazy --backend arb
+                  --frames 48; see $BUILD_DIR/bin/aerial-sample --help).
   test            install, configure and build as above, then run the whole suite:
                   ctest --test-dir $BUILD_DIR --output-on-failure -j2
   goldens         install and configure as above, build aerial-render, and re-render every
@@ -206,8 +212,9 @@ main() {
     setup
     if [[ $command == run ]]; then
         mkdir -p "$OUT_DIR"
-        say "rendering the sample into $OUT_DIR/"
-        "$BUILD_DIR/bin/aerial-sample" --out "$OUT_DIR/sample.png" --csv "$OUT_DIR/sample.csv" "$@"
+        say "rendering the sample's flythrough into $OUT_DIR/flythrough/"
+        "$BUILD_DIR/bin/aerial-sample" --headless --frames 24 --out "$OUT_DIR/flythrough" "$@"
+        say "pictures: $OUT_DIR/flythrough/contact_sheet.png and $OUT_DIR/flythrough/frame_*.png"
     else
         say "running the test suite"
         ctest --test-dir "$BUILD_DIR" --output-on-failure -j2

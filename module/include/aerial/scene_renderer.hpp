@@ -1,0 +1,198 @@
+// aerial/scene_renderer.hpp — draws an aerial::scene graph into the engine's GL context with
+// F_ex and L_in applied per vertex, and models no more than the frame needs.
+//
+// How to use this:
+//   1. Once per context: `auto renderer = aerial::scene::SceneRenderer::create(api, options);`
+//      (options.backend cpu or arb, options.path for the cpu backend's fixed-function path).
+//   2. Per frame: fill a FrameSettings (atmosphere, sun, display, the model that sets the
+//      accuracy, the update policy) and a Camera, then
+//      `auto report = renderer->render(*root, camera, settings);` — it clears nothing (the
+//      engine clears), draws sky, sun and every visible node, and restores the GL state it
+//      touched (enables, depth mask, texture bindings and env modes of units 0 and 1, client
+//      arrays, matrices with glPushMatrix/glPopMatrix).
+//   3. Read the FrameReport: what was culled, skipped, reused and shaded, with which model.
+//   4. Optional: `set_sky_drawer(...)` / `set_sun_drawer(...)` replace the built-in sky dome
+//      (per-vertex, hoffman-preetham, about 1000 vertices) and sun disc, e.g. by a cube map.
+//
+// The update policy (FrameSettings::policy, on by default), per visible node:
+//   - skipped: when the largest optical depth between the eye and the node's bounding box
+//     changes no 8-bit output by 0.5 step or more (bounded from the coefficients at the lowest
+//     altitude of the box, the farthest corner and the largest phase values), the node is drawn
+//     with F_ex = 1 and L_in = 0 and nothing is computed;
+//   - cached (cpu backend): when aerial::ShadingCache says eye and sun moved too little to change
+//     any output by 0.5 step since the node was shaded (aerial/cache.hpp), its colours are reused;
+//   - otherwise the cheapest model meeting FrameSettings::error_target_lsb is chosen: the
+//     hoffman-preetham and FrameSettings::model outputs are compared on up to 33 sample vertices
+//     of the node (its box corners and evenly spaced vertices), and the 2002 model is taken when
+//     they agree within the target.
+// With the policy off, every visible node is shaded with FrameSettings::model every frame.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "aerial/atmosphere.hpp"
+#include "aerial/batch.hpp"
+#include "aerial/error.hpp"
+#include "aerial/gl.hpp"
+#include "aerial/scattering.hpp"
+#include "aerial/scene.hpp"
+
+namespace aerial::scene {
+
+/// Who computes F_ex and L_in.
+enum class Backend {
+    cpu,  ///< aerial::shade_into into RGBA8 arrays, drawn by aerial::gl::draw_with_colours
+    arb,  ///< the generated ARB vertex programs (hoffman-preetham and height) on the GPU
+};
+/// "cpu", "arb".
+const char* backend_name(Backend backend);
+Result<Backend> parse_backend(std::string_view name);
+
+struct RendererOptions {
+    Backend backend = Backend::cpu;
+    gl::Path path = gl::Path::automatic;  ///< cpu backend: the fixed-function path
+};
+
+/// A pinhole camera, engine units.
+struct Camera {
+    glm::dvec3 eye{0.0, 0.0, 100.0};
+    glm::dvec3 target{0.0, 1000.0, 100.0};  ///< a point looked at, != eye
+    glm::dvec3 up{0.0, 0.0, 1.0};           ///< not parallel to target - eye
+    double fov_y_rad = 0.9;                 ///< vertical field of view, (0, pi)
+    double aspect = 16.0 / 9.0;             ///< width / height of the viewport, > 0
+    double near_units = 1.0;                ///< > 0
+    double far_units = 30000.0;             ///< > near_units
+};
+
+/// Everything a frame's shading depends on besides the camera.
+struct FrameSettings {
+    Atmosphere atmosphere;
+    glm::dvec3 sun_dir{0.0, 0.0, 1.0};  ///< unit, towards the sun
+    glm::dvec3 up{0.0, 0.0, 1.0};       ///< world up, unit
+    double meters_per_unit = 1.0;
+    Display display;
+    /// The model that sets the accuracy: nodes are shaded with it, or with hoffman-preetham
+    /// where the policy measures that the two agree within error_target_lsb. The arb backend
+    /// has programs for hoffman-preetham and height only.
+    Model model = Model::height;
+    bool policy = true;             ///< the update policy above; false: shade everything
+    double error_target_lsb = 2.0;  ///< largest accepted 8-bit difference to `model`, >= 0
+    /// Terrain lighting: sky irradiance added to the sun's (linear RGB); negative (default):
+    /// computed from the sky seen from the eye (cosine-weighted L_in over the upper hemisphere).
+    glm::vec3 ambient{-1.0f};
+};
+
+/// What the renderer did with a node.
+enum class Method {
+    culled,            ///< outside the view frustum: not drawn
+    skipped,           ///< scattering negligible (< 0.5 step): drawn with F_ex = 1, L_in = 0
+    cached,            ///< colours of an earlier frame reused (cpu backend)
+    hoffman_preetham,  ///< shaded with the 2002 model
+    height,            ///< shaded with the height model
+    reference,         ///< shaded with the reference model (cpu backend)
+};
+/// "culled", "skipped", "cached", "hoffman-preetham", "height", "reference".
+const char* method_name(Method method);
+
+struct NodeReport {
+    std::string name;
+    Method method = Method::culled;
+    std::size_t vertices = 0;
+};
+
+/// What one frame did.
+struct FrameReport {
+    std::vector<NodeReport> nodes;    ///< every mesh and terrain node, in traversal order
+    std::size_t vertices_shaded = 0;  ///< vertices whose F_ex and L_in were computed (cpu or GPU)
+    std::size_t vertices_drawn = 0;   ///< vertices of drawn nodes (sky and sun excluded)
+    std::size_t culled = 0;           ///< nodes
+    std::size_t skipped = 0;          ///< nodes
+    std::size_t cache_hits = 0;       ///< nodes
+    std::size_t shaded_hoffman_preetham = 0;  ///< nodes
+    std::size_t shaded_height = 0;            ///< nodes
+    std::size_t shaded_reference = 0;         ///< nodes
+    double milliseconds = 0.0;  ///< CPU time of render() (GL work is queued, not waited for)
+    /// The module's own CPU work within it: the update policy's decisions and the shading (no
+    /// GL calls, no sky).
+    double shading_milliseconds = 0.0;
+    gl::Path path = gl::Path::automatic;  ///< the fixed-function path of the cpu backend
+    glm::vec3 ambient{0.0f};              ///< the sky irradiance used for terrain
+    /// The method of most shaded vertices this frame ("hoffman-preetham", "height", ...), or
+    /// "cached" / "skipped" / "none" when nothing was shaded.
+    std::string main_method() const;
+};
+
+/// What a sky or sun drawer gets. The projection matrix is loaded and the modelview matrix
+/// holds the camera's view (world to eye); depth test and depth writes are off, texturing is
+/// off on units 0 and 1, the vertex array is enabled. Draw into it; leave any other state as
+/// found.
+struct SkyDrawContext {
+    const gl::Api* api = nullptr;
+    const FrameSettings* settings = nullptr;
+    const Camera* camera = nullptr;
+    const Frame<float>* hoffman_preetham = nullptr;  ///< prepared for this frame's eye and sun
+    const Frame<float>* model = nullptr;             ///< the same for FrameSettings::model
+    /// The renderer's fixed-function path (and combiner texture), for
+    /// aerial::gl::draw_with_colours: sky colours can be drawn as L_in on a black primary.
+    const gl::ApplyOptions* apply = nullptr;
+};
+using SkyDrawer = std::function<void(const SkyDrawContext&)>;
+
+/// The built-in sky: a per-vertex dome of about 1000 vertices around the eye. With
+/// FrameSettings::model `hoffman-preetham` (or `reference`, too slow for a sky per frame) it is
+/// the 2002 talk's dome: each vertex shaded with the 2002 model along its direction to the edge
+/// of a virtual dome whose radius is fitted so that the constant sea-level density gives the
+/// optical depth (green channel) of the spherical exponential atmosphere from the eye to space.
+/// With `height` each vertex is shaded with the height model along its direction to the top of
+/// the atmosphere (the 2002 dome lights every ray with the sunlight that reaches the eye, which
+/// turns the sky olive overhead at a low sun; the height model takes the sun's colour where the
+/// light scatters). Directions below the horizon take the horizon's.
+SkyDrawer default_sky_drawer();
+/// The built-in sun: a flat disc of `angular_radius_rad` (default 3 times the real 0.27°, to be
+/// seen at low resolution) coloured by the sun's transmittance T from space to the eye:
+/// 1 - exp(-4 T / max(T)) per channel, white at noon, yellow to orange near the horizon.
+SkyDrawer default_sun_drawer(double angular_radius_rad = 0.0141);
+
+class SceneRenderer {
+  public:
+    /// Needs a current context with `api` loaded from it (the renderer keeps a pointer to it).
+    /// Errors: a forced path the context lacks (cpu), GL_ARB_vertex_program missing (arb).
+    static Result<SceneRenderer> create(const gl::Api& api, const RendererOptions& options = {});
+
+    SceneRenderer(SceneRenderer&&) noexcept;
+    SceneRenderer& operator=(SceneRenderer&&) noexcept;
+    ~SceneRenderer();
+
+    /// Draws one frame. Errors (nothing drawn): an invalid graph, camera or settings (the field
+    /// is named), a model without a program on the arb backend.
+    Result<FrameReport> render(const Node& root, const Camera& camera,
+                               const FrameSettings& settings);
+
+    void set_sky_drawer(SkyDrawer drawer);  ///< null: no sky
+    void set_sun_drawer(SkyDrawer drawer);  ///< null: no sun
+
+    /// Forgets every cached colour and GL texture (call after the context lost its objects).
+    void clear_caches();
+
+    const RendererOptions& options() const;
+
+  private:
+    struct Impl;
+    explicit SceneRenderer(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
+
+/// The first bad camera field ("camera.fov_y_rad", ...).
+std::optional<Error> validate(const Camera& camera);
+/// Projection (OpenGL clip space) and view (world to eye) matrices of the camera.
+glm::dmat4 projection_matrix(const Camera& camera);
+glm::dmat4 view_matrix(const Camera& camera);
+
+}  // namespace aerial::scene

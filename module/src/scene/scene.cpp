@@ -1,0 +1,269 @@
+#include "aerial/scene.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace aerial::scene {
+namespace {
+
+bool is_power_of_two(int v) { return v > 0 && (v & (v - 1)) == 0; }
+
+std::string count_text(std::size_t n) { return std::to_string(n); }
+
+/// Lattice value in [0, 1) at integer point (ix, iy): a 32-bit integer hash (murmur3 finaliser).
+double lattice_value(std::int64_t ix, std::int64_t iy, std::uint32_t seed) {
+    std::uint32_t h = static_cast<std::uint32_t>(ix) * 0x8da6b343u ^
+                      static_cast<std::uint32_t>(iy) * 0xd8163841u ^ seed * 0xcb1ab31fu;
+    h ^= h >> 16;
+    h *= 0x85ebca6bu;
+    h ^= h >> 13;
+    h *= 0xc2b2ae35u;
+    h ^= h >> 16;
+    return static_cast<double>(h) * (1.0 / 4294967296.0);
+}
+
+/// Smooth value noise in [0, 1], lattice period 1 (quintic fade, continuous slope).
+double value_noise(double x, double y, std::uint32_t seed) {
+    const double fx = std::floor(x), fy = std::floor(y);
+    const auto ix = static_cast<std::int64_t>(fx), iy = static_cast<std::int64_t>(fy);
+    const auto fade = [](double t) { return t * t * t * (t * (t * 6.0 - 15.0) + 10.0); };
+    const double u = fade(x - fx), v = fade(y - fy);
+    const double a = lattice_value(ix, iy, seed), b = lattice_value(ix + 1, iy, seed);
+    const double c = lattice_value(ix, iy + 1, seed), d = lattice_value(ix + 1, iy + 1, seed);
+    const double bottom = a + (b - a) * u, top = c + (d - c) * u;
+    return bottom + (top - bottom) * v;
+}
+
+std::optional<Error> validate_node(const Node& node, const std::string& path) {
+    for (int c = 0; c < 4; ++c) {
+        for (int r = 0; r < 4; ++r) {
+            if (!std::isfinite(node.transform[c][r])) {
+                return Error{path, path + ": transform is not finite"};
+            }
+        }
+    }
+    if (node.kind == NodeKind::mesh || node.kind == NodeKind::terrain) {
+        if (!node.mesh)
+            return Error{path, path + ": " + node_kind_name(node.kind) + " without a mesh"};
+        if (auto e = validate(*node.mesh)) return Error{path, path + ": mesh " + e->message};
+        if (node.kind == NodeKind::terrain && node.mesh->normals.empty()) {
+            return Error{path, path + ": terrain mesh without normals (lighting needs them)"};
+        }
+    }
+    if (node.texture) {
+        if (auto e = validate(*node.texture)) return Error{path, path + ": texture " + e->message};
+    }
+    if (!(node.albedo.r >= 0.0f && node.albedo.g >= 0.0f && node.albedo.b >= 0.0f) ||
+        !std::isfinite(node.albedo.r + node.albedo.g + node.albedo.b)) {
+        return Error{path, path + ": albedo must be finite and >= 0"};
+    }
+    for (const auto& child : node.children) {
+        if (!child) return Error{path, path + ": null child"};
+        if (auto e = validate_node(*child, path + "/" + child->name)) return e;
+    }
+    return std::nullopt;
+}
+
+void traverse_node(const Node& node, const glm::dmat4& parent,
+                   const std::function<void(const Node&, const glm::dmat4&)>& visit) {
+    if (!node.visible) return;
+    const glm::dmat4 world = parent * node.transform;
+    visit(node, world);
+    for (const auto& child : node.children) {
+        if (child) traverse_node(*child, world, visit);
+    }
+}
+
+std::unique_ptr<Node> make_node(NodeKind kind, std::string name) {
+    auto node = std::make_unique<Node>();
+    node->kind = kind;
+    node->name = std::move(name);
+    return node;
+}
+
+}  // namespace
+
+std::optional<Error> validate(const Texture& texture) {
+    if (!is_power_of_two(texture.width) || texture.width > 4096) {
+        return Error{"width", "width: expected a power of two in 1..4096, got " +
+                                  std::to_string(texture.width)};
+    }
+    if (!is_power_of_two(texture.height) || texture.height > 4096) {
+        return Error{"height", "height: expected a power of two in 1..4096, got " +
+                                   std::to_string(texture.height)};
+    }
+    const std::size_t expected = std::size_t(texture.width) * std::size_t(texture.height) * 3;
+    if (texture.rgb.size() != expected) {
+        return Error{"rgb", "rgb: expected " + count_text(expected) +
+                                " bytes (width x height x 3), got " +
+                                count_text(texture.rgb.size())};
+    }
+    return std::nullopt;
+}
+
+std::optional<Error> validate(const MeshData& mesh) {
+    if (mesh.positions.size() % 3 != 0) {
+        return Error{"positions", "positions: expected 3 floats a vertex, got " +
+                                      count_text(mesh.positions.size()) + " floats"};
+    }
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        if (!std::isfinite(mesh.positions[i])) {
+            return Error{"positions", "positions: value " + count_text(i) + " is not finite"};
+        }
+    }
+    const std::size_t n = mesh.vertex_count();
+    if (!mesh.normals.empty() && mesh.normals.size() != 3 * n) {
+        return Error{"normals", "normals: expected " + count_text(3 * n) +
+                                    " floats (3 a vertex), got " + count_text(mesh.normals.size())};
+    }
+    if (!mesh.texcoords.empty() && mesh.texcoords.size() != 2 * n) {
+        return Error{"texcoords", "texcoords: expected " + count_text(2 * n) +
+                                      " floats (2 a vertex), got " +
+                                      count_text(mesh.texcoords.size())};
+    }
+    if (mesh.indices.size() % 3 != 0) {
+        return Error{"indices",
+                     "indices: expected 3 a triangle, got " + count_text(mesh.indices.size())};
+    }
+    for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
+        if (mesh.indices[i] >= n) {
+            return Error{"indices", "indices: index " + count_text(i) + " is " +
+                                        std::to_string(mesh.indices[i]) + ", expected < " +
+                                        count_text(n) + " (the vertex count)"};
+        }
+    }
+    return std::nullopt;
+}
+
+Result<MeshData> heightfield_mesh(const HeightfieldSpec& spec,
+                                  const std::function<double(double, double)>& height) {
+    if (!(spec.size > 0.0) || !std::isfinite(spec.size)) {
+        return Error{"size", "size: expected a finite value > 0"};
+    }
+    if (spec.resolution < 2 || spec.resolution > 4097) {
+        return Error{"resolution", "resolution: expected 2..4097 vertices a side, got " +
+                                       std::to_string(spec.resolution)};
+    }
+    if (!(spec.texture_repeat > 0.0) || !std::isfinite(spec.texture_repeat)) {
+        return Error{"texture_repeat", "texture_repeat: expected a finite value > 0"};
+    }
+    if (!std::isfinite(spec.origin_x) || !std::isfinite(spec.origin_y)) {
+        return Error{"origin", "origin: expected finite coordinates"};
+    }
+    if (!height) return Error{"height", "height: no height function"};
+    const int n = spec.resolution;
+    const double step = spec.size / double(n - 1);
+    MeshData mesh;
+    mesh.positions.reserve(std::size_t(n) * n * 3);
+    mesh.normals.reserve(std::size_t(n) * n * 3);
+    mesh.texcoords.reserve(std::size_t(n) * n * 2);
+    for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+            const double x = spec.origin_x + step * i, y = spec.origin_y + step * j;
+            const double z = height(x, y);
+            // Central differences at half a grid step: the same normal on both sides of a seam.
+            const double h = 0.5 * step;
+            const double dx = (height(x + h, y) - height(x - h, y)) / (2.0 * h);
+            const double dy = (height(x, y + h) - height(x, y - h)) / (2.0 * h);
+            if (!std::isfinite(z) || !std::isfinite(dx) || !std::isfinite(dy)) {
+                return Error{"height", "height: not finite at (" + std::to_string(x) + ", " +
+                                           std::to_string(y) + ")"};
+            }
+            const double norm = std::sqrt(dx * dx + dy * dy + 1.0);
+            mesh.positions.insert(mesh.positions.end(), {float(x), float(y), float(z)});
+            mesh.normals.insert(mesh.normals.end(),
+                                {float(-dx / norm), float(-dy / norm), float(1.0 / norm)});
+            mesh.texcoords.insert(mesh.texcoords.end(),
+                                  {float(x / spec.texture_repeat), float(y / spec.texture_repeat)});
+        }
+    }
+    mesh.indices.reserve(std::size_t(n - 1) * (n - 1) * 6);
+    for (int j = 0; j + 1 < n; ++j) {
+        for (int i = 0; i + 1 < n; ++i) {
+            const std::uint32_t a = std::uint32_t(j * n + i), b = a + 1, c = a + std::uint32_t(n),
+                                d = c + 1;
+            mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
+        }
+    }
+    return mesh;
+}
+
+double procedural_height(const ProceduralTerrain& terrain, double x, double y) {
+    const int octaves = std::clamp(terrain.octaves, 1, 12);
+    const double wavelength0 = terrain.feature_size > 0.0 ? terrain.feature_size : 1.0;
+    double sum = 0.0, amplitude = 1.0, norm = 0.0, wavelength = wavelength0;
+    double u = x, v = y;
+    for (int i = 0; i < octaves; ++i) {
+        double n = value_noise(u / wavelength, v / wavelength, terrain.seed + std::uint32_t(i));
+        if (i >= 1) n = 1.0 - std::abs(2.0 * n - 1.0);  // ridged above the first octave
+        sum += amplitude * n;
+        norm += amplitude;
+        amplitude *= 0.5;
+        wavelength *= 0.5;
+        // Turn the lattice about 37 degrees between octaves so the grids do not line up.
+        const double ru = 0.8 * u - 0.6 * v;
+        v = 0.6 * u + 0.8 * v;
+        u = ru;
+    }
+    const double t = sum / norm;  // [0, 1]
+    // Flatten the valleys, sharpen the peaks.
+    return terrain.base + std::max(0.0, terrain.amplitude) * t * t;
+}
+
+const char* node_kind_name(NodeKind kind) {
+    switch (kind) {
+        case NodeKind::group:
+            return "group";
+        case NodeKind::mesh:
+            return "mesh";
+        case NodeKind::terrain:
+            return "terrain";
+        case NodeKind::sky_dome:
+            return "sky-dome";
+        case NodeKind::sun:
+            return "sun";
+    }
+    return "unknown";
+}
+
+Node* Node::add(std::unique_ptr<Node> child) {
+    children.push_back(std::move(child));
+    return children.back().get();
+}
+
+std::unique_ptr<Node> make_group(std::string name) {
+    return make_node(NodeKind::group, std::move(name));
+}
+
+std::unique_ptr<Node> make_mesh(std::string name, std::shared_ptr<const MeshData> mesh,
+                                std::shared_ptr<const Texture> texture) {
+    auto node = make_node(NodeKind::mesh, std::move(name));
+    node->mesh = std::move(mesh);
+    node->texture = std::move(texture);
+    return node;
+}
+
+std::unique_ptr<Node> make_terrain_tile(std::string name, std::shared_ptr<const MeshData> mesh,
+                                        std::shared_ptr<const Texture> texture, glm::vec3 albedo) {
+    auto node = make_node(NodeKind::terrain, std::move(name));
+    node->mesh = std::move(mesh);
+    node->texture = std::move(texture);
+    node->albedo = albedo;
+    return node;
+}
+
+std::unique_ptr<Node> make_sky_dome(std::string name) {
+    return make_node(NodeKind::sky_dome, std::move(name));
+}
+
+std::unique_ptr<Node> make_sun(std::string name) {
+    return make_node(NodeKind::sun, std::move(name));
+}
+
+std::optional<Error> validate(const Node& root) { return validate_node(root, root.name); }
+
+void traverse(const Node& root, const std::function<void(const Node&, const glm::dmat4&)>& visit) {
+    traverse_node(root, glm::dmat4(1.0), visit);
+}
+
+}  // namespace aerial::scene

@@ -1,0 +1,139 @@
+// aerial-scene-bench: what the scene renderer does per frame on the sample's world, with and
+// without the update policy, for a static and a flying camera. Prints one line a scenario (means
+// over the frames after the first, which shades everything in every scenario). Speed figures
+// come from one run on a shared machine: compare the scenarios with each other.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "aerial/headless.hpp"
+#include "aerial/scene_renderer.hpp"
+#include "world.hpp"
+
+namespace {
+
+constexpr const char* kTool = "aerial-scene-bench";
+
+int fail(const std::string& message, int status = 2) {
+    std::cerr << kTool << ": " << message << '\n';
+    return status;
+}
+
+struct Totals {
+    double vertices_shaded = 0, cache_hits = 0, culled = 0, render_ms = 0, frame_ms = 0;
+    double shading_ms = 0;
+    double hp_nodes = 0, height_nodes = 0;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "Per-frame work of aerial::scene::SceneRenderer on the sample's world: static\n"
+        "and flying (100 m/s at 30 frames/s) cameras, update policy on and off.\n"
+        "Exit status: 0 on success, 2 on bad input, 1 when GL fails.",
+        kTool};
+    int frames = 31, width = 480, height = 270;
+    std::string size = "480x270", model_text = "height", backend_text = "cpu", gl_text = "osmesa";
+    app.add_option("--frames", frames, "Frames per scenario, 2..10000")->capture_default_str();
+    app.add_option("--size", size, "Image size WxH")->capture_default_str();
+    app.add_option("--model", model_text, "hoffman-preetham, height or reference")
+        ->capture_default_str();
+    app.add_option("--backend", backend_text, "cpu or arb")->capture_default_str();
+    app.add_option("--gl", gl_text, "osmesa or egl")->capture_default_str();
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp&) {
+        std::cout << app.help();
+        return 0;
+    } catch (const CLI::ParseError& e) {
+        return fail(std::string(e.what()) + " (see --help)");
+    }
+    if (frames < 2 || frames > 10000) return fail("--frames: expected 2..10000");
+    if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 16 || height < 16 ||
+        width > 4096 || height > 4096) {
+        return fail("--size: expected WxH with sides in 16..4096, got '" + size + "'");
+    }
+    auto model = aerial::parse_model(model_text);
+    if (!model) return fail("--model: " + model.error().message);
+    auto backend = aerial::scene::parse_backend(backend_text);
+    if (!backend) return fail("--backend: " + backend.error().message);
+    auto gl_backend = aerial::headless::parse_backend(gl_text);
+    if (!gl_backend) return fail("--gl: '" + gl_text + "' is unknown (expected osmesa or egl)");
+
+    const sample::World world = sample::build_world({});
+    auto context = aerial::headless::Context::create({*gl_backend, width, height});
+    if (!context) return fail("--gl: " + context.error().message, 1);
+    const aerial::gl::Api& api = context->api();
+
+    const sample::FlightState start = sample::flight_at(world, 0.1);
+    struct Scenario {
+        const char* name;
+        bool policy;
+        bool flying;
+    };
+    for (const Scenario& sc :
+         {Scenario{"static_policy", true, false}, Scenario{"static_no_policy", false, false},
+          Scenario{"flying_policy", true, true}, Scenario{"flying_no_policy", false, true}}) {
+        aerial::scene::RendererOptions options;
+        options.backend = *backend;
+        auto renderer = aerial::scene::SceneRenderer::create(api, options);
+        if (!renderer) return fail("--backend: " + renderer.error().message, 1);
+        Totals totals;
+        for (int i = 0; i < frames; ++i) {
+            sample::FlightState state = start;
+            if (sc.flying) {  // 100 m/s at 30 frames/s along the heading, level
+                state.x += std::sin(state.heading_rad) * 100.0 / 30.0 * i;
+                state.y += std::cos(state.heading_rad) * 100.0 / 30.0 * i;
+            }
+            aerial::scene::Camera camera =
+                sample::camera_for(world, state, double(width) / double(height));
+            if (sc.flying) {  // keep the altitude of the start, not the ground's
+                const aerial::scene::Camera c0 =
+                    sample::camera_for(world, start, double(width) / double(height));
+                camera.target += glm::dvec3(0, 0, c0.eye.z - camera.eye.z);
+                camera.eye.z = c0.eye.z;
+            }
+            auto settings = sample::settings_for(state, "earth", *model,
+                                                 *backend == aerial::scene::Backend::cpu
+                                                     ? aerial::ToneCurve::exponential
+                                                     : aerial::ToneCurve::clamp);
+            if (!settings) return fail(settings.error().message, 1);
+            settings.value().policy = sc.policy;
+            api.Viewport(0, 0, width, height);
+            api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+            const auto t0 = std::chrono::steady_clock::now();
+            auto report = renderer.value().render(*world.root, camera, *settings);
+            if (!report) return fail(report.error().message, 1);
+            api.Finish();
+            const double ms =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                    .count();
+            if (i == 0) continue;
+            totals.vertices_shaded += double(report->vertices_shaded);
+            totals.cache_hits += double(report->cache_hits);
+            totals.culled += double(report->culled);
+            totals.render_ms += report->milliseconds;
+            totals.shading_ms += report->shading_milliseconds;
+            totals.frame_ms += ms;
+            totals.hp_nodes += double(report->shaded_hoffman_preetham);
+            totals.height_nodes += double(report->shaded_height);
+        }
+        const double n = frames - 1;
+        std::printf(
+            "%s: frames=%d vertices_shaded=%.0f cache_hits=%.1f culled=%.1f "
+            "nodes_hoffman_preetham=%.1f nodes_%s=%.1f shading_ms=%.2f render_ms=%.2f "
+            "frame_ms=%.2f\n",
+            sc.name, frames - 1, totals.vertices_shaded / n, totals.cache_hits / n,
+            totals.culled / n, totals.hp_nodes / n, model_text.c_str(), totals.height_nodes / n,
+            totals.shading_ms / n, totals.render_ms / n, totals.frame_ms / n);
+    }
+    std::printf("world: tiles=%zu vertices=%zu size=%dx%d backend=%s renderer=\"%s\"\n",
+                world.tiles, world.vertices, width, height, backend_text.c_str(),
+                api.caps.renderer.c_str());
+    return 0;
+}

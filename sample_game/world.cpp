@@ -1,0 +1,204 @@
+#include "world.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace sample {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kTextureSize = 256;
+/// Display value of a white surface under the ground's irradiance (see settings_for).
+constexpr double kExposureKey = 8.0;
+/// The same for the exponential tone curve 1 - exp(-x), which needs more to reach the same level.
+constexpr double kExposureKeyExponential = 12.0;
+/// Ground reflectance over pi (the lit colour is albedo x irradiance, radiance needs the 1/pi);
+/// the texture (mean about 0.45) carries the colour.
+constexpr float kGroundAlbedo = float(0.3 / kPi);
+
+double smoothstep(double a, double b, double x) {
+    const double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+/// Grass, earth and rock in tiling value noise: 256² texels, repeating every 250 m.
+std::shared_ptr<aerial::scene::Texture> ground_texture(std::uint32_t seed) {
+    auto texture = std::make_shared<aerial::scene::Texture>();
+    texture->width = texture->height = kTextureSize;
+    texture->rgb.resize(std::size_t(kTextureSize) * kTextureSize * 3);
+    // Tiling noise: a lattice of period `cells` on the texture.
+    const auto lattice = [seed](int ix, int iy, int cells) {
+        ix = ((ix % cells) + cells) % cells;
+        iy = ((iy % cells) + cells) % cells;
+        std::uint32_t h = std::uint32_t(ix) * 0x8da6b343u ^ std::uint32_t(iy) * 0xd8163841u ^
+                          (seed + std::uint32_t(cells)) * 0xcb1ab31fu;
+        h ^= h >> 16;
+        h *= 0x85ebca6bu;
+        h ^= h >> 13;
+        return double(h & 0xffffff) / double(0x1000000);
+    };
+    const auto noise = [&](double u, double v, int cells) {
+        const double x = u * cells, y = v * cells;
+        const int ix = int(std::floor(x)), iy = int(std::floor(y));
+        const double fx = x - ix, fy = y - iy;
+        const double sx = fx * fx * (3 - 2 * fx), sy = fy * fy * (3 - 2 * fy);
+        const double a = lattice(ix, iy, cells), b = lattice(ix + 1, iy, cells);
+        const double c = lattice(ix, iy + 1, cells), d = lattice(ix + 1, iy + 1, cells);
+        return (a + (b - a) * sx) * (1 - sy) + (c + (d - c) * sx) * sy;
+    };
+    for (int y = 0; y < kTextureSize; ++y) {
+        for (int x = 0; x < kTextureSize; ++x) {
+            const double u = (x + 0.5) / kTextureSize, v = (y + 0.5) / kTextureSize;
+            const double patches =
+                0.5 * noise(u, v, 4) + 0.3 * noise(u, v, 8) + 0.2 * noise(u, v, 16);
+            const double grain = 0.6 * noise(u, v, 64) + 0.4 * noise(u, v, 128);
+            const glm::dvec3 grass{0.30, 0.42, 0.16}, dry{0.50, 0.46, 0.28}, rock{0.52, 0.50, 0.47};
+            glm::dvec3 c = glm::mix(grass, dry, smoothstep(0.45, 0.65, patches));
+            c = glm::mix(c, rock, smoothstep(0.68, 0.8, patches));
+            c *= 0.8 + 0.4 * grain;
+            for (int ch = 0; ch < 3; ++ch) {
+                texture
+                    ->rgb[(std::size_t(y) * kTextureSize + std::size_t(x)) * 3 + std::size_t(ch)] =
+                    std::uint8_t(std::clamp(c[ch], 0.0, 1.0) * 255.0 + 0.5);
+            }
+        }
+    }
+    return texture;
+}
+
+}  // namespace
+
+World build_world(const WorldOptions& options) {
+    World world;
+    world.options = options;
+    world.terrain.seed = options.seed;
+    world.terrain.amplitude = 900.0;
+    world.terrain.feature_size = 6000.0;
+    world.terrain.base = 20.0;
+    world.root = aerial::scene::make_group("world");
+    world.root->add(aerial::scene::make_sky_dome());
+    world.root->add(aerial::scene::make_sun());
+    auto terrain_group = aerial::scene::make_group("terrain");
+    std::shared_ptr<const aerial::scene::Texture> texture = ground_texture(options.seed);
+    const int tiles = std::max(1, int(std::lround(options.size_m / options.tile_m)));
+    const double origin = -0.5 * tiles * options.tile_m;
+    for (int j = 0; j < tiles; ++j) {
+        for (int i = 0; i < tiles; ++i) {
+            aerial::scene::HeightfieldSpec spec;
+            spec.origin_x = origin + i * options.tile_m;
+            spec.origin_y = origin + j * options.tile_m;
+            spec.size = options.tile_m;
+            spec.resolution = options.tile_resolution;
+            spec.texture_repeat = 250.0;
+            auto mesh = aerial::scene::heightfield_mesh(
+                spec, [&](double x, double y) { return ground_height(world, x, y); });
+            world.vertices += mesh->vertex_count();
+            // Albedo: the texture carries the colour; this scales it to a ground reflectance.
+            terrain_group->add(aerial::scene::make_terrain_tile(
+                "tile " + std::to_string(i) + " " + std::to_string(j),
+                std::make_shared<const aerial::scene::MeshData>(std::move(mesh.value())), texture,
+                glm::vec3(kGroundAlbedo)));
+            ++world.tiles;
+        }
+    }
+    world.root->add(std::move(terrain_group));
+    return world;
+}
+
+double ground_height(const World& world, double x, double y) {
+    return aerial::scene::procedural_height(world.terrain, x, y);
+}
+
+FlightState flight_at(const World& world, double t) {
+    t = std::clamp(t, 0.0, 1.0);
+    FlightState s;
+    // North from the south edge, weaving, turning west in the second half.
+    const double heading = -0.7 * smoothstep(0.35, 1.0, t);
+    s.heading_rad = heading + 0.15 * std::sin(6.0 * t);
+    double x = 0.0, y = -6500.0;
+    const int steps = 200;
+    for (int i = 0; i < steps; ++i) {  // integrate the heading along 12 km
+        const double u = t * (i + 0.5) / steps;
+        const double h = -0.7 * smoothstep(0.35, 1.0, u) + 0.15 * std::sin(6.0 * u);
+        x += std::sin(h) * 12000.0 * t / steps;
+        y += std::cos(h) * 12000.0 * t / steps;
+    }
+    s.x = x;
+    s.y = y;
+    s.altitude_agl = 250.0;
+    // The highest ground 600 m ahead and below, so the flight clears the hills.
+    double ground = ground_height(world, x, y);
+    for (double d = 100.0; d <= 600.0; d += 100.0) {
+        ground = std::max(ground, ground_height(world, x + std::sin(s.heading_rad) * d,
+                                                y + std::cos(s.heading_rad) * d) -
+                                      0.3 * d);
+    }
+    s.altitude_agl = 250.0 + (ground - ground_height(world, x, y));
+    s.pitch_rad = -0.09;
+    s.sun_elevation_rad = (60.0 - 58.0 * smoothstep(0.15, 1.0, t)) * kPi / 180.0;
+    s.sun_azimuth_rad = (200.0 + 85.0 * smoothstep(0.15, 1.0, t)) * kPi / 180.0;
+    s.fog = t > 0.4 && t < 0.6;
+    s.clock_hours = 12.5 + 6.0 * smoothstep(0.15, 1.0, t);
+    return s;
+}
+
+aerial::scene::Camera camera_for(const World& world, const FlightState& s, double aspect) {
+    aerial::scene::Camera c;
+    c.eye = {s.x, s.y, ground_height(world, s.x, s.y) + s.altitude_agl};
+    const glm::dvec3 forward{std::sin(s.heading_rad) * std::cos(s.pitch_rad),
+                             std::cos(s.heading_rad) * std::cos(s.pitch_rad),
+                             std::sin(s.pitch_rad)};
+    c.target = c.eye + forward * 1000.0;
+    c.up = {0.0, 0.0, 1.0};
+    c.fov_y_rad = 50.0 * kPi / 180.0;
+    c.aspect = aspect;
+    c.near_units = 5.0;
+    c.far_units = 40000.0;
+    return c;
+}
+
+aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& s,
+                                                          const std::string& preset,
+                                                          aerial::Model model,
+                                                          aerial::ToneCurve tone) {
+    auto atmosphere = aerial::atmosphere_preset(preset);
+    if (!atmosphere) return atmosphere.error();
+    aerial::scene::FrameSettings settings;
+    settings.atmosphere = *atmosphere;
+    if (s.fog) {
+        aerial::GroundHaze haze;
+        haze.visibility_in_layer_m = 1200.0;
+        haze.layer_thickness_m = 500.0;
+        haze.visibility_aloft_m = 15000.0;
+        // Real fog looks bright from every side because light scatters many times in it; a
+        // single-scattering model with the droplets' g = 0.85 leaves it dark away from the sun.
+        // The sample lowers g to 0.5 in its fog, a stand-in for that multiple scattering.
+        aerial::Atmosphere base = settings.atmosphere;
+        base.mie_g = 0.5;
+        auto foggy = aerial::atmosphere_with_ground_haze(haze, base);
+        if (!foggy) return foggy.error();
+        settings.atmosphere = *foggy;
+    }
+    settings.sun_dir = {std::cos(s.sun_elevation_rad) * std::sin(s.sun_azimuth_rad),
+                        std::cos(s.sun_elevation_rad) * std::cos(s.sun_azimuth_rad),
+                        std::sin(s.sun_elevation_rad)};
+    settings.model = model;
+    // Exposure: the irradiance of level ground (the sun through the atmosphere plus an
+    // estimate of the sky's) mapped to a fixed display level, so that noon and dusk both read.
+    const double sin_elevation = std::sin(s.sun_elevation_rad);
+    const glm::dvec3 sun = settings.atmosphere.sun_irradiance *
+                           aerial::sun_transmittance(settings.atmosphere, 300.0, sin_elevation);
+    const double irradiance =
+        sun.g * std::max(0.0, sin_elevation) +
+        0.15 * settings.atmosphere.sun_irradiance.g * std::sqrt(std::max(0.01, sin_elevation));
+    // Dusk is allowed to stay darker than noon: the exposure follows the irradiance only in part.
+    const double key =
+        tone == aerial::ToneCurve::exponential ? kExposureKeyExponential : kExposureKey;
+    settings.display.exposure = float(std::clamp(key / std::pow(irradiance, 0.75), 2.0, 60.0));
+    settings.display.tone = tone;
+    return settings;
+}
+
+}  // namespace sample

@@ -1,0 +1,39 @@
+#!/bin/sh
+# The sample's headless flythrough against its golden frames (tests/scene/golden/): three frames
+# (noon, fog, dusk) without the readout, at a loose tolerance, since they cover a whole pipeline
+# (terrain, sky dome, sun, the update policy) and a Mesa update may move edges by a pixel.
+#
+#   check_sample_goldens.sh SAMPLE COMPARE GOLDEN_DIR OUT_DIR [--record]
+#
+# Tolerance per frame (aerial-compare): p99_lsb <= 4 and at most 1 % of the pixels off by more
+# than 2 steps. --record re-renders the goldens and writes RENDERER.txt instead of comparing.
+set -eu
+sample=$1 compare=$2 golden=$3 out=$4 record=${5:-}
+export LP_NUM_THREADS=1 GALLIUM_DRIVER=llvmpipe
+line=$("$sample" --headless --frames 3 --size 240x135 --no-readout --gl osmesa --out "$out")
+echo "$line"
+if [ "$record" = --record ]; then
+    for i in 0000 0001 0002; do cp "$out/frame_$i.png" "$golden/frame_$i.png"; done
+    renderer=${line#*renderer=\"}
+    renderer=${renderer%%\"*}
+    {
+        echo "Golden frames of aerial-sample, made by: tests/scene/check_sample_goldens.sh ... --record"
+        echo "Command: aerial-sample --headless --frames 3 --size 240x135 --no-readout --gl osmesa"
+        echo "GL_RENDERER: $renderer"
+        echo "Environment: LP_NUM_THREADS=1 GALLIUM_DRIVER=llvmpipe"
+    } >"$golden/RENDERER.txt"
+    echo "recorded $golden"
+    exit 0
+fi
+status=0
+for i in 0000 0001 0002; do
+    result=$("$compare" "$golden/frame_$i.png" "$out/frame_$i.png" --diff "$out/diff_$i.png")
+    echo "frame_$i: $result"
+    p99=$(echo "$result" | sed -n 's/.*p99_lsb=\([0-9.]*\).*/\1/p')
+    over2=$(echo "$result" | sed -n 's/.*over2=\([0-9.e+-]*\).*/\1/p')
+    if ! awk -v p="$p99" -v o="$over2" 'BEGIN { exit !(p <= 4 && o <= 0.01) }'; then
+        echo "frame_$i differs from the golden beyond p99_lsb <= 4, over2 <= 0.01 (diff: $out/diff_$i.png)"
+        status=1
+    fi
+done
+exit $status

@@ -1,0 +1,183 @@
+// The scene graph without GL: validation, traversal, heightfield tiles, procedural terrain and
+// mesh files read through OpenMesh.
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "aerial/scene.hpp"
+
+namespace {
+
+using namespace aerial::scene;
+
+std::string temp_file(const std::string& name, const std::string& text) {
+    const std::string path = ::testing::TempDir() + name;
+    std::ofstream(path) << text;
+    return path;
+}
+
+std::shared_ptr<const MeshData> triangle() {
+    auto mesh = std::make_shared<MeshData>();
+    mesh->positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    mesh->indices = {0, 1, 2};
+    return mesh;
+}
+
+TEST(SceneGraph, TraversalComposesTransformsParentsFirst) {
+    auto root = make_group("world");
+    root->transform = glm::translate(glm::dmat4(1.0), glm::dvec3(10, 0, 0));
+    Node* group = root->add(make_group("group"));
+    group->transform = glm::scale(glm::dmat4(1.0), glm::dvec3(2.0));
+    Node* leaf = group->add(make_mesh("leaf", triangle()));
+    leaf->transform = glm::translate(glm::dmat4(1.0), glm::dvec3(0, 5, 0));
+    Node* hidden = root->add(make_mesh("hidden", triangle()));
+    hidden->visible = false;
+    std::vector<std::string> order;
+    glm::dvec3 leaf_origin{0.0};
+    traverse(*root, [&](const Node& n, const glm::dmat4& world) {
+        order.push_back(n.name);
+        if (&n == leaf) leaf_origin = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
+    });
+    EXPECT_EQ(order, (std::vector<std::string>{"world", "group", "leaf"}));
+    EXPECT_EQ(leaf_origin, glm::dvec3(10, 10, 0)) << "translate(10) * scale(2) * translate(5)";
+}
+
+TEST(SceneGraph, ValidateNamesTheNodePathAndField) {
+    auto root = make_group("world");
+    auto bad = std::make_shared<MeshData>(*triangle());
+    bad->indices = {0, 1, 7};
+    root->add(make_group("tiles"))->add(make_mesh("tile 0", bad));
+    auto error = validate(*root);
+    ASSERT_TRUE(error);
+    EXPECT_EQ(error->field, "world/tiles/tile 0");
+    EXPECT_NE(error->message.find("indices: index 2 is 7, expected < 3"), std::string::npos)
+        << error->message;
+
+    auto terrain = make_group("world");
+    terrain->add(make_terrain_tile("flat", triangle()));
+    error = validate(*terrain);
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find("without normals"), std::string::npos) << error->message;
+
+    auto texture = std::make_shared<Texture>();
+    texture->width = 3;
+    texture->height = 4;
+    texture->rgb.resize(36);
+    auto textured = make_group("world");
+    textured->add(make_mesh("m", triangle(), texture));
+    error = validate(*textured);
+    ASSERT_TRUE(error);
+    EXPECT_NE(error->message.find("width: expected a power of two"), std::string::npos)
+        << error->message;
+}
+
+TEST(Heightfield, GridMatchesTheFunctionWithUnitNormals) {
+    HeightfieldSpec spec;
+    spec.origin_x = 100;
+    spec.origin_y = -50;
+    spec.size = 80;
+    spec.resolution = 5;
+    spec.texture_repeat = 40;
+    // A plane z = 0.5 x: every normal is (-0.5, 0, 1) / sqrt(1.25).
+    auto mesh = heightfield_mesh(spec, [](double x, double) { return 0.5 * x; });
+    ASSERT_TRUE(mesh) << mesh.error().message;
+    EXPECT_FALSE(validate(*mesh));
+    EXPECT_EQ(mesh->vertex_count(), 25u);
+    EXPECT_EQ(mesh->indices.size(), 4u * 4u * 6u);
+    const double k = 1.0 / std::sqrt(1.25);
+    for (std::size_t i = 0; i < mesh->vertex_count(); ++i) {
+        EXPECT_NEAR(mesh->positions[3 * i + 2], 0.5 * mesh->positions[3 * i], 1e-4);
+        EXPECT_NEAR(mesh->normals[3 * i], -0.5 * k, 1e-5);
+        EXPECT_NEAR(mesh->normals[3 * i + 2], k, 1e-5);
+    }
+    EXPECT_FLOAT_EQ(mesh->positions[3 * 24], 180.0f) << "the last corner is origin + size";
+    EXPECT_FLOAT_EQ(mesh->texcoords[2 * 24], 180.0f / 40.0f);
+}
+
+TEST(Heightfield, BadSpecsAndHeightsNameTheField) {
+    HeightfieldSpec spec;
+    spec.resolution = 1;
+    auto flat = [](double, double) { return 0.0; };
+    EXPECT_EQ(heightfield_mesh(spec, flat).error().field, "resolution");
+    spec = {};
+    spec.size = -1;
+    EXPECT_EQ(heightfield_mesh(spec, flat).error().field, "size");
+    spec = {};
+    auto result = heightfield_mesh(spec, [](double x, double) { return x > 500 ? NAN : 0.0; });
+    ASSERT_FALSE(result);
+    EXPECT_EQ(result.error().field, "height");
+}
+
+TEST(ProceduralTerrain, DeterministicInRangeAndSeedDependent) {
+    ProceduralTerrain t;
+    t.amplitude = 600;
+    double lo = 1e9, hi = -1e9, differ = 0;
+    ProceduralTerrain other = t;
+    other.seed = 2;
+    for (int i = 0; i < 2000; ++i) {
+        const double x = 37.0 * i - 30000, y = 11.0 * i * i - 8000;
+        const double h = procedural_height(t, x, y);
+        EXPECT_EQ(h, procedural_height(t, x, y));
+        lo = std::min(lo, h);
+        hi = std::max(hi, h);
+        differ += std::abs(h - procedural_height(other, x, y));
+    }
+    EXPECT_GE(lo, 0.0);
+    EXPECT_LE(hi, 600.0);
+    EXPECT_GT(hi - lo, 150.0) << "hills, not a plain";
+    EXPECT_GT(differ / 2000, 10.0) << "another seed, another landscape";
+}
+
+TEST(MeshFile, ReadsObjQuadsAsTrianglesWithTexcoordsAndComputedNormals) {
+    const std::string path = temp_file("quad.obj",
+                                       "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                       "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                       "f 1/1 2/2 3/3 4/4\n");
+    auto mesh = load_mesh_file(path);
+    ASSERT_TRUE(mesh) << mesh.error().message;
+    EXPECT_EQ(mesh->vertex_count(), 4u);
+    EXPECT_EQ(mesh->indices.size(), 6u) << "one quad, two triangles";
+    ASSERT_EQ(mesh->normals.size(), 12u);
+    for (int v = 0; v < 4; ++v) EXPECT_NEAR(mesh->normals[3 * v + 2], 1.0f, 1e-6);
+    EXPECT_EQ(mesh->texcoords.size(), 8u);
+}
+
+TEST(MeshFile, ReadsOffAndPly) {
+    auto off = load_mesh_file(temp_file("t.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+    ASSERT_TRUE(off) << off.error().message;
+    EXPECT_EQ(off->indices.size(), 3u);
+    auto ply = load_mesh_file(temp_file(
+        "t.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+    ASSERT_TRUE(ply) << ply.error().message;
+    EXPECT_EQ(ply->vertex_count(), 3u);
+}
+
+TEST(MeshFile, ErrorsNameThePathAndTheProblem) {
+    const std::string missing = ::testing::TempDir() + "no_such_mesh.obj";
+    auto r = load_mesh_file(missing);
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().field, missing);
+    EXPECT_NE(r.error().message.find("cannot open"), std::string::npos) << r.error().message;
+
+    r = load_mesh_file(temp_file("mesh.stl", "solid x\n"));
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("unknown mesh format '.stl'"), std::string::npos)
+        << r.error().message;
+
+    r = load_mesh_file(temp_file("broken.off", "OFF\n3 1 0\n0 0 0\nthis is not a number\n"));
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("broken.off"), std::string::npos) << r.error().message;
+
+    r = load_mesh_file(temp_file("points.obj", "v 0 0 0\nv 1 0 0\n"));
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("no faces"), std::string::npos) << r.error().message;
+}
+
+}  // namespace

@@ -1,0 +1,356 @@
+// The scene renderer on a headless context: traversal, culling, the update policy (a static view
+// recomputes nothing, a moved sun or node recomputes what it must, negligible scattering is
+// skipped), the cheapest method per node, the arb backend, GL state and errors.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "aerial/gl_api.hpp"
+#include "aerial/gl_state.hpp"
+#include "aerial/scene_renderer.hpp"
+#include "gl_test_context.hpp"
+
+namespace {
+
+using namespace aerial::scene;
+
+constexpr int kWidth = 160, kHeight = 90;
+constexpr double kTile = 1000.0;
+
+std::shared_ptr<const Texture> test_texture() {
+    auto t = std::make_shared<Texture>();
+    t->width = t->height = 8;
+    for (int i = 0; i < 64; ++i) {
+        const std::uint8_t v = ((i / 8 + i % 8) % 2) ? 200 : 120;
+        t->rgb.insert(t->rgb.end(), {v, std::uint8_t(v - 20), std::uint8_t(v / 2)});
+    }
+    return t;
+}
+
+struct TestScene {
+    std::unique_ptr<Node> root = make_group("world");
+    std::vector<Node*> tiles;
+    Node* near_box = nullptr;  ///< 1 m across, 1.5 m in front of the eye
+    Node* behind = nullptr;    ///< behind the camera
+
+    TestScene() {
+        root->add(make_sky_dome());
+        root->add(make_sun());
+        ProceduralTerrain terrain;
+        terrain.amplitude = 300;
+        auto texture = test_texture();
+        for (int j = -1; j < 3; ++j) {
+            for (int i = -2; i < 2; ++i) {
+                HeightfieldSpec spec;
+                spec.origin_x = i * kTile;
+                spec.origin_y = j * kTile;
+                spec.size = kTile;
+                spec.resolution = 17;
+                auto mesh = heightfield_mesh(
+                    spec, [&](double x, double y) { return procedural_height(terrain, x, y); });
+                tiles.push_back(root->add(
+                    make_terrain_tile("tile " + std::to_string(i) + " " + std::to_string(j),
+                                      std::make_shared<MeshData>(std::move(mesh.value())), texture,
+                                      glm::vec3(0.1f))));
+            }
+        }
+        auto box = std::make_shared<MeshData>();
+        box->positions = {-0.5f, 0, -0.5f, 0.5f, 0, -0.5f, 0.5f, 0, 0.5f, -0.5f, 0, 0.5f};
+        box->indices = {0, 1, 2, 0, 2, 3};
+        near_box = root->add(make_mesh("near box", box));
+        near_box->transform = glm::translate(glm::dmat4(1.0), glm::dvec3(0, -1498.5, 600));
+        behind = root->add(make_mesh("behind", box));
+        behind->transform = glm::translate(glm::dmat4(1.0), glm::dvec3(0, -4000, 600));
+    }
+};
+
+Camera test_camera() {
+    Camera c;
+    c.eye = {0, -1500, 600};
+    c.target = {0, 2000, 100};
+    c.aspect = double(kWidth) / kHeight;
+    c.near_units = 1.0;
+    c.far_units = 20000.0;
+    return c;
+}
+
+FrameSettings test_settings() {
+    FrameSettings s;
+    s.atmosphere = aerial::atmosphere_preset("hazy").value();
+    s.sun_dir = glm::normalize(glm::dvec3(0.3, 0.8, 0.5));
+    s.display.exposure = 8.0f;
+    s.model = aerial::Model::height;
+    return s;
+}
+
+glm::dvec3 turned(const glm::dvec3& v, double angle_rad) {
+    return glm::dvec3(glm::rotate(glm::dmat4(1.0), angle_rad, glm::dvec3(0, 0, 1)) *
+                      glm::dvec4(v, 0.0));
+}
+
+class SceneRendererTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        auto ctx = aerial::headless::Context::create(
+            {aerial_test::backend_from_environment(), kWidth, kHeight});
+        ASSERT_TRUE(ctx) << ctx.error().message;
+        context_.emplace(std::move(ctx.value()));
+        std::printf("context: %s\n", aerial_test::context_label(*context_).c_str());
+    }
+    const aerial::gl::Api& api() const { return context_->api(); }
+
+    std::vector<std::uint8_t> draw(SceneRenderer& r, const TestScene& scene, const Camera& camera,
+                                   const FrameSettings& settings, FrameReport* report = nullptr) {
+        api().ClearColor(0, 0, 0, 1);
+        api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        api().Viewport(0, 0, kWidth, kHeight);
+        auto result = r.render(*scene.root, camera, settings);
+        EXPECT_TRUE(result) << result.error().message;
+        if (result && report) *report = *result;
+        api().Finish();
+        return context_->read_rgba8();
+    }
+
+    std::optional<aerial::headless::Context> context_;
+};
+
+std::size_t count(const FrameReport& r, Method m) {
+    return std::size_t(std::count_if(r.nodes.begin(), r.nodes.end(),
+                                     [&](const NodeReport& n) { return n.method == m; }));
+}
+
+const NodeReport& node(const FrameReport& r, const std::string& name) {
+    for (const NodeReport& n : r.nodes) {
+        if (n.name == name) return n;
+    }
+    static const NodeReport none;
+    ADD_FAILURE() << "no node " << name << " in the report";
+    return none;
+}
+
+TEST_F(SceneRendererTest, StaticViewRecomputesNothingAndLooksTheSame) {
+    auto renderer = SceneRenderer::create(api());
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    TestScene scene;
+    FrameReport first, second;
+    const auto a = draw(renderer.value(), scene, test_camera(), test_settings(), &first);
+    const auto b = draw(renderer.value(), scene, test_camera(), test_settings(), &second);
+    EXPECT_GT(first.vertices_shaded, 0u);
+    EXPECT_EQ(first.cache_hits, 0u);
+    EXPECT_EQ(second.vertices_shaded, 0u) << "a static view must recompute nothing";
+    const std::size_t visible = first.nodes.size() - first.culled - first.skipped;
+    EXPECT_EQ(second.cache_hits, visible);
+    EXPECT_EQ(aerial_test::compare_rgb(a, b).max_lsb, 0);
+}
+
+TEST_F(SceneRendererTest, MovedSunRecomputesWhatItMust) {
+    auto renderer = SceneRenderer::create(api());
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    TestScene scene;
+    FrameSettings s = test_settings();
+    FrameReport first, tiny, moved;
+    draw(renderer.value(), scene, test_camera(), s, &first);
+    // A sun turned by 1e-7 rad changes no output by half a step: nothing to redo.
+    s.sun_dir = turned(s.sun_dir, 1e-7);
+    draw(renderer.value(), scene, test_camera(), s, &tiny);
+    EXPECT_EQ(tiny.vertices_shaded, 0u);
+    // Ten degrees: every visible node that scatters is shaded again.
+    s.sun_dir = turned(s.sun_dir, 10.0 * 3.14159265358979323846 / 180.0);
+    draw(renderer.value(), scene, test_camera(), s, &moved);
+    std::size_t expected = 0;
+    for (const NodeReport& n : first.nodes) {
+        if (n.method != Method::culled && n.method != Method::skipped) expected += n.vertices;
+    }
+    EXPECT_EQ(moved.vertices_shaded, expected);
+    EXPECT_EQ(moved.cache_hits, 0u);
+}
+
+TEST_F(SceneRendererTest, MovedNodeAloneIsShadedAgain) {
+    auto renderer = SceneRenderer::create(api());
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    TestScene scene;
+    draw(renderer.value(), scene, test_camera(), test_settings());
+    Node* tile = scene.tiles[9];
+    tile->transform = glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, 50));
+    FrameReport report;
+    draw(renderer.value(), scene, test_camera(), test_settings(), &report);
+    EXPECT_EQ(report.vertices_shaded, tile->mesh->vertex_count());
+    EXPECT_NE(node(report, tile->name).method, Method::cached);
+}
+
+TEST_F(SceneRendererTest, CullsWhatIsOutsideTheFrustumAndSkipsNegligibleScattering) {
+    auto renderer = SceneRenderer::create(api());
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    TestScene scene;
+    FrameReport report;
+    FrameSettings clear = test_settings();
+    clear.atmosphere = aerial::atmosphere_preset("earth").value();
+    draw(renderer.value(), scene, test_camera(), clear, &report);
+    EXPECT_EQ(node(report, "behind").method, Method::culled);
+    EXPECT_EQ(node(report, "near box").method, Method::skipped)
+        << "1.7 m of clear air change no output by half a step";
+    // In haze the bound (phase at its peak) is 2.3 steps at exposure 8: shaded.
+    draw(renderer.value(), scene, test_camera(), test_settings(), &report);
+    EXPECT_NE(node(report, "near box").method, Method::skipped);
+    draw(renderer.value(), scene, test_camera(), clear, &report);
+    EXPECT_GE(report.culled, 1u);
+    EXPECT_EQ(report.skipped, 1u);
+    // Looking the other way, the terrain is culled and the box behind is drawn.
+    Camera back = test_camera();
+    back.target = {0, -5000, 600};
+    draw(renderer.value(), scene, back, test_settings(), &report);
+    EXPECT_NE(node(report, "behind").method, Method::culled);
+    EXPECT_EQ(count(report, Method::culled), scene.tiles.size() + 1)
+        << "every tile and the near box lie behind";
+    // Without the policy nothing is skipped or reused.
+    FrameSettings off = test_settings();
+    off.policy = false;
+    draw(renderer.value(), scene, test_camera(), off, &report);
+    draw(renderer.value(), scene, test_camera(), off, &report);
+    EXPECT_EQ(node(report, "near box").method, Method::height);
+    EXPECT_EQ(report.cache_hits, 0u);
+    EXPECT_EQ(report.skipped, 0u);
+    EXPECT_EQ(report.vertices_shaded, report.vertices_drawn);
+}
+
+TEST_F(SceneRendererTest, PicksTheCheapestModelMeetingTheTarget) {
+    auto renderer = SceneRenderer::create(api());
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    TestScene scene;
+    FrameSettings s = test_settings();
+    s.error_target_lsb = 1000.0;
+    FrameReport loose, strict;
+    draw(renderer.value(), scene, test_camera(), s, &loose);
+    EXPECT_EQ(loose.shaded_height, 0u) << "every node meets a 1000-step target with the 2002 model";
+    EXPECT_GT(loose.shaded_hoffman_preetham, 0u);
+    renderer.value().clear_caches();
+    s.error_target_lsb = 0.0;
+    draw(renderer.value(), scene, test_camera(), s, &strict);
+    EXPECT_GT(strict.shaded_height, 0u)
+        << "the 2002 model is not exact for hazy terrain 1-4 km away";
+}
+
+TEST_F(SceneRendererTest, ReusedColoursStayWithinOneStepOfFreshOnes) {
+    auto renderer = SceneRenderer::create(api());
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    TestScene scene;
+    FrameSettings s = test_settings();
+    s.error_target_lsb = 0.0;
+    draw(renderer.value(), scene, test_camera(), s);
+    Camera moved = test_camera();
+    moved.eye += glm::dvec3(0.01, 0.0, 0.0);  // 1 cm: colours reused, image of the new eye
+    FrameReport report;
+    const auto reused = draw(renderer.value(), scene, moved, s, &report);
+    EXPECT_GT(report.cache_hits, 0u);
+    s.policy = false;
+    auto fresh_renderer = SceneRenderer::create(api());
+    const auto fresh = draw(fresh_renderer.value(), scene, moved, s);
+    const auto d = aerial_test::compare_rgb(reused, fresh);
+    EXPECT_LE(d.max_lsb, 1) << aerial_test::pixel_text(reused, d.pixel) << " vs "
+                            << aerial_test::pixel_text(fresh, d.pixel);
+}
+
+TEST_F(SceneRendererTest, RestoresTheGlStateItTouches) {
+    auto renderer = SceneRenderer::create(api());
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    TestScene scene;
+    const auto before = aerial::gl::capture_state(api());
+    draw(renderer.value(), scene, test_camera(), test_settings());
+    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(api()));
+    EXPECT_TRUE(changed.empty()) << changed.front();
+}
+
+TEST_F(SceneRendererTest, ArbBackendShadesOnTheGpuEveryFrame) {
+    RendererOptions options;
+    options.backend = Backend::arb;
+    auto renderer = SceneRenderer::create(api(), options);
+    if (!api().caps.vertex_program) {
+        ASSERT_FALSE(renderer);
+        EXPECT_EQ(renderer.error().field, "GL_ARB_vertex_program") << renderer.error().message;
+        return;
+    }
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    TestScene scene;
+    FrameReport first, second;
+    const auto before = aerial::gl::capture_state(api());
+    const auto a = draw(renderer.value(), scene, test_camera(), test_settings(), &first);
+    const auto b = draw(renderer.value(), scene, test_camera(), test_settings(), &second);
+    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(api()));
+    EXPECT_TRUE(changed.empty()) << changed.front();
+    EXPECT_GT(first.vertices_shaded, 0u);
+    EXPECT_EQ(second.vertices_shaded, first.vertices_shaded) << "the GPU shades every frame";
+    EXPECT_EQ(second.cache_hits, 0u);
+    EXPECT_EQ(aerial_test::compare_rgb(a, b).max_lsb, 0);
+    // The terrain is drawn: the lower middle of the image is not the sky's colour everywhere.
+    std::size_t lit = 0;
+    for (int x = 0; x < kWidth; ++x) {
+        const std::size_t p = 4 * (std::size_t(kHeight - 5) * kWidth + std::size_t(x));
+        lit += a[p] + a[p + 1] + a[p + 2] > 0 ? 1 : 0;
+    }
+    EXPECT_EQ(lit, std::size_t(kWidth));
+    FrameSettings reference = test_settings();
+    reference.model = aerial::Model::reference;
+    auto rejected = renderer.value().render(*scene.root, test_camera(), reference);
+    ASSERT_FALSE(rejected);
+    EXPECT_EQ(rejected.error().field, "model");
+}
+
+TEST_F(SceneRendererTest, DrawsABlueSkyAtNoonAndCallsReplacedDrawers) {
+    auto renderer = SceneRenderer::create(api());
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    TestScene scene;
+    Camera up = test_camera();
+    up.target = up.eye + glm::dvec3(0, 1000, 600);  // 31° up: only sky
+    FrameSettings clear = test_settings();
+    clear.atmosphere = aerial::atmosphere_preset("earth").value();
+    clear.sun_dir = glm::normalize(glm::dvec3(0.2, -0.3, 0.9));
+    clear.display.exposure = 20.0f;
+    for (aerial::Model model : {aerial::Model::hoffman_preetham, aerial::Model::height}) {
+        clear.model = model;
+        const auto image = draw(renderer.value(), scene, up, clear);
+        const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
+        EXPECT_GT(image[p + 2], image[p])
+            << aerial::model_name(model) << ": " << aerial_test::pixel_text(image, p / 4);
+        EXPECT_GT(image[p + 2], 60) << aerial::model_name(model);
+    }
+    int sky_calls = 0;
+    renderer.value().set_sky_drawer([&](const SkyDrawContext& c) {
+        ++sky_calls;
+        EXPECT_NE(c.hoffman_preetham, nullptr);
+        EXPECT_NE(c.model, nullptr);
+    });
+    renderer.value().set_sun_drawer(nullptr);
+    const auto image = draw(renderer.value(), scene, up, clear);
+    EXPECT_EQ(sky_calls, 1);
+    const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
+    EXPECT_EQ(image[p] + image[p + 1] + image[p + 2], 0) << "the replaced sky drew nothing";
+}
+
+TEST_F(SceneRendererTest, BadInputIsAnErrorNamingTheField) {
+    auto renderer = SceneRenderer::create(api());
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    TestScene scene;
+    Camera camera = test_camera();
+    camera.fov_y_rad = 0.0;
+    auto r = renderer.value().render(*scene.root, camera, test_settings());
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().field, "camera.fov_y_rad");
+    FrameSettings s = test_settings();
+    s.sun_dir = {0, 0, 2};
+    r = renderer.value().render(*scene.root, test_camera(), s);
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().field, "sun_dir") << r.error().message;
+    auto broken = std::make_shared<MeshData>();
+    broken->positions = {0, 0, 0};
+    broken->indices = {0, 0, 1};
+    scene.root->add(make_mesh("broken", broken));
+    r = renderer.value().render(*scene.root, test_camera(), test_settings());
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().field, "world/broken");
+}
+
+}  // namespace

@@ -25,6 +25,8 @@ PACKAGES=(
     libegl-dev
     libegl-mesa0
     liblcms2-dev
+    libopenmesh-dev
+    python3-matplotlib
     python3
 )
 

@@ -18,10 +18,6 @@
 #include "aerial/mesh.hpp"
 #include "mesh_internal.hpp"
 
-// OpenMesh value-initialises properties of glm vectors, whose default constructor leaves them
-// uninitialised; every property is written before it is read (create() and invalidate()).
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-
 namespace aerial::mesh {
 namespace {
 

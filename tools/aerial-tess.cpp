@@ -59,8 +59,8 @@ struct Row {
 
 struct Settings {
     bool quick = false;
-    double spacing_rad = 0.003;
-    int max_per_edge = 64;
+    double spacing_rad = 0.006;
+    int max_per_edge = 48;
 };
 
 aerial::Frame<float> make_frame(const char* preset, double mie_g, const glm::dvec3& eye,

@@ -104,9 +104,10 @@ void expect_conforming(const Mesh& mesh, OnBorder on_border) {
     for (auto v : mesh.vertices()) {
         if (mesh.status(v).deleted()) continue;
         EXPECT_TRUE(mesh.is_manifold(v)) << "vertex " << v.idx() << " is not manifold";
-        if (mesh.is_boundary(v))
+        if (mesh.is_boundary(v)) {
             EXPECT_TRUE(on_border(to_glm(mesh.point(v))))
                 << "boundary vertex " << v.idx() << " is inside: a crack or a T-junction";
+        }
     }
     for (auto e : mesh.edges()) {
         if (mesh.status(e).deleted()) continue;
@@ -216,9 +217,10 @@ TEST(AdaptiveMesh, RefinedDomeMeetsTheTargetConformingAndUnflipped) {
     for (auto v : mesh.vertices()) {
         const glm::dvec3 p = to_glm(mesh.point(v));
         EXPECT_NEAR(glm::length(p - scene.dome.centre), scene.dome.radius_m, 1e-6);
-        if (std::size_t(v.idx()) < original.size())
+        if (std::size_t(v.idx()) < original.size()) {
             EXPECT_EQ(p, original[std::size_t(v.idx())])
                 << "original vertex " << v.idx() << " moved";
+        }
     }
     expect_conforming(mesh, [&](const glm::dvec3& p) {
         return std::abs(p.z - scene.dome.centre.z) < 1e-6 * scene.dome.radius_m;
@@ -328,8 +330,8 @@ TEST(AdaptiveMesh, TerrainKeepsLockedBordersAndUpdatesOnlyWhereTheViewChanged) {
         return std::abs(std::abs(p.x) - 10000) < 1e-6 || std::abs(std::abs(p.y) - 10000) < 1e-6;
     });
     expect_not_flipped(mesh, [](const glm::dvec3&) { return glm::dvec3(0, 0, 1); });
-    // A step of 1 m re-estimates only the faces near the eye.
-    const auto moved = m.update(scene.frame(eye + glm::dvec3(1, 0, 0)));
+    // A step of 30 m re-estimates only the faces near the eye (closer than 1.5 km at 2 %).
+    const auto moved = m.update(scene.frame(eye + glm::dvec3(30, 0, 0)));
     EXPECT_GT(moved.faces_estimated, 0u);
     EXPECT_LT(moved.faces_estimated, aerial::mesh::live_faces(mesh) / 2);
 }
@@ -363,16 +365,16 @@ TEST(AdaptiveMesh, BadInputIsAnErrorNamingIt) {
 }
 
 TEST(Decimate, RemovesVerticesKeepsTheBorderAndStaysUnderTheBound) {
-    // A mesh that meets 0.5 steps everywhere, decimated to 1 step.
+    // A mesh that meets 1 step everywhere, decimated to 2 steps.
     DomeScene scene(30.0, 0.76);
     scene.colour.max_samples_per_edge = 4;
     AdaptiveSettings settings = dome_settings(scene);
-    settings.split_lsb = 0.5f;
+    settings.split_lsb = 1.0f;
     const Mesh fine = refined_dome(scene, settings, 8).mesh();
-    ASSERT_LE(max_face_error(fine, scene.frame, scene.colour), 0.5f);
+    ASSERT_LE(max_face_error(fine, scene.frame, scene.colour), 1.0f);
     aerial::mesh::DecimateOptions options;
     options.colour = scene.colour;
-    options.max_lsb = 1.0f;
+    options.max_lsb = 2.0f;
     auto decimated = aerial::mesh::decimate(fine, scene.frame, options);
     ASSERT_TRUE(decimated.ok()) << decimated.error().message;
     EXPECT_LT(decimated->n_vertices(), aerial::mesh::live_vertices(fine) * 3 / 4);

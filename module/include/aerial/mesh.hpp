@@ -206,6 +206,8 @@ class AdaptiveMesh {
     OpenMesh::EdgeHandle longest_edge(OpenMesh::FaceHandle f) const;
     void bisect(OpenMesh::EdgeHandle e, UpdateStats& stats);
     bool try_undo(std::size_t record, UpdateStats& stats);
+    void stamp(OpenMesh::FaceHandle f, float error);
+    bool face_stale(OpenMesh::FaceHandle f) const;
 
     Mesh mesh_;
     Surface surface_;
@@ -214,12 +216,21 @@ class AdaptiveMesh {
     const Frame<float>* frame_ = nullptr;
     // Per vertex: displayed colour and the eye/sun it was computed for; per face: estimate and
     // the eye/sun of it.
-    OpenMesh::VPropHandleT<glm::vec3> colour_;
-    OpenMesh::VPropHandleT<glm::vec3> colour_eye_;
-    OpenMesh::VPropHandleT<glm::vec3> colour_sun_;
+    struct Vec3 {  // initialised, unlike glm's, so that copies of the mesh are well defined
+        glm::vec3 v{0.0f};
+    };
+    OpenMesh::VPropHandleT<Vec3> colour_;
+    OpenMesh::VPropHandleT<Vec3> colour_eye_;
+    OpenMesh::VPropHandleT<Vec3> colour_sun_;
     OpenMesh::FPropHandleT<float> error_;
-    OpenMesh::FPropHandleT<glm::vec3> error_eye_;
-    OpenMesh::FPropHandleT<glm::vec3> error_sun_;
+    OpenMesh::FPropHandleT<Vec3> error_eye_;
+    OpenMesh::FPropHandleT<Vec3> error_sun_;
+    OpenMesh::FPropHandleT<float>
+        error_radius_sq_;  ///< eye moves beyond this (squared) re-estimate
+    std::size_t live_vertices_ = 0;
+    std::size_t live_faces_ = 0;
+    std::vector<OpenMesh::VertexHandle> touched_;  ///< vertices of faces estimated this update
+    float estimated_max_ = 0.0f;  ///< largest estimate at or below split_lsb made this update
     OpenMesh::VPropHandleT<int> record_;  ///< index into splits_, -1 for base vertices
     std::vector<Split> splits_;
     std::size_t cursor_ = 0;  ///< where the last time-sliced re-estimation stopped

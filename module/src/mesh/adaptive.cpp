@@ -81,16 +81,19 @@ Result<AdaptiveMesh> AdaptiveMesh::create(Mesh base, Surface surface, AdaptiveSe
     m.mesh_.add_property(m.error_);
     m.mesh_.add_property(m.error_eye_);
     m.mesh_.add_property(m.error_sun_);
+    m.mesh_.add_property(m.error_radius_sq_);
     m.mesh_.add_property(m.record_);
     for (auto v : m.mesh_.vertices()) m.mesh_.property(m.record_, v) = -1;
+    m.live_vertices_ = m.mesh_.n_vertices();
+    m.live_faces_ = m.mesh_.n_faces();
     m.invalidate();
     return m;
 }
 
 void AdaptiveMesh::invalidate() {
-    for (auto v : mesh_.vertices()) mesh_.property(colour_eye_, v) = glm::vec3(kNaN);
+    for (auto v : mesh_.vertices()) mesh_.property(colour_eye_, v).v = glm::vec3(kNaN);
     for (auto f : mesh_.faces()) {
-        mesh_.property(error_eye_, f) = glm::vec3(kNaN);
+        mesh_.property(error_eye_, f).v = glm::vec3(kNaN);
         mesh_.property(error_, f) = 0.0f;
     }
 }
@@ -117,13 +120,13 @@ bool stale(const glm::vec3& stamp_eye, const glm::vec3& stamp_sun, const glm::dv
 
 glm::vec3 AdaptiveMesh::vertex_colour(OpenMesh::VertexHandle v) {
     const glm::dvec3 p = to_glm(mesh_.point(v));
-    if (stale(mesh_.property(colour_eye_, v), mesh_.property(colour_sun_, v), p, *frame_,
+    if (stale(mesh_.property(colour_eye_, v).v, mesh_.property(colour_sun_, v).v, p, *frame_,
               settings_)) {
-        mesh_.property(colour_, v) = display_colour(*frame_, settings_.colour, p);
-        mesh_.property(colour_eye_, v) = glm::vec3(frame_->view.eye);
-        mesh_.property(colour_sun_, v) = glm::vec3(frame_->view.sun_dir);
+        mesh_.property(colour_, v).v = display_colour(*frame_, settings_.colour, p);
+        mesh_.property(colour_eye_, v).v = glm::vec3(frame_->view.eye);
+        mesh_.property(colour_sun_, v).v = glm::vec3(frame_->view.sun_dir);
     }
-    return mesh_.property(colour_, v);
+    return mesh_.property(colour_, v).v;
 }
 
 bool AdaptiveMesh::edge_locked(OpenMesh::EdgeHandle e) const {
@@ -143,10 +146,31 @@ float AdaptiveMesh::estimate(OpenMesh::FaceHandle f) {
         ++k;
     }
     const float e = colour_error_skipping(*frame_, settings_.colour, p, c, skip);
-    mesh_.property(error_, f) = e;
-    mesh_.property(error_eye_, f) = glm::vec3(frame_->view.eye);
-    mesh_.property(error_sun_, f) = glm::vec3(frame_->view.sun_dir);
+    stamp(f, e);
     return e;
+}
+
+void AdaptiveMesh::stamp(OpenMesh::FaceHandle f, float error) {
+    const glm::dvec3 eye = frame_->view.eye;
+    const glm::dvec3 centroid = to_glm(mesh_.calc_face_centroid(f));
+    const double radius = settings_.eye_move_fraction * glm::length(centroid - eye);
+    mesh_.property(error_, f) = error;
+    mesh_.property(error_eye_, f).v = glm::vec3(eye);
+    mesh_.property(error_sun_, f).v = glm::vec3(frame_->view.sun_dir);
+    mesh_.property(error_radius_sq_, f) = float(radius * radius);
+    for (auto v : mesh_.fv_range(f)) touched_.push_back(v);
+    if (error <= settings_.split_lsb) estimated_max_ = std::max(estimated_max_, error);
+}
+
+bool AdaptiveMesh::face_stale(OpenMesh::FaceHandle f) const {
+    // The eye moved by more than eye_move_fraction of the face's distance at its last estimate,
+    // or the sun turned by more than sun_turn_rad.
+    const glm::vec3& eye = mesh_.property(error_eye_, f).v;
+    if (std::isnan(eye.x)) return true;
+    const glm::vec3 moved = glm::vec3(frame_->view.eye) - eye;
+    if (glm::dot(moved, moved) > mesh_.property(error_radius_sq_, f)) return true;
+    const float c = glm::dot(glm::vec3(frame_->view.sun_dir), mesh_.property(error_sun_, f).v);
+    return c < float(std::cos(settings_.sun_turn_rad));
 }
 
 OpenMesh::EdgeHandle AdaptiveMesh::longest_edge(OpenMesh::FaceHandle f) const {
@@ -181,11 +205,13 @@ void AdaptiveMesh::bisect(OpenMesh::EdgeHandle e, UpdateStats& stats) {
     if (!mesh_.is_boundary(h1)) record.d = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h1));
     const glm::dvec3 mid = 0.5 * (to_glm(mesh_.point(record.a)) + to_glm(mesh_.point(record.b)));
     record.vertex = mesh_.add_vertex(to_point(surface_.project(mid)));
-    mesh_.property(colour_eye_, record.vertex) = glm::vec3(kNaN);
+    mesh_.property(colour_eye_, record.vertex).v = glm::vec3(kNaN);
     mesh_.property(record_, record.vertex) = int(splits_.size());
     splits_.push_back(record);
     mesh_.split(e, record.vertex);
     ++stats.splits;
+    ++live_vertices_;
+    live_faces_ += record.c.is_valid() && record.d.is_valid() ? 2 : 1;
     for (auto f : mesh_.vf_range(record.vertex)) {
         estimate(f);
         ++stats.faces_estimated;
@@ -206,7 +232,7 @@ bool AdaptiveMesh::try_undo(std::size_t index, UpdateStats& stats) {
     if (count != expected) return false;
     // Cheap test first: the children's last estimates.
     for (auto f : mesh_.vf_range(s.vertex))
-        if (mesh_.property(error_, f) > merge_lsb || std::isnan(mesh_.property(error_eye_, f).x))
+        if (mesh_.property(error_, f) > merge_lsb || std::isnan(mesh_.property(error_eye_, f).v.x))
             return false;
     // The parents' errors now.
     auto parent_error = [&](OpenMesh::VertexHandle apex) {
@@ -237,12 +263,12 @@ bool AdaptiveMesh::try_undo(std::size_t index, UpdateStats& stats) {
         const auto f = mesh_.face_handle(hh);
         if (!f.is_valid()) continue;
         const auto apex = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(hh));
-        mesh_.property(error_, f) = apex == s.c ? error_c : error_d;
-        mesh_.property(error_eye_, f) = glm::vec3(frame_->view.eye);
-        mesh_.property(error_sun_, f) = glm::vec3(frame_->view.sun_dir);
+        stamp(f, apex == s.c ? error_c : error_d);
     }
     splits_[index].vertex = OpenMesh::VertexHandle();
     ++stats.merges;
+    --live_vertices_;
+    live_faces_ -= s.c.is_valid() && s.d.is_valid() ? 2 : 1;
     return true;
 }
 
@@ -253,51 +279,59 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
         return slice > 0.0 && elapsed_ms(start) > fraction * slice;
     };
     frame_ = &frame;
+    touched_.clear();
+    estimated_max_ = 0.0f;
     UpdateStats stats;
 
-    // 1. Re-estimate what the view change made stale (round robin under a time slice).
+    // 1. Re-estimate what the view change made stale (round robin under a time slice) and queue
+    // every face above the target.
+    std::priority_queue<HeapEntry> heap;
     const std::size_t n_faces = mesh_.n_faces();
     std::size_t visited = 0;
     for (; visited < n_faces; ++visited) {
-        if ((visited & 63) == 0 && out_of_time(0.5)) {
+        if ((visited & 255) == 0 && out_of_time(0.5)) {
             stats.complete = false;
             break;
         }
         const OpenMesh::FaceHandle f(int((cursor_ + visited) % n_faces));
         if (mesh_.status(f).deleted()) continue;
-        const glm::dvec3 centroid = to_glm(mesh_.calc_face_centroid(f));
-        if (stale(mesh_.property(error_eye_, f), mesh_.property(error_sun_, f), centroid, frame,
-                  settings_)) {
+        if (face_stale(f)) {
             estimate(f);
             ++stats.faces_estimated;
         }
+        const float e = mesh_.property(error_, f);
+        if (e > settings_.split_lsb)
+            heap.push({e, f.idx()});
+        else
+            estimated_max_ = std::max(estimated_max_, e);
     }
     cursor_ = n_faces ? (cursor_ + visited) % n_faces : 0;
 
     // 2. Refine: worst face first, LEPP bisection until the target, the budget or the slice.
-    std::priority_queue<HeapEntry> heap;
-    for (auto f : mesh_.faces())
-        if (!mesh_.status(f).deleted() && mesh_.property(error_, f) > settings_.split_lsb)
-            heap.push({mesh_.property(error_, f), f.idx()});
-    std::size_t vertices = live_vertices(mesh_);
+    float unrefined_max = 0.0f;  // faces above the target left as they are
     std::size_t iterations = 0;
     while (!heap.empty()) {
-        if ((++iterations & 15) == 0 && out_of_time(0.9)) {
+        const HeapEntry top = heap.top();
+        const OpenMesh::FaceHandle f0(top.face);
+        if (mesh_.status(f0).deleted() || mesh_.property(error_, f0) != top.error) {
+            heap.pop();
+            continue;
+        }
+        if (live_vertices_ >= settings_.max_vertices ||
+            ((++iterations & 15) == 0 && out_of_time(0.9))) {
             stats.complete = false;
             break;
         }
-        const HeapEntry top = heap.top();
         heap.pop();
-        const OpenMesh::FaceHandle f0(top.face);
-        if (mesh_.status(f0).deleted() || mesh_.property(error_, f0) != top.error) continue;
-        if (!splittable(f0)) continue;
+        if (!splittable(f0)) {
+            unrefined_max = std::max(unrefined_max, top.error);
+            continue;
+        }
         const auto e0 = longest_edge(f0);
-        bool done = false;
-        for (int guard = 0; !done && guard < 4096; ++guard) {
-            if (vertices >= settings_.max_vertices) break;
+        for (bool done = false; !done && live_vertices_ < settings_.max_vertices;) {
             // Walk the longest-edge propagation path to its terminal edge and split that.
             OpenMesh::FaceHandle f = f0;
-            OpenMesh::EdgeHandle e = longest_edge(f0);
+            OpenMesh::EdgeHandle e = e0;
             for (int step = 0; step < 4096; ++step) {
                 const auto h = mesh_.halfedge_handle(e, 0);
                 const auto across = mesh_.face_handle(h) == f
@@ -311,34 +345,51 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
             }
             done = e == e0;
             bisect(e, stats);
-            ++vertices;
             for (auto nf : mesh_.vf_range(OpenMesh::VertexHandle(int(mesh_.n_vertices()) - 1)))
                 if (mesh_.property(error_, nf) > settings_.split_lsb)
                     heap.push({mesh_.property(error_, nf), nf.idx()});
         }
-        if (vertices >= settings_.max_vertices) {
-            stats.complete = false;
-            break;
-        }
+    }
+    for (; !heap.empty(); heap.pop()) {
+        const OpenMesh::FaceHandle f(heap.top().face);
+        if (!mesh_.status(f).deleted() && mesh_.property(error_, f) == heap.top().error)
+            unrefined_max = std::max(unrefined_max, heap.top().error);
     }
 
-    // 3. Coarsen: undo bisections whose parents are back below split / merge_ratio, newest
-    // first so that a refined region can fold back in one update.
+    // 3. Coarsen: undo bisections whose parents are back below split / merge_ratio. Only
+    // vertices next to a face estimated in this update can have changed their answer; newest
+    // first, and an undo makes the parents' vertices candidates again (cascades).
     if (settings_.coarsen) {
-        for (std::size_t i = splits_.size(); i-- > 0;) {
-            if ((i & 63) == 0 && out_of_time(1.0)) {
+        std::priority_queue<int> candidates;
+        std::size_t consumed = 0;
+        auto collect = [&] {
+            for (; consumed < touched_.size(); ++consumed) {
+                const auto v = touched_[consumed];
+                if (!mesh_.status(v).deleted() && mesh_.property(record_, v) >= 0)
+                    candidates.push(mesh_.property(record_, v));
+            }
+        };
+        collect();
+        int last = -1;
+        while (!candidates.empty()) {
+            if ((++iterations & 63) == 0 && out_of_time(1.0)) {
                 stats.complete = false;
                 break;
             }
-            try_undo(i, stats);
+            const int r = candidates.top();
+            candidates.pop();
+            if (r == last) continue;  // duplicates come out together
+            last = r;
+            if (try_undo(std::size_t(r), stats)) {
+                collect();
+                last = -1;
+            }
         }
     }
 
-    stats.vertices = live_vertices(mesh_);
-    stats.faces = live_faces(mesh_);
-    for (auto f : mesh_.faces())
-        if (!mesh_.status(f).deleted() && splittable(f))
-            stats.max_error_lsb = std::max(stats.max_error_lsb, mesh_.property(error_, f));
+    stats.vertices = live_vertices_;
+    stats.faces = live_faces_;
+    stats.max_error_lsb = std::max(estimated_max_, unrefined_max);
     frame_ = nullptr;
     return stats;
 }

@@ -29,6 +29,7 @@ PACKAGES=(
     libglfw3-dev
     xvfb
     xauth
+    python3-matplotlib
     python3
 )
 

@@ -1,0 +1,253 @@
+// aerial/mesh.hpp — put vertices where the per-vertex colour needs them (OpenMesh).
+//
+// How to use this:
+//   1. Build a base mesh: `geodesic_dome(4, dome)`, `latlong_dome(...)` or
+//      `terrain_grid(heightfield, 16, 16)`, and describe the true surface new vertices go onto
+//      (`Surface::sphere(...)`, `Surface::terrain(...)`).
+//   2. `auto adaptive = aerial::mesh::AdaptiveMesh::create(std::move(base), surface, settings);`
+//   3. Per frame: `auto frame = aerial::prepare_frame<float>(atmosphere, view, model);` then
+//      `adaptive->update(*frame);` splits triangles whose colour error exceeds
+//      settings.split_lsb (longest-edge bisection, Rivara's LEPP) within a vertex budget and a time
+//      slice, and undoes splits whose parent triangle is back under split_lsb / merge_ratio.
+//   4. Draw `adaptive->mesh()` (an OpenMesh TriMesh with double positions; it keeps deleted
+//      elements until `compact()`, so skip faces with `status(f).deleted()` or call compact()).
+//   Offline: `decimate(mesh, frame, options)` removes vertices while the colour error stays below
+//   a bound (an OpenMesh Decimater with a colour-error module).
+//
+// The colour error (8-bit steps) of a triangle is the largest difference, over sample points,
+// between the colour interpolated from its three vertices and the exact colour at the point, on
+// the displayed colour clamp(F_ex * texel + display(L_in)) of each channel (ColourOptions).
+// Samples: edge midpoints and the centroid, plus a barycentric grid when the triangle is large
+// against the Mie lobe as seen from the eye.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <glm/vec3.hpp>
+
+#include "aerial/batch.hpp"
+#include "aerial/error.hpp"
+#include "aerial/scattering.hpp"
+
+namespace aerial::mesh {
+
+struct MeshTraits : public OpenMesh::DefaultTraits {
+    using Point = OpenMesh::Vec3d;  ///< metres (engine units), double so domes of 100 km stay exact
+    using Normal = OpenMesh::Vec3d;
+    VertexAttributes(OpenMesh::Attributes::Status);
+    EdgeAttributes(OpenMesh::Attributes::Status);
+    HalfedgeAttributes(OpenMesh::Attributes::PrevHalfedge);
+    FaceAttributes(OpenMesh::Attributes::Status | OpenMesh::Attributes::Normal);
+};
+
+/// The mesh type of this module: triangles, double positions, status flags (for deletion).
+using Mesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
+
+// ---- Shapes -----------------------------------------------------------------------------------
+
+/// A hemispherical sky dome around `centre` (usually the eye), open at the horizon.
+struct DomeOptions {
+    glm::dvec3 centre{0.0, 0.0, 0.0};
+    glm::dvec3 up{0.0, 0.0, 1.0};  ///< unit
+    double radius_m = 80000.0;     ///< > 0
+};
+
+/// Geodesic dome of class I on the octahedron: the upper four faces subdivided `frequency` times
+/// per edge and projected onto the sphere; 2 f^2 + 2 f + 1 vertices, the horizon ring has 4 f.
+/// frequency in 1 .. 2048.
+Result<Mesh> geodesic_dome(int frequency, const DomeOptions& dome = {});
+
+/// Latitude-longitude dome as engines ship it: `rings` rings between the horizon and the pole
+/// (equal elevation steps), `segments` vertices per ring, one pole vertex;
+/// rings * segments + 1 vertices. rings in 1 .. 4096, segments in 3 .. 16384.
+Result<Mesh> latlong_dome(int rings, int segments, const DomeOptions& dome = {});
+
+/// Heights z = height_m(x, y) over the rectangle [x0, x0 + size_x] x [y0, y0 + size_y] (m).
+struct Heightfield {
+    std::function<double(double, double)> height_m;
+    double x0 = 0.0, y0 = 0.0;
+    double size_x_m = 1000.0, size_y_m = 1000.0;
+};
+
+/// Rolling hills: a sum of `octaves` sines with decreasing wavelengths, deterministic in `seed`.
+/// Peak-to-peak height at most 2 * amplitude_m.
+Heightfield rolling_hills(double x0, double y0, double size_m, double amplitude_m,
+                          double wavelength_m, unsigned seed = 1, int octaves = 3);
+
+/// Regular grid of cells_x by cells_y squares, each cut along the same diagonal; vertices on the
+/// heightfield. cells in 1 .. 4096. The heightfield must give finite heights.
+Result<Mesh> terrain_grid(const Heightfield& field, int cells_x, int cells_y);
+
+/// Where new vertices go: onto the sphere, onto the heightfield, or left at the edge midpoint.
+struct Surface {
+    enum class Kind { plane, sphere, heightfield };
+    Kind kind = Kind::plane;
+    glm::dvec3 centre{0.0};                          ///< sphere
+    double radius_m = 1.0;                           ///< sphere
+    std::function<double(double, double)> height_m;  ///< heightfield: z of (x, y)
+
+    static Surface sphere(const DomeOptions& dome);
+    static Surface terrain(const Heightfield& field);
+    /// The point of the surface a new vertex at the edge midpoint `p` goes to.
+    glm::dvec3 project(const glm::dvec3& p) const;
+};
+
+// ---- Colour error -----------------------------------------------------------------------------
+
+/// What the screen shows at a vertex: clamp(F_ex * texel + display(L_in)) per channel.
+struct ColourOptions {
+    Display display;
+    /// The brightest texel that F_ex multiplies; 0 for a sky dome, which shows only L_in.
+    glm::vec3 texel{1.0f};
+    /// Samples per triangle edge at most (the barycentric grid for triangles large against the
+    /// Mie lobe); 2 gives edge midpoints and the centroid only. In 2 .. 32.
+    int max_samples_per_edge = 8;
+};
+
+/// The first bad field of the options (exposure, texel, max_samples_per_edge).
+std::optional<Error> validate(const ColourOptions& options);
+
+/// The displayed colour at a position, each channel in [0, 1].
+glm::vec3 display_colour(const Frame<float>& frame, const ColourOptions& options,
+                         const glm::dvec3& position);
+
+/// Colour error of the triangle (p0, p1, p2) whose vertices show c0, c1, c2, in 8-bit steps.
+float colour_error(const Frame<float>& frame, const ColourOptions& options, const glm::dvec3& p0,
+                   const glm::dvec3& p1, const glm::dvec3& p2, const glm::vec3& c0,
+                   const glm::vec3& c1, const glm::vec3& c2);
+
+/// An independent, dense measure of what a mesh shows against the exact per-pixel colour: every
+/// face sampled on a barycentric grid whose spacing, seen from the eye, is at most
+/// `spacing_rad` (at least the edge midpoints; at most `max_per_edge` per edge). Samples weigh
+/// alike. Deleted faces are skipped.
+struct DenseError {
+    double max_lsb = 0.0;
+    double p99_lsb = 0.0;
+    double rmse_lsb = 0.0;
+    double over1 = 0.0;  ///< fraction of samples off by more than 1 step
+    double over2 = 0.0;  ///< ... by more than 2 steps
+    std::size_t samples = 0;
+};
+Result<DenseError> dense_error(const Mesh& mesh, const Frame<float>& frame,
+                               const ColourOptions& options, double spacing_rad,
+                               int max_per_edge = 96);
+
+/// Live vertices and faces (not counting deleted ones).
+std::size_t live_vertices(const Mesh& mesh);
+std::size_t live_faces(const Mesh& mesh);
+
+/// The first problem of a mesh that the module cannot work on: no faces, a non-finite position,
+/// a face that is not a triangle. The error field is `what`.
+std::optional<Error> validate_mesh(const Mesh& mesh, const char* what = "mesh");
+
+// ---- Adaptive refinement and coarsening -------------------------------------------------------
+
+struct AdaptiveSettings {
+    ColourOptions colour;
+    float split_lsb = 1.0f;     ///< triangles above this colour error are bisected, > 0
+    float merge_ratio = 1.75f;  ///< a split is undone when its parent is below split/merge_ratio,
+                                ///< >= 1 (hysteresis: 1.5 to 2 keeps the mesh from oscillating)
+    std::size_t max_vertices = 1u << 20;  ///< vertex budget (live vertices)
+    double time_slice_ms = 0.0;           ///< per update; 0 means no limit
+    bool lock_boundary = true;  ///< boundary edges (horizon ring, tile borders) are never split
+    bool coarsen = true;        ///< undo splits where the error allows
+    /// A face is re-estimated when the eye has moved by more than this fraction of its distance
+    /// since its last estimate, or the sun has turned by more than sun_turn_rad.
+    double eye_move_fraction = 0.02;
+    double sun_turn_rad = 0.002;
+};
+
+std::optional<Error> validate(const AdaptiveSettings& settings);
+
+struct UpdateStats {
+    std::size_t faces_estimated = 0;  ///< colour errors computed this update
+    std::size_t splits = 0;           ///< edges bisected
+    std::size_t merges = 0;           ///< bisections undone
+    std::size_t vertices = 0;         ///< live vertices after the update
+    std::size_t faces = 0;            ///< live faces after the update
+    float max_error_lsb = 0.0f;       ///< largest estimate over splittable faces after the update
+    bool complete = true;  ///< false when the budget or the time slice stopped refinement
+};
+
+class AdaptiveMesh {
+  public:
+    /// Validates the base mesh (validate_mesh), the surface and the settings.
+    static Result<AdaptiveMesh> create(Mesh base, Surface surface, AdaptiveSettings settings);
+
+    /// Re-estimates the faces whose view changed, splits, then undoes splits (see the header).
+    UpdateStats update(const Frame<float>& frame);
+
+    const Mesh& mesh() const { return mesh_; }
+    const AdaptiveSettings& settings() const { return settings_; }
+    /// Vertices of the base mesh: their handles are 0 .. base_vertices - 1, never moved or
+    /// removed.
+    std::size_t base_vertices() const { return base_vertices_; }
+    /// The last estimate of a face's colour error (8-bit steps).
+    float face_error(OpenMesh::FaceHandle face) const;
+    /// Removes deleted elements and renumbers handles; the undo records follow.
+    void compact();
+    /// Marks every colour and estimate stale: call it when anything but the eye and the sun
+    /// changed (atmosphere, model, display).
+    void invalidate();
+
+  private:
+    AdaptiveMesh() = default;
+    struct Split {
+        OpenMesh::VertexHandle vertex, a, b, c, d;  ///< new vertex; edge a-b; opposites c, d
+    };
+    glm::vec3 vertex_colour(OpenMesh::VertexHandle v);
+    float estimate(OpenMesh::FaceHandle f);
+    bool splittable(OpenMesh::FaceHandle f) const;
+    bool edge_locked(OpenMesh::EdgeHandle e) const;
+    OpenMesh::EdgeHandle longest_edge(OpenMesh::FaceHandle f) const;
+    void bisect(OpenMesh::EdgeHandle e, UpdateStats& stats);
+    bool try_undo(std::size_t record, UpdateStats& stats);
+    void stamp(OpenMesh::FaceHandle f, float error);
+    bool face_stale(OpenMesh::FaceHandle f) const;
+
+    Mesh mesh_;
+    Surface surface_;
+    AdaptiveSettings settings_;
+    std::size_t base_vertices_ = 0;
+    const Frame<float>* frame_ = nullptr;
+    // Per vertex: displayed colour and the eye/sun it was computed for; per face: estimate and
+    // the eye/sun of it.
+    struct Vec3 {  // initialised, unlike glm's, so that copies of the mesh are well defined
+        glm::vec3 v{0.0f};
+    };
+    OpenMesh::VPropHandleT<Vec3> colour_;
+    OpenMesh::VPropHandleT<Vec3> colour_eye_;
+    OpenMesh::VPropHandleT<Vec3> colour_sun_;
+    OpenMesh::FPropHandleT<float> error_;
+    OpenMesh::FPropHandleT<Vec3> error_eye_;
+    OpenMesh::FPropHandleT<Vec3> error_sun_;
+    OpenMesh::FPropHandleT<float>
+        error_radius_sq_;  ///< eye moves beyond this (squared) re-estimate
+    std::size_t live_vertices_ = 0;
+    std::size_t live_faces_ = 0;
+    std::vector<OpenMesh::VertexHandle> touched_;  ///< vertices of faces estimated this update
+    float estimated_max_ = 0.0f;  ///< largest estimate at or below split_lsb made this update
+    OpenMesh::VPropHandleT<int> record_;  ///< index into splits_, -1 for base vertices
+    std::vector<Split> splits_;
+    std::size_t cursor_ = 0;  ///< where the last time-sliced re-estimation stopped
+};
+
+// ---- Offline decimation -----------------------------------------------------------------------
+
+struct DecimateOptions {
+    ColourOptions colour;
+    float max_lsb = 1.0f;          ///< no collapse leaves a triangle above this error, > 0
+    std::size_t min_vertices = 0;  ///< stop at this many vertices
+    bool lock_boundary = true;     ///< boundary vertices are never removed
+};
+
+/// Halfedge collapses (no vertex moves) ordered by the colour error they leave, through
+/// OpenMesh's Decimater and a colour-error module; refuses collapses that flip a face. Returns the
+/// compacted mesh.
+Result<Mesh> decimate(const Mesh& mesh, const Frame<float>& frame, const DecimateOptions& options);
+
+}  // namespace aerial::mesh

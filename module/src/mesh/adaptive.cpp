@@ -1,0 +1,414 @@
+// Colour-error-driven longest-edge bisection (Rivara's LEPP) with undo records for coarsening.
+//
+// Every bisection splits both faces of an edge (TriMesh::split(EdgeHandle, VertexHandle)), so the
+// mesh stays conforming; the new vertex is the edge midpoint projected onto the surface. A split
+// is undone by collapsing its vertex into one end of the split edge, which restores the two
+// parent faces exactly, and only when the vertex's one-ring is still the one it was born with.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "aerial/mesh.hpp"
+#include "mesh_internal.hpp"
+
+namespace aerial::mesh {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+double elapsed_ms(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+struct HeapEntry {
+    float error;
+    int face;
+    bool operator<(const HeapEntry& o) const {
+        return error < o.error || (error == o.error && face > o.face);
+    }
+};
+
+}  // namespace
+
+std::optional<Error> validate(const AdaptiveSettings& settings) {
+    if (auto e = validate(settings.colour)) return e;
+    if (!(settings.split_lsb > 0.0f) || !std::isfinite(settings.split_lsb))
+        return Error{"split_lsb", "split_lsb: expected a finite value > 0, got " +
+                                      std::to_string(settings.split_lsb)};
+    if (!(settings.merge_ratio >= 1.0f) || !std::isfinite(settings.merge_ratio))
+        return Error{"merge_ratio", "merge_ratio: expected a finite value >= 1, got " +
+                                        std::to_string(settings.merge_ratio)};
+    if (settings.max_vertices < 3)
+        return Error{"max_vertices",
+                     "max_vertices: expected >= 3, got " + std::to_string(settings.max_vertices)};
+    if (!(settings.time_slice_ms >= 0.0) || !std::isfinite(settings.time_slice_ms))
+        return Error{"time_slice_ms", "time_slice_ms: expected a finite value >= 0, got " +
+                                          std::to_string(settings.time_slice_ms)};
+    if (!(settings.eye_move_fraction >= 0.0) || !(settings.sun_turn_rad >= 0.0))
+        return Error{"eye_move_fraction", "eye_move_fraction, sun_turn_rad: expected >= 0"};
+    return std::nullopt;
+}
+
+Result<AdaptiveMesh> AdaptiveMesh::create(Mesh base, Surface surface, AdaptiveSettings settings) {
+    if (auto e = validate(settings)) return *e;
+    if (auto e = validate_mesh(base, "base")) return *e;
+    if (surface.kind == Surface::Kind::sphere &&
+        (!(surface.radius_m > 0.0) || !std::isfinite(surface.radius_m) || !finite(surface.centre)))
+        return Error{"surface",
+                     "surface: sphere needs a finite centre and a radius > 0, got "
+                     "radius " +
+                         std::to_string(surface.radius_m)};
+    if (surface.kind == Surface::Kind::heightfield && !surface.height_m)
+        return Error{"surface", "surface: heightfield without a height function"};
+    AdaptiveMesh m;
+    m.mesh_ = std::move(base);
+    m.mesh_.garbage_collection();
+    m.surface_ = std::move(surface);
+    m.settings_ = settings;
+    m.base_vertices_ = m.mesh_.n_vertices();
+    m.mesh_.add_property(m.colour_);
+    m.mesh_.add_property(m.colour_eye_);
+    m.mesh_.add_property(m.colour_sun_);
+    m.mesh_.add_property(m.error_);
+    m.mesh_.add_property(m.error_eye_);
+    m.mesh_.add_property(m.error_sun_);
+    m.mesh_.add_property(m.error_radius_sq_);
+    m.mesh_.add_property(m.record_);
+    for (auto v : m.mesh_.vertices()) m.mesh_.property(m.record_, v) = -1;
+    m.live_vertices_ = m.mesh_.n_vertices();
+    m.live_faces_ = m.mesh_.n_faces();
+    m.invalidate();
+    return m;
+}
+
+void AdaptiveMesh::invalidate() {
+    for (auto v : mesh_.vertices()) mesh_.property(colour_eye_, v).v = glm::vec3(kNaN);
+    for (auto f : mesh_.faces()) {
+        mesh_.property(error_eye_, f).v = glm::vec3(kNaN);
+        mesh_.property(error_, f) = 0.0f;
+    }
+}
+
+float AdaptiveMesh::face_error(OpenMesh::FaceHandle face) const {
+    return mesh_.property(error_, face);
+}
+
+namespace {
+
+// True when a value computed with (stamp_eye, stamp_sun) for something at `position` is out of
+// date for the frame: the eye moved by more than `fraction` of the distance, or the sun turned.
+bool stale(const glm::vec3& stamp_eye, const glm::vec3& stamp_sun, const glm::dvec3& position,
+           const Frame<float>& frame, const AdaptiveSettings& settings) {
+    if (std::isnan(stamp_eye.x)) return true;
+    const glm::dvec3 eye = frame.view.eye;
+    const double moved = glm::length(eye - glm::dvec3(stamp_eye));
+    if (moved > settings.eye_move_fraction * glm::length(position - eye)) return true;
+    const double c = std::clamp(glm::dot(frame.view.sun_dir, glm::dvec3(stamp_sun)), -1.0, 1.0);
+    return std::acos(c) > settings.sun_turn_rad;
+}
+
+}  // namespace
+
+glm::vec3 AdaptiveMesh::vertex_colour(OpenMesh::VertexHandle v) {
+    const glm::dvec3 p = to_glm(mesh_.point(v));
+    if (stale(mesh_.property(colour_eye_, v).v, mesh_.property(colour_sun_, v).v, p, *frame_,
+              settings_)) {
+        mesh_.property(colour_, v).v = display_colour(*frame_, settings_.colour, p);
+        mesh_.property(colour_eye_, v).v = glm::vec3(frame_->view.eye);
+        mesh_.property(colour_sun_, v).v = glm::vec3(frame_->view.sun_dir);
+    }
+    return mesh_.property(colour_, v).v;
+}
+
+bool AdaptiveMesh::edge_locked(OpenMesh::EdgeHandle e) const {
+    return settings_.lock_boundary && mesh_.is_boundary(e);
+}
+
+float AdaptiveMesh::estimate(OpenMesh::FaceHandle f) {
+    glm::dvec3 p[3];
+    glm::vec3 c[3];
+    bool skip[3];
+    int k = 0;
+    for (auto h : mesh_.fh_range(f)) {  // halfedge k runs from vertex k to vertex k + 1
+        const auto v = mesh_.from_vertex_handle(h);
+        p[k] = to_glm(mesh_.point(v));
+        c[k] = vertex_colour(v);
+        skip[k] = edge_locked(mesh_.edge_handle(h));
+        ++k;
+    }
+    const float e = colour_error_skipping(*frame_, settings_.colour, p, c, skip);
+    stamp(f, e);
+    return e;
+}
+
+void AdaptiveMesh::stamp(OpenMesh::FaceHandle f, float error) {
+    const glm::dvec3 eye = frame_->view.eye;
+    const glm::dvec3 centroid = to_glm(mesh_.calc_face_centroid(f));
+    const double radius = settings_.eye_move_fraction * glm::length(centroid - eye);
+    mesh_.property(error_, f) = error;
+    mesh_.property(error_eye_, f).v = glm::vec3(eye);
+    mesh_.property(error_sun_, f).v = glm::vec3(frame_->view.sun_dir);
+    mesh_.property(error_radius_sq_, f) = float(radius * radius);
+    for (auto v : mesh_.fv_range(f)) touched_.push_back(v);
+    if (error <= settings_.split_lsb) estimated_max_ = std::max(estimated_max_, error);
+}
+
+bool AdaptiveMesh::face_stale(OpenMesh::FaceHandle f) const {
+    // The eye moved by more than eye_move_fraction of the face's distance at its last estimate,
+    // or the sun turned by more than sun_turn_rad.
+    const glm::vec3& eye = mesh_.property(error_eye_, f).v;
+    if (std::isnan(eye.x)) return true;
+    const glm::vec3 moved = glm::vec3(frame_->view.eye) - eye;
+    if (glm::dot(moved, moved) > mesh_.property(error_radius_sq_, f)) return true;
+    const float c = glm::dot(glm::vec3(frame_->view.sun_dir), mesh_.property(error_sun_, f).v);
+    return c < float(std::cos(settings_.sun_turn_rad));
+}
+
+OpenMesh::EdgeHandle AdaptiveMesh::longest_edge(OpenMesh::FaceHandle f) const {
+    // A total order (length, then handle) so that LEPP paths strictly ascend and end.
+    OpenMesh::EdgeHandle best;
+    double best_length = -1.0;
+    for (auto h : mesh_.fh_range(f)) {
+        const auto e = mesh_.edge_handle(h);
+        const double length = mesh_.calc_edge_sqr_length(e);
+        if (length > best_length || (length == best_length && e.idx() < best.idx())) {
+            best = e;
+            best_length = length;
+        }
+    }
+    return best;
+}
+
+bool AdaptiveMesh::splittable(OpenMesh::FaceHandle f) const {
+    // A face whose longest edge is locked stays: bisecting its other edges would only make
+    // slivers along the locked edge without reducing the error there.
+    const auto e = longest_edge(f);
+    return e.is_valid() && !edge_locked(e) && mesh_.calc_edge_sqr_length(e) > 0.0;
+}
+
+void AdaptiveMesh::bisect(OpenMesh::EdgeHandle e, UpdateStats& stats) {
+    const auto h0 = mesh_.halfedge_handle(e, 0);
+    const auto h1 = mesh_.halfedge_handle(e, 1);
+    Split record;
+    record.a = mesh_.from_vertex_handle(h0);
+    record.b = mesh_.to_vertex_handle(h0);
+    if (!mesh_.is_boundary(h0)) record.c = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h0));
+    if (!mesh_.is_boundary(h1)) record.d = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(h1));
+    const glm::dvec3 mid = 0.5 * (to_glm(mesh_.point(record.a)) + to_glm(mesh_.point(record.b)));
+    record.vertex = mesh_.add_vertex(to_point(surface_.project(mid)));
+    mesh_.property(colour_eye_, record.vertex).v = glm::vec3(kNaN);
+    mesh_.property(record_, record.vertex) = int(splits_.size());
+    splits_.push_back(record);
+    mesh_.split(e, record.vertex);
+    ++stats.splits;
+    ++live_vertices_;
+    live_faces_ += record.c.is_valid() && record.d.is_valid() ? 2 : 1;
+    for (auto f : mesh_.vf_range(record.vertex)) {
+        estimate(f);
+        ++stats.faces_estimated;
+    }
+}
+
+bool AdaptiveMesh::try_undo(std::size_t index, UpdateStats& stats) {
+    const Split s = splits_[index];
+    if (!s.vertex.is_valid() || mesh_.status(s.vertex).deleted()) return false;
+    const float merge_lsb = settings_.split_lsb / settings_.merge_ratio;
+    // The ring must be the one the vertex was born with.
+    std::size_t expected = 2 + (s.c.is_valid() ? 1 : 0) + (s.d.is_valid() ? 1 : 0);
+    std::size_t count = 0;
+    for (auto w : mesh_.vv_range(s.vertex)) {
+        if (w != s.a && w != s.b && w != s.c && w != s.d) return false;
+        ++count;
+    }
+    if (count != expected) return false;
+    // Cheap test first: the children's last estimates.
+    for (auto f : mesh_.vf_range(s.vertex))
+        if (mesh_.property(error_, f) > merge_lsb || std::isnan(mesh_.property(error_eye_, f).v.x))
+            return false;
+    // The parents' errors now.
+    auto parent_error = [&](OpenMesh::VertexHandle apex) {
+        const OpenMesh::VertexHandle vs[3] = {s.a, s.b, apex};
+        glm::dvec3 p[3];
+        glm::vec3 c[3];
+        bool skip[3];
+        for (int k = 0; k < 3; ++k) {
+            p[k] = to_glm(mesh_.point(vs[k]));
+            c[k] = vertex_colour(vs[k]);
+        }
+        skip[0] = false;  // a-b was split, so it is not locked
+        for (int k = 1; k < 3; ++k) {
+            const auto h = mesh_.find_halfedge(vs[k], vs[(k + 1) % 3]);
+            skip[k] = h.is_valid() && edge_locked(mesh_.edge_handle(h));
+        }
+        ++stats.faces_estimated;
+        return colour_error_skipping(*frame_, settings_.colour, p, c, skip);
+    };
+    const float error_c = s.c.is_valid() ? parent_error(s.c) : 0.0f;
+    const float error_d = s.d.is_valid() ? parent_error(s.d) : 0.0f;
+    if (error_c > merge_lsb || error_d > merge_lsb) return false;
+    const auto h = mesh_.find_halfedge(s.vertex, s.a);
+    if (!h.is_valid() || !mesh_.is_collapse_ok(h)) return false;
+    mesh_.collapse(h);
+    const auto ab = mesh_.find_halfedge(s.a, s.b);
+    for (auto hh : {ab, mesh_.opposite_halfedge_handle(ab)}) {
+        const auto f = mesh_.face_handle(hh);
+        if (!f.is_valid()) continue;
+        const auto apex = mesh_.to_vertex_handle(mesh_.next_halfedge_handle(hh));
+        stamp(f, apex == s.c ? error_c : error_d);
+    }
+    splits_[index].vertex = OpenMesh::VertexHandle();
+    ++stats.merges;
+    --live_vertices_;
+    live_faces_ -= s.c.is_valid() && s.d.is_valid() ? 2 : 1;
+    return true;
+}
+
+UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
+    const auto start = Clock::now();
+    const double slice = settings_.time_slice_ms;
+    auto out_of_time = [&](double fraction) {
+        return slice > 0.0 && elapsed_ms(start) > fraction * slice;
+    };
+    frame_ = &frame;
+    touched_.clear();
+    estimated_max_ = 0.0f;
+    UpdateStats stats;
+
+    // 1. Re-estimate what the view change made stale (round robin under a time slice) and queue
+    // every face above the target.
+    std::priority_queue<HeapEntry> heap;
+    const std::size_t n_faces = mesh_.n_faces();
+    std::size_t visited = 0;
+    for (; visited < n_faces; ++visited) {
+        if ((visited & 255) == 0 && out_of_time(0.5)) {
+            stats.complete = false;
+            break;
+        }
+        const OpenMesh::FaceHandle f(int((cursor_ + visited) % n_faces));
+        if (mesh_.status(f).deleted()) continue;
+        if (face_stale(f)) {
+            estimate(f);
+            ++stats.faces_estimated;
+        }
+        const float e = mesh_.property(error_, f);
+        if (e > settings_.split_lsb)
+            heap.push({e, f.idx()});
+        else
+            estimated_max_ = std::max(estimated_max_, e);
+    }
+    cursor_ = n_faces ? (cursor_ + visited) % n_faces : 0;
+
+    // 2. Refine: worst face first, LEPP bisection until the target, the budget or the slice.
+    float unrefined_max = 0.0f;  // faces above the target left as they are
+    std::size_t iterations = 0;
+    while (!heap.empty()) {
+        const HeapEntry top = heap.top();
+        const OpenMesh::FaceHandle f0(top.face);
+        if (mesh_.status(f0).deleted() || mesh_.property(error_, f0) != top.error) {
+            heap.pop();
+            continue;
+        }
+        if (live_vertices_ >= settings_.max_vertices ||
+            ((++iterations & 15) == 0 && out_of_time(0.9))) {
+            stats.complete = false;
+            break;
+        }
+        heap.pop();
+        if (!splittable(f0)) {
+            unrefined_max = std::max(unrefined_max, top.error);
+            continue;
+        }
+        const auto e0 = longest_edge(f0);
+        for (bool done = false; !done && live_vertices_ < settings_.max_vertices;) {
+            // Walk the longest-edge propagation path to its terminal edge and split that.
+            OpenMesh::FaceHandle f = f0;
+            OpenMesh::EdgeHandle e = e0;
+            for (int step = 0; step < 4096; ++step) {
+                const auto h = mesh_.halfedge_handle(e, 0);
+                const auto across = mesh_.face_handle(h) == f
+                                        ? mesh_.face_handle(mesh_.halfedge_handle(e, 1))
+                                        : mesh_.face_handle(h);
+                if (!across.is_valid()) break;
+                const auto next = longest_edge(across);
+                if (!next.is_valid() || next == e || edge_locked(next)) break;
+                f = across;
+                e = next;
+            }
+            done = e == e0;
+            bisect(e, stats);
+            for (auto nf : mesh_.vf_range(OpenMesh::VertexHandle(int(mesh_.n_vertices()) - 1)))
+                if (mesh_.property(error_, nf) > settings_.split_lsb)
+                    heap.push({mesh_.property(error_, nf), nf.idx()});
+        }
+    }
+    for (; !heap.empty(); heap.pop()) {
+        const OpenMesh::FaceHandle f(heap.top().face);
+        if (!mesh_.status(f).deleted() && mesh_.property(error_, f) == heap.top().error)
+            unrefined_max = std::max(unrefined_max, heap.top().error);
+    }
+
+    // 3. Coarsen: undo bisections whose parents are back below split / merge_ratio. Only
+    // vertices next to a face estimated in this update can have changed their answer; newest
+    // first, and an undo makes the parents' vertices candidates again (cascades).
+    if (settings_.coarsen) {
+        std::priority_queue<int> candidates;
+        std::size_t consumed = 0;
+        auto collect = [&] {
+            for (; consumed < touched_.size(); ++consumed) {
+                const auto v = touched_[consumed];
+                if (!mesh_.status(v).deleted() && mesh_.property(record_, v) >= 0)
+                    candidates.push(mesh_.property(record_, v));
+            }
+        };
+        collect();
+        int last = -1;
+        while (!candidates.empty()) {
+            if ((++iterations & 63) == 0 && out_of_time(1.0)) {
+                stats.complete = false;
+                break;
+            }
+            const int r = candidates.top();
+            candidates.pop();
+            if (r == last) continue;  // duplicates come out together
+            last = r;
+            if (try_undo(std::size_t(r), stats)) {
+                collect();
+                last = -1;
+            }
+        }
+    }
+
+    stats.vertices = live_vertices_;
+    stats.faces = live_faces_;
+    stats.max_error_lsb = std::max(estimated_max_, unrefined_max);
+    frame_ = nullptr;
+    return stats;
+}
+
+void AdaptiveMesh::compact() {
+    std::vector<Split> live;
+    for (const Split& s : splits_)
+        if (s.vertex.is_valid() && !mesh_.status(s.vertex).deleted()) live.push_back(s);
+    splits_ = std::move(live);
+    std::vector<OpenMesh::VertexHandle*> vertex_handles;
+    for (Split& s : splits_)
+        for (OpenMesh::VertexHandle* h : {&s.vertex, &s.a, &s.b, &s.c, &s.d})
+            if (h->is_valid()) vertex_handles.push_back(h);
+    std::vector<OpenMesh::HalfedgeHandle*> halfedge_handles;
+    std::vector<OpenMesh::FaceHandle*> face_handles;
+    mesh_.garbage_collection(vertex_handles, halfedge_handles, face_handles);
+    for (std::size_t i = 0; i < splits_.size(); ++i)
+        mesh_.property(record_, splits_[i].vertex) = int(i);
+    cursor_ = 0;
+}
+
+}  // namespace aerial::mesh

@@ -1,0 +1,180 @@
+// The colour error of interpolating per-vertex colours across a triangle, and the dense measure
+// the tools grade meshes with.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "aerial/mesh.hpp"
+#include "mesh_internal.hpp"
+
+namespace aerial::mesh {
+namespace {
+
+float channel_error_lsb(const glm::vec3& a, const glm::vec3& b) {
+    const glm::vec3 d = glm::abs(a - b);
+    return 255.0f * std::max(d.x, std::max(d.y, d.z));
+}
+
+// Angle (rad) the longest edge subtends from the eye, bounded by the nearest vertex's distance.
+double angular_size(const Frame<float>& frame, const glm::dvec3 (&p)[3]) {
+    const glm::dvec3 eye = frame.view.eye;
+    double nearest =
+        std::min({glm::length(p[0] - eye), glm::length(p[1] - eye), glm::length(p[2] - eye)});
+    const double longest =
+        std::max({glm::length(p[1] - p[0]), glm::length(p[2] - p[1]), glm::length(p[0] - p[2])});
+    nearest = std::max(nearest, 1e-6 * longest + 1e-9);
+    return longest / nearest;
+}
+
+// Samples per edge for the estimate: the Mie lobe's width (about 1 - g rad for the normalised
+// Henyey-Greenstein phase) is sampled at least twice across.
+int estimate_samples_per_edge(const Frame<float>& frame, const ColourOptions& options,
+                              const glm::dvec3 (&p)[3]) {
+    const double lobe_rad = std::max(1.0 - std::abs(double(frame.mie_g)), 0.02);
+    const double n = std::ceil(angular_size(frame, p) / (0.5 * lobe_rad));
+    return int(std::clamp(n, 2.0, double(options.max_samples_per_edge)));
+}
+
+template <class Visit>
+void visit_grid(int n, const bool (&skip_edge)[3], Visit&& visit) {
+    // Barycentric points (i, j, k) / n without the corners; edge e runs from vertex e to e + 1,
+    // so a point on it has a zero weight for vertex (e + 2) % 3.
+    for (int i = 0; i <= n; ++i) {
+        for (int j = 0; i + j <= n; ++j) {
+            const int k = n - i - j;
+            if (i == n || j == n || k == n) continue;
+            const int w[3] = {i, j, k};
+            bool skip = false;
+            for (int e = 0; e < 3; ++e) skip = skip || (skip_edge[e] && w[(e + 2) % 3] == 0);
+            if (!skip) visit(double(i) / n, double(j) / n, double(k) / n);
+        }
+    }
+}
+
+}  // namespace
+
+std::optional<Error> validate(const ColourOptions& options) {
+    if (!(options.display.exposure > 0.0f) || !std::isfinite(options.display.exposure))
+        return Error{"exposure", "exposure: expected a finite value > 0, got " +
+                                     std::to_string(options.display.exposure)};
+    for (int c = 0; c < 3; ++c)
+        if (!(options.texel[c] >= 0.0f && options.texel[c] <= 1.0f))
+            return Error{"texel", "texel[" + std::to_string(c) + "]: expected 0 .. 1, got " +
+                                      std::to_string(options.texel[c])};
+    if (options.max_samples_per_edge < 2 || options.max_samples_per_edge > 32)
+        return Error{"max_samples_per_edge", "max_samples_per_edge: expected 2 .. 32, got " +
+                                                 std::to_string(options.max_samples_per_edge)};
+    return std::nullopt;
+}
+
+glm::vec3 display_colour(const Frame<float>& frame, const ColourOptions& options,
+                         const glm::dvec3& position) {
+    const Scattering<float> s = scatter(frame, glm::vec3(position));
+    glm::vec3 c;
+    for (int i = 0; i < 3; ++i) {
+        const float v =
+            s.extinction[i] * options.texel[i] + display_value(options.display, s.in_scattering[i]);
+        c[i] = std::clamp(v, 0.0f, 1.0f);
+    }
+    return c;
+}
+
+float colour_error_skipping(const Frame<float>& frame, const ColourOptions& options,
+                            const glm::dvec3 (&p)[3], const glm::vec3 (&c)[3],
+                            const bool (&skip_edge)[3]) {
+    const int n = estimate_samples_per_edge(frame, options, p);
+    float worst = 0.0f;
+    auto sample = [&](double a, double b, double d) {
+        const glm::dvec3 q = a * p[0] + b * p[1] + d * p[2];
+        const glm::vec3 interpolated = float(a) * c[0] + float(b) * c[1] + float(d) * c[2];
+        worst = std::max(worst, channel_error_lsb(interpolated, display_colour(frame, options, q)));
+    };
+    // Always the edge midpoints (where bisection puts the new vertex) and the centroid.
+    if (n % 2 == 1) {
+        if (!skip_edge[0]) sample(0.5, 0.5, 0.0);
+        if (!skip_edge[1]) sample(0.0, 0.5, 0.5);
+        if (!skip_edge[2]) sample(0.5, 0.0, 0.5);
+    }
+    if (n % 3 != 0) sample(1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0);
+    visit_grid(n, skip_edge, sample);
+    return worst;
+}
+
+float colour_error(const Frame<float>& frame, const ColourOptions& options, const glm::dvec3& p0,
+                   const glm::dvec3& p1, const glm::dvec3& p2, const glm::vec3& c0,
+                   const glm::vec3& c1, const glm::vec3& c2) {
+    const glm::dvec3 p[3] = {p0, p1, p2};
+    const glm::vec3 c[3] = {c0, c1, c2};
+    const bool skip[3] = {false, false, false};
+    return colour_error_skipping(frame, options, p, c, skip);
+}
+
+Result<DenseError> dense_error(const Mesh& mesh, const Frame<float>& frame,
+                               const ColourOptions& options, double spacing_rad, int max_per_edge) {
+    if (auto e = validate(options)) return *e;
+    if (auto e = validate_mesh(mesh)) return *e;
+    if (!(spacing_rad > 0.0) || !std::isfinite(spacing_rad))
+        return Error{"spacing_rad", "spacing_rad: aerial::mesh::dense_error(): expected > 0, got " +
+                                        std::to_string(spacing_rad)};
+    if (max_per_edge < 2 || max_per_edge > 4096)
+        return Error{"max_per_edge",
+                     "max_per_edge: aerial::mesh::dense_error(): expected 2 .. "
+                     "4096, got " +
+                         std::to_string(max_per_edge)};
+    std::vector<glm::vec3> colour(mesh.n_vertices());
+    for (auto v : mesh.vertices())
+        if (!mesh.status(v).deleted())
+            colour[v.idx()] = display_colour(frame, options, to_glm(mesh.point(v)));
+    // Errors are binned at 1/64 step for the percentile (exact max kept apart).
+    constexpr double kBinsPerStep = 64.0;
+    std::vector<std::size_t> histogram(256 * 64 + 1, 0);
+    DenseError out;
+    double sum_sq = 0.0;
+    std::size_t over1 = 0, over2 = 0;
+    const bool no_skip[3] = {false, false, false};
+    for (auto f : mesh.faces()) {
+        if (mesh.status(f).deleted()) continue;
+        glm::dvec3 p[3];
+        glm::vec3 c[3];
+        int k = 0;
+        for (auto v : mesh.fv_range(f)) {
+            p[k] = to_glm(mesh.point(v));
+            c[k] = colour[v.idx()];
+            ++k;
+        }
+        const int n = int(
+            std::clamp(std::ceil(angular_size(frame, p) / spacing_rad), 2.0, double(max_per_edge)));
+        visit_grid(n, no_skip, [&](double a, double b, double d) {
+            const glm::dvec3 q = a * p[0] + b * p[1] + d * p[2];
+            const glm::vec3 interpolated = float(a) * c[0] + float(b) * c[1] + float(d) * c[2];
+            const double e = channel_error_lsb(interpolated, display_colour(frame, options, q));
+            out.max_lsb = std::max(out.max_lsb, e);
+            sum_sq += e * e;
+            over1 += e > 1.0 ? 1 : 0;
+            over2 += e > 2.0 ? 1 : 0;
+            histogram[std::size_t(std::min(e * kBinsPerStep, double(histogram.size() - 1)))]++;
+            ++out.samples;
+        });
+    }
+    if (out.samples > 0) {
+        const double n = double(out.samples);
+        out.rmse_lsb = std::sqrt(sum_sq / n);
+        out.over1 = double(over1) / n;
+        out.over2 = double(over2) / n;
+        const std::size_t rank = std::size_t(std::ceil(0.99 * n));
+        std::size_t seen = 0;
+        for (std::size_t b = 0; b < histogram.size(); ++b) {
+            seen += histogram[b];
+            if (seen >= rank) {
+                out.p99_lsb = std::min(double(b + 1) / kBinsPerStep, out.max_lsb);
+                break;
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace aerial::mesh

@@ -1,0 +1,24 @@
+// Helpers shared by the mesh sources (not installed).
+#pragma once
+
+#include <cmath>
+
+#include <glm/vec3.hpp>
+
+#include "aerial/mesh.hpp"
+
+namespace aerial::mesh {
+
+inline glm::dvec3 to_glm(const Mesh::Point& p) { return {p[0], p[1], p[2]}; }
+inline Mesh::Point to_point(const glm::dvec3& p) { return {p.x, p.y, p.z}; }
+inline bool finite(const glm::dvec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+/// colour_error with the midpoints of the edges flagged in `skip_edge` left out (edge i runs from
+/// vertex i to vertex i + 1): the adaptive mesh does not count locked edges it cannot split.
+float colour_error_skipping(const Frame<float>& frame, const ColourOptions& options,
+                            const glm::dvec3 (&p)[3], const glm::vec3 (&c)[3],
+                            const bool (&skip_edge)[3]);
+
+}  // namespace aerial::mesh

@@ -1,0 +1,370 @@
+// aerial-tess: how many vertices each tessellation needs for the per-vertex colour to be within
+// one 8-bit step of the exact per-pixel colour, on sky domes and terrain (issue 6).
+//
+// Every mesh is graded by the same dense measure (aerial::mesh::dense_error: a barycentric grid
+// of fixed angular spacing seen from the eye on every face), never by the refinement's own
+// estimate. Writes DIR/tess.csv and DIR/tess.png (through tools/plot_tess.py), prints per scene
+// the vertices each method needs for max <= 1 LSB.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <glm/geometric.hpp>
+
+#include "aerial/aerial.hpp"
+#include "aerial/mesh.hpp"
+#include "common/cli.hpp"
+
+namespace {
+
+constexpr const char* kTool = "aerial-tess";
+constexpr double kPi = 3.14159265358979323846;
+using Clock = std::chrono::steady_clock;
+using aerial::mesh::Mesh;
+
+double ms_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+glm::dvec3 direction(double elevation_deg, double azimuth_deg) {
+    const double e = elevation_deg * kPi / 180.0, a = azimuth_deg * kPi / 180.0;
+    return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+}
+
+float brightest(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
+
+struct Scene {
+    std::string name;
+    bool dome = true;
+    aerial::Frame<float> frame;
+    aerial::mesh::ColourOptions colour;
+    aerial::mesh::DomeOptions dome_options;
+    aerial::mesh::Heightfield field;
+};
+
+struct Row {
+    std::string scene, method;
+    std::size_t vertices = 0, triangles = 0;
+    aerial::mesh::DenseError error;
+    double build_ms = 0.0;
+};
+
+struct Settings {
+    bool quick = false;
+    double spacing_rad = 0.006;
+    int max_per_edge = 48;
+};
+
+aerial::Frame<float> make_frame(const char* preset, double mie_g, const glm::dvec3& eye,
+                                const glm::dvec3& sun) {
+    aerial::Atmosphere a = aerial::atmosphere_preset(preset).value();
+    if (mie_g > 0.0) a.mie_g = mie_g;
+    aerial::View view;
+    view.eye = eye;
+    view.sun_dir = sun;
+    return aerial::prepare_frame<float>(a, view, aerial::Model::height).value();
+}
+
+// Dome: the earth preset, eye 2 m above sea level, dome of 80 km around it showing L_in only,
+// exponential tone curve (smooth, never clips); exposure puts the sky at 30 deg elevation, 90 deg
+// from the sun in azimuth, at 0.5.
+Scene dome_scene(double sun_deg, double g) {
+    Scene s;
+    char name[64];
+    std::snprintf(name, sizeof name, "dome-sun%02d-g%.2f", int(sun_deg), g);
+    s.name = name;
+    s.dome = true;
+    s.dome_options.centre = {0.0, 0.0, 2.0};
+    s.frame = make_frame("earth", g, s.dome_options.centre, direction(sun_deg, 0.0));
+    s.colour.texel = glm::vec3(0.0f);
+    const glm::dvec3 probe = s.dome_options.centre + s.dome_options.radius_m * direction(30, 90);
+    s.colour.display.tone = aerial::ToneCurve::exponential;
+    s.colour.display.exposure =
+        float(std::log(2.0)) / brightest(aerial::scatter(s.frame, glm::vec3(probe)).in_scattering);
+    return s;
+}
+
+// Terrain: 20 km of rolling hills (100 m, 3 km wavelength) in the `hazy` preset, texel 0.6,
+// exponential tone curve; exposure puts L_in of the ground 10 km away towards the sun at 0.4, so
+// that F_ex x texel + L_in stays below 1 (no clipping).
+Scene terrain_scene(double eye_m, double sun_deg) {
+    Scene s;
+    char name[64];
+    std::snprintf(name, sizeof name, "terrain-eye%d-sun%02d", int(eye_m), int(sun_deg));
+    s.name = name;
+    s.dome = false;
+    s.field = aerial::mesh::rolling_hills(-10000, -10000, 20000, 100, 3000);
+    const glm::dvec3 eye{0.0, 0.0, s.field.height_m(0.0, 0.0) + eye_m};
+    s.frame = make_frame("hazy", 0.0, eye, direction(sun_deg, 0.0));
+    s.colour.texel = glm::vec3(0.6f);
+    const glm::dvec3 probe{10000.0, 0.0, s.field.height_m(10000.0, 0.0)};
+    s.colour.display.tone = aerial::ToneCurve::exponential;
+    s.colour.display.exposure = float(-std::log(1.0 - 0.4)) /
+                                brightest(aerial::scatter(s.frame, glm::vec3(probe)).in_scattering);
+    return s;
+}
+
+Row grade(const Scene& scene, const std::string& method, const Mesh& mesh, double build_ms,
+          const Settings& settings) {
+    Row row;
+    row.scene = scene.name;
+    row.method = method;
+    row.vertices = aerial::mesh::live_vertices(mesh);
+    row.triangles = aerial::mesh::live_faces(mesh);
+    row.build_ms = build_ms;
+    row.error = aerial::mesh::dense_error(mesh, scene.frame, scene.colour, settings.spacing_rad,
+                                          settings.max_per_edge)
+                    .value();
+    std::fprintf(stderr, "  %-24s %-18s %7zu vertices  max %.2f LSB\n", scene.name.c_str(),
+                 method.c_str(), row.vertices, row.error.max_lsb);
+    return row;
+}
+
+// Runs `levels` in order until the dense max is <= 1 LSB (that level included).
+void sweep(const Scene& scene, const std::string& method, const std::vector<double>& levels,
+           const std::function<Mesh(double, double&)>& build, const Settings& settings,
+           std::vector<Row>& rows) {
+    for (double level : levels) {
+        double build_ms = 0.0;
+        const Mesh mesh = build(level, build_ms);
+        rows.push_back(grade(scene, method, mesh, build_ms, settings));
+        if (rows.back().error.max_lsb <= 1.0) break;
+    }
+}
+
+Mesh adaptive_mesh(const Scene& scene, const Mesh& base, const aerial::mesh::Surface& surface,
+                   double split_lsb, double& build_ms) {
+    aerial::mesh::AdaptiveSettings a;
+    a.colour = scene.colour;
+    a.split_lsb = float(split_lsb);
+    a.lock_boundary = false;
+    const auto start = Clock::now();
+    auto made = aerial::mesh::AdaptiveMesh::create(base, surface, a);
+    aerial::mesh::AdaptiveMesh adaptive = std::move(made).value();
+    adaptive.update(scene.frame);
+    adaptive.compact();
+    build_ms = ms_since(start);
+    return adaptive.mesh();
+}
+
+void run_scene(const Scene& scene, const Settings& settings, bool decimated,
+               std::vector<Row>& rows) {
+    // The quick run stops the uniform sweeps at about 10k vertices (the table then says ">N").
+    auto capped = [&](std::vector<double> levels, double quick_limit) {
+        if (settings.quick)
+            levels.erase(std::remove_if(levels.begin(), levels.end(),
+                                        [&](double l) { return l > quick_limit; }),
+                         levels.end());
+        return levels;
+    };
+    const std::vector<double> splits = {2.0, 1.5, 1.0, 0.8, 0.65, 0.5, 0.4, 0.3, 0.2};
+    if (scene.dome) {
+        const auto surface = aerial::mesh::Surface::sphere(scene.dome_options);
+        const Mesh base = aerial::mesh::geodesic_dome(4, scene.dome_options).value();
+        sweep(
+            scene, "adaptive", splits,
+            [&](double split, double& ms) {
+                return adaptive_mesh(scene, base, surface, split, ms);
+            },
+            settings, rows);
+        sweep(
+            scene, "uniform-geodesic", capped({4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128}, 64),
+            [&](double f, double& ms) {
+                const auto start = Clock::now();
+                Mesh m = aerial::mesh::geodesic_dome(int(f), scene.dome_options).value();
+                ms = ms_since(start);
+                return m;
+            },
+            settings, rows);
+        sweep(
+            scene, "uniform-latlong", capped({4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128}, 48),
+            [&](double r, double& ms) {
+                const auto start = Clock::now();
+                Mesh m = aerial::mesh::latlong_dome(int(r), 4 * int(r), scene.dome_options).value();
+                ms = ms_since(start);
+                return m;
+            },
+            settings, rows);
+        if (decimated) {
+            // Offline: an adaptive mesh refined to half a step, decimated back to the bound.
+            double ms = 0.0;
+            const Mesh fine = adaptive_mesh(scene, base, surface, 0.5, ms);
+            sweep(
+                scene, "decimated", {1.0, 0.8, 0.65, 0.5},
+                [&](double bound, double& build_ms) {
+                    aerial::mesh::DecimateOptions d;
+                    d.colour = scene.colour;
+                    d.max_lsb = float(bound);
+                    const auto start = Clock::now();
+                    Mesh m = aerial::mesh::decimate(fine, scene.frame, d).value();
+                    build_ms = ms + ms_since(start);
+                    return m;
+                },
+                settings, rows);
+        }
+    } else {
+        const auto surface = aerial::mesh::Surface::terrain(scene.field);
+        const Mesh base = aerial::mesh::terrain_grid(scene.field, 8, 8).value();
+        sweep(
+            scene, "adaptive", splits,
+            [&](double split, double& ms) {
+                return adaptive_mesh(scene, base, surface, split, ms);
+            },
+            settings, rows);
+        sweep(
+            scene, "uniform-grid", capped({8, 16, 32, 64, 128, 256}, 128),
+            [&](double cells, double& ms) {
+                const auto start = Clock::now();
+                Mesh m = aerial::mesh::terrain_grid(scene.field, int(cells), int(cells)).value();
+                ms = ms_since(start);
+                return m;
+            },
+            settings, rows);
+    }
+}
+
+// The median time of an update of a terrain of about 100k triangles seen from a camera flying at
+// 20 m/s, 60 frames per second, 40 m above the ground (after the first, full refinement).
+int bench_update(int frames) {
+    Scene scene = terrain_scene(40.0, 10.0);
+    const Mesh base = aerial::mesh::terrain_grid(scene.field, 224, 224).value();
+    aerial::mesh::AdaptiveSettings a;
+    a.colour = scene.colour;
+    a.lock_boundary = false;
+    aerial::mesh::AdaptiveMesh adaptive =
+        std::move(aerial::mesh::AdaptiveMesh::create(
+                      base, aerial::mesh::Surface::terrain(scene.field), a))
+            .value();
+    const auto first_start = Clock::now();
+    const auto first = adaptive.update(scene.frame);
+    const double first_ms = ms_since(first_start);
+    std::vector<double> times, cpu_times;  // wall clock, and this process's CPU time
+    std::size_t estimated = 0, splits = 0, merges = 0;
+    aerial::View view = scene.frame.view;
+    const aerial::Atmosphere atmosphere = scene.frame.atmosphere;
+    for (int i = 1; i <= frames; ++i) {
+        view.eye.x = 20.0 / 60.0 * i;
+        view.eye.z = scene.field.height_m(view.eye.x, 0.0) + 40.0;
+        const auto frame = aerial::prepare_frame<float>(atmosphere, view, aerial::Model::height);
+        const auto start = Clock::now();
+        const std::clock_t cpu_start = std::clock();
+        const auto stats = adaptive.update(frame.value());
+        cpu_times.push_back(1000.0 * double(std::clock() - cpu_start) / CLOCKS_PER_SEC);
+        times.push_back(ms_since(start));
+        estimated += stats.faces_estimated;
+        splits += stats.splits;
+        merges += stats.merges;
+    }
+    std::sort(times.begin(), times.end());
+    std::sort(cpu_times.begin(), cpu_times.end());
+    std::printf(
+        "bench-update: triangles=%zu first_update_ms=%.1f median_update_ms=%.3f "
+        "median_update_cpu_ms=%.3f max_update_ms=%.3f faces_estimated_per_update=%.0f "
+        "splits=%zu merges=%zu frames=%d\n",
+        first.faces, first_ms, times[times.size() / 2], cpu_times[cpu_times.size() / 2],
+        times.back(), double(estimated) / frames, splits, merges, frames);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "aerial-tess: vertices needed for per-vertex colour within 1 LSB, adaptive "
+        "against uniform tessellations, on sky domes and terrain"};
+    std::string out;
+    bool quick = false, bench = false, no_chart = false;
+    int frames = 120;
+    app.add_option("--out", out, "Output directory for tess.csv and tess.png");
+    app.add_flag("--quick", quick, "A small subset with a coarser grading grid (< 30 s)");
+    app.add_flag("--bench-update", bench,
+                 "Print the median time of an adaptive update of a 100k-triangle terrain");
+    app.add_option("--frames", frames, "Frames for --bench-update (default 120)");
+    app.add_flag("--no-chart", no_chart, "Do not write tess.png");
+    if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
+    if (frames < 1 || frames > 100000)
+        return aerial::tools::fail(kTool,
+                                   "--frames: expected 1 .. 100000, got " + std::to_string(frames));
+    if (bench) return bench_update(frames);
+    if (out.empty()) return aerial::tools::fail(kTool, "--out: required (or --bench-update)");
+
+    Settings settings;
+    settings.quick = quick;
+    if (quick) {
+        settings.spacing_rad = 0.02;
+        settings.max_per_edge = 16;
+    }
+    std::vector<Scene> scenes;
+    if (quick) {
+        scenes = {dome_scene(10, 0.76), dome_scene(10, 0.90), terrain_scene(300, 10)};
+    } else {
+        for (double g : {0.76, 0.90})
+            for (double sun : {2.0, 10.0, 30.0, 60.0}) scenes.push_back(dome_scene(sun, g));
+        for (double eye : {2.0, 300.0, 3000.0})
+            for (double sun : {10.0, 60.0}) scenes.push_back(terrain_scene(eye, sun));
+    }
+    std::vector<Row> rows;
+    const auto start = Clock::now();
+    for (std::size_t i = 0; i < scenes.size(); ++i)
+        run_scene(scenes[i], settings, !quick || i == 0, rows);
+
+    const std::string csv_path = out + "/tess.csv";
+    std::system(("mkdir -p '" + out + "'").c_str());
+    std::ofstream csv(csv_path);
+    if (!csv) return aerial::tools::fail(kTool, "--out: cannot write " + csv_path);
+    csv << "scene,method,vertices,triangles,max_lsb,p99_lsb,rmse_lsb,over1,over2,build_ms\n";
+    for (const Row& r : rows) {
+        char line[512];
+        std::snprintf(line, sizeof line, "%s,%s,%zu,%zu,%.4f,%.4f,%.4f,%.6f,%.6f,%.2f\n",
+                      r.scene.c_str(), r.method.c_str(), r.vertices, r.triangles, r.error.max_lsb,
+                      r.error.p99_lsb, r.error.rmse_lsb, r.error.over1, r.error.over2, r.build_ms);
+        csv << line;
+    }
+    csv.close();
+
+    // The table: per scene, the fewest vertices of each method with max <= 1 LSB.
+    std::vector<std::string> methods;
+    for (const Row& r : rows)
+        if (std::find(methods.begin(), methods.end(), r.method) == methods.end())
+            methods.push_back(r.method);
+    std::printf("vertices for max <= 1 LSB (dense grading, spacing %.3f rad)\n%-24s",
+                settings.spacing_rad, "scene");
+    for (const auto& m : methods) std::printf(" %18s", m.c_str());
+    std::printf("\n");
+    for (const Scene& s : scenes) {
+        std::printf("%-24s", s.name.c_str());
+        for (const auto& m : methods) {
+            std::string cell = "-";
+            std::size_t most = 0;
+            bool seen = false;
+            for (const Row& r : rows) {
+                if (r.scene != s.name || r.method != m) continue;
+                seen = true;
+                most = std::max(most, r.vertices);
+                if (r.error.max_lsb <= 1.0) cell = std::to_string(r.vertices);
+            }
+            if (seen && cell == "-") cell = ">" + std::to_string(most);
+            std::printf(" %18s", cell.c_str());
+        }
+        std::printf("\n");
+    }
+    std::printf("total %.1f s; wrote %s\n", ms_since(start) / 1000.0, csv_path.c_str());
+    if (!no_chart) {
+        const std::string command = std::string("'") + AERIAL_TESS_PYTHON + "' '" +
+                                    AERIAL_TESS_PLOT_SCRIPT + "' '" + csv_path + "' '" + out +
+                                    "/tess.png'";
+        if (std::system(command.c_str()) != 0)
+            return aerial::tools::fail(kTool, "the chart failed: " + command);
+        std::printf("wrote %s/tess.png\n", out.c_str());
+    }
+    return 0;
+}

@@ -1386,7 +1386,7 @@ TEST(ArbHeightProgram, AgainstTheReferenceModelItErrsLikeTheCpuHeightModel) {
     // the truth? Eyes up to 10 km, rays up to 30 km, sun 5 to 60 deg.
     const auto program = height::program();
     ArbProgramOptions exact_options;
-    exact_options.height_exact_optical_depth = true;
+    exact_options.height_fidelity = aerial::ArbHeightFidelity::exact_optical_depth;
     exact_options.limits.max_instructions = 256;
     const auto exact = height::program(exact_options);
     height::Grid grid;
@@ -1568,7 +1568,7 @@ TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
     // tau) like the model's; what remains is the eye's sun column along the segment and the
     // missing per-point shadow. Sun >= 5 deg, rays up to 30 km, per preset.
     ArbProgramOptions exact;
-    exact.height_exact_optical_depth = true;
+    exact.height_fidelity = aerial::ArbHeightFidelity::exact_optical_depth;
     exact.limits.max_instructions = 256;  // Direct3D 9-class native limit
     const aerial::ArbProgram text = generate(height::options(exact));
     std::printf(
@@ -1578,7 +1578,7 @@ TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
     EXPECT_EQ(text.instruction_count, generate(height::options()).instruction_count + 23);
     EXPECT_LE(text.resources.temporaries, 12);
     ArbProgramOptions at_minimum;
-    at_minimum.height_exact_optical_depth = true;
+    at_minimum.height_fidelity = aerial::ArbHeightFidelity::exact_optical_depth;
     const auto rejected = aerial::generate_arb_program(height::options(at_minimum));
     ASSERT_FALSE(rejected.ok()) << "beyond 128 instructions";
     EXPECT_EQ(rejected.error().field, "instructions");
@@ -1619,5 +1619,209 @@ TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
                 EXPECT_LE(exact_worst.lsb, bound.rays_to_30km_lsb) << exact_worst.where;
             }
         }
+    }
+}
+
+// ---- The height program's fidelity levels ----------------------------------------------------
+
+namespace {
+
+ArbProgramOptions at_fidelity(aerial::ArbHeightFidelity fidelity) {
+    ArbProgramOptions o;
+    o.model = Model::height;
+    o.height_fidelity = fidelity;
+    o.limits.max_instructions = 256;  // Direct3D 9-class native limit
+    return o;
+}
+
+}  // namespace
+
+TEST(ArbHeightProgram, FullFidelityMatchesTheCpuModelWithin1LsbOverTheWholeGrid) {
+    // All of the model: every preset, eyes 2 m to 30 km, the sun from -10 to 90 deg (twilight,
+    // the planet's shadow), rays from 1 m to 150 km and vertices far below sea level.
+    const ArbProgramOptions o = at_fidelity(aerial::ArbHeightFidelity::full);
+    const aerial::ArbProgram text = generate(o);
+    std::printf(
+        "[ info     ] full height program: %d instructions, %d temporaries, %d parameters\n",
+        text.instruction_count, text.resources.temporaries, text.resources.parameters);
+    const auto program = parse(text.text);
+    const height::Grid grid;
+    height::Worst fex, lin;
+    for (const std::string& name : aerial::atmosphere_preset_names()) {
+        for (const glm::dvec3& eye : grid.eyes) {
+            for (double sun : grid.sun_elevations) {
+                const height::Case k = height::make_case(name, eye, sun, grid);
+                height::Worst dbg;
+                const aerial::ArbMachine m = machine_with(::parameters(k.frame, k.exposure, o));
+                for (std::size_t i = 0; i < k.vertices.size(); ++i) {
+                    const ArbResults r =
+                        aerial::run_arb_program(program, m, vertex_at(glm::vec3(k.vertices[i])));
+                    const height::Lsb e = height::lsb_against(r, k.cpu[i], k.exposure);
+                    const std::string where = height::describe(k, k.vertices[i]);
+                    fex.add(e.extinction, where);
+                    lin.add(e.in_scattering, where);
+                    dbg.add(e.in_scattering, where);
+                }
+                if (getenv("DBG") && dbg.lsb > 1) std::printf("DBG %s sun %g eye %g: max %d over1 %ld: %s\n", name.c_str(), sun, eye.z, dbg.lsb, dbg.over_one, dbg.where.c_str());
+            }
+        }
+    }
+    std::printf(
+        "[ info     ] full height program vs CPU height model (double), %ld vertices: F_ex max %d "
+        "LSB, L_in max %d LSB (%.3f%% > 1), worst at %s\n",
+        lin.vertices, fex.lsb, lin.lsb, lin.percent_over_one(), lin.where.c_str());
+    EXPECT_LE(fex.lsb, 1) << fex.where;
+    EXPECT_LE(lin.lsb, 1) << lin.where;
+}
+
+TEST(ArbHeightFidelity, AutomaticTakesTheHighestLevelTheLimitsAcceptAndFallsBack) {
+    using aerial::ArbHeightFidelity;
+    const int exact =
+        generate(at_fidelity(ArbHeightFidelity::exact_optical_depth)).instruction_count;
+    const aerial::ArbProgram full_program = generate(at_fidelity(ArbHeightFidelity::full));
+    const int full = full_program.instruction_count;
+    ASSERT_LT(128, exact);
+    ASSERT_LT(exact, full);
+    ASSERT_LE(full, 256) << "fits Direct3D 9-class native limits";
+    EXPECT_LE(full_program.resources.temporaries, 12);
+    // Simulated driver limits: each level where it fits, the next lower one a step below.
+    const struct {
+        int max_instructions;
+        int max_temporaries;
+        ArbHeightFidelity expected;
+    } cases[] = {{128, 12, ArbHeightFidelity::spec_minimum},
+                 {exact - 1, 12, ArbHeightFidelity::spec_minimum},
+                 {exact, 12, ArbHeightFidelity::exact_optical_depth},
+                 {full - 1, 12, ArbHeightFidelity::exact_optical_depth},
+                 {full, 12, ArbHeightFidelity::full},
+                 {16384, 11, ArbHeightFidelity::exact_optical_depth},
+                 {16384, 10, ArbHeightFidelity::spec_minimum}};
+    for (const auto& c : cases) {
+        ArbProgramOptions o = height::options();
+        o.limits.max_instructions = c.max_instructions;
+        o.limits.max_temporaries = c.max_temporaries;
+        const std::string where = std::to_string(c.max_instructions) + " instructions, " +
+                                  std::to_string(c.max_temporaries) + " temporaries";
+        EXPECT_EQ(aerial::resolve_arb_height_fidelity(o), c.expected) << where;
+        const auto p = aerial::generate_arb_program(o);
+        if (c.max_temporaries < 11) {
+            ASSERT_FALSE(p.ok()) << where << ": not even the smallest level fits";
+            EXPECT_EQ(p.error().field, "temporaries");
+            continue;
+        }
+        ASSERT_TRUE(p.ok()) << where << ": " << p.error().message;
+        EXPECT_EQ(p->options.height_fidelity, c.expected) << where << ": reports its choice";
+        ArbProgramOptions explicit_level = o;
+        explicit_level.height_fidelity = c.expected;
+        EXPECT_EQ(p->text, generate(explicit_level).text) << where;
+        EXPECT_EQ(aerial::arb_parameter_count(o), aerial::arb_parameter_count(p->options));
+    }
+    // Position invariance frees 4 instructions of the limit's... and takes 4 from it.
+    ArbProgramOptions invariant = height::options();
+    invariant.position_invariant = true;
+    invariant.limits.max_instructions = full;
+    EXPECT_EQ(aerial::resolve_arb_height_fidelity(invariant), ArbHeightFidelity::full);
+    // Parameters: 16 for full, 13 below; the index range limits the choice too.
+    EXPECT_EQ(aerial::arb_parameter_count(at_fidelity(ArbHeightFidelity::full)),
+              aerial::kArbHeightFullParameterCount);
+    EXPECT_EQ(aerial::arb_parameter_count(at_fidelity(ArbHeightFidelity::exact_optical_depth)),
+              aerial::kArbHeightParameterCount);
+    ArbProgramOptions high_base = height::options();
+    high_base.limits.max_instructions = 256;
+    high_base.parameter_base = 96 - aerial::kArbHeightParameterCount;
+    EXPECT_EQ(aerial::resolve_arb_height_fidelity(high_base),
+              ArbHeightFidelity::exact_optical_depth)
+        << "full's 16 parameters do not fit above index 83";
+    // An explicit level beyond the limits is an error naming the limit, not a silent fallback.
+    ArbProgramOptions forced = height::options();
+    forced.height_fidelity = ArbHeightFidelity::full;
+    const auto refused = aerial::generate_arb_program(forced);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field, "instructions");
+    // Names.
+    for (ArbHeightFidelity f : {ArbHeightFidelity::automatic, ArbHeightFidelity::spec_minimum,
+                                ArbHeightFidelity::exact_optical_depth, ArbHeightFidelity::full}) {
+        const auto parsed = aerial::parse_arb_height_fidelity(aerial::arb_height_fidelity_name(f));
+        ASSERT_TRUE(parsed.ok());
+        EXPECT_EQ(*parsed, f);
+    }
+    const auto unknown = aerial::parse_arb_height_fidelity("fullest");
+    ASSERT_FALSE(unknown.ok());
+    EXPECT_EQ(unknown.error().field, "height_fidelity");
+    EXPECT_NE(unknown.error().message.find("'fullest'"), std::string::npos);
+}
+
+TEST(ArbHeightFidelity, EachLevelGetsItsOwnParameters) {
+    // The parameters follow the level: 16 vectors for full, and its eye column factors are not
+    // capped; asking for automatic resolves like generate_arb_program.
+    const Frame<float> f =
+        height::frame_for(preset("earth"), height::view_for({0, 0, 100}, direction(-2, 0)));
+    const Params spec = ::parameters(f, 4.0f, at_fidelity(aerial::ArbHeightFidelity::spec_minimum));
+    const Params full = ::parameters(f, 4.0f, at_fidelity(aerial::ArbHeightFidelity::full));
+    ArbProgramOptions automatic = at_fidelity(aerial::ArbHeightFidelity::automatic);
+    EXPECT_EQ(spec.size(), std::size_t(aerial::kArbHeightParameterCount));
+    EXPECT_EQ(full.size(), std::size_t(aerial::kArbHeightFullParameterCount));
+    EXPECT_EQ(::parameters(f, 4.0f, automatic), full);
+    EXPECT_EQ(spec[5][3], 0.0f);
+    EXPECT_EQ(full[5][3], 1.0f) << "the sun at -0.2 deg still reaches an eye at 100 m";
+    EXPECT_FLOAT_EQ(full[12][0], float(f.eye_log_chapman_rayleigh * 1.4426950408889634));
+}
+
+TEST(ArbHeightFidelity, FullProgramReadsEveryParameterItDocuments) {
+    // Changing any component of the 16 vectors changes an output at one of a few vertices (a
+    // sunlit view and one at twilight, where the vertex's column and the shadow act), except
+    // the fit clamp's z and w, documented as unused (eyealt.w is read at this level).
+    const ArbProgramOptions o = at_fidelity(aerial::ArbHeightFidelity::full);
+    const auto program = parse(generate(o).text);
+    const std::vector<std::pair<glm::dvec3, double>> views{{{0, 0, 200}, 20.0},
+                                                           {{0, 0, 3000}, -3.0}};
+    const std::vector<glm::vec3> offsets{{0, 0, 0},         {4000, 2500, 900}, {60000, 1000, 0},
+                                         {3000, 0, -0.7f},  {500, 0, -30000},  {-90000, 0, 8000},
+                                         {-40000, 0, -2000}};
+    for (std::size_t i = 0; i < std::size_t(aerial::kArbHeightFullParameterCount); ++i) {
+        for (std::size_t j = 0; j < 4; ++j) {
+            bool changed_somewhere = false;
+            for (const auto& [eye, sun] : views) {
+                const Frame<float> f = height::frame_for(
+                    preset("hazy"), height::view_for(eye, direction(sun, 0)));
+                const Params p = ::parameters(f, 8.0f, o);
+                Params changed = p;
+                changed[i][j] = p[i][j] == 0.0f ? 0.5f : p[i][j] * 1.5f;
+                for (const glm::vec3& offset : offsets) {
+                    const glm::vec3 v = glm::vec3(eye) + offset;
+                    const ArbResults a =
+                        aerial::run_arb_program(program, machine_with(p), vertex_at(v));
+                    const ArbResults b =
+                        aerial::run_arb_program(program, machine_with(changed), vertex_at(v));
+                    changed_somewhere |= a.color_primary.value != b.color_primary.value ||
+                                         a.color_secondary.value != b.color_secondary.value ||
+                                         a.fogcoord.value[0] != b.fogcoord.value[0];
+                }
+            }
+            const bool unused = i == 16 && j >= 2;
+            EXPECT_EQ(changed_somewhere, !unused) << "parameter " << i << " component " << j;
+        }
+    }
+}
+TEST(Dbg, Worst) {
+    const ArbProgramOptions o = at_fidelity(aerial::ArbHeightFidelity::full);
+    const auto program = parse(generate(o).text);
+    const ArbProgramOptions oe = at_fidelity(aerial::ArbHeightFidelity::exact_optical_depth);
+    const auto pe = parse(generate(oe).text);
+    struct C { const char* p; double eyez, sun; glm::dvec3 d; };
+    for (C c : {C{"hazy", 2, 0, {146620, 18003, 26047}}, C{"hazy", 2, 5, {129409, 74715, 13073}}, C{"earth", 2, 10, {148791, 18269, -5235}}, C{"hazy", 1000, -3, {146620, 18003, 26047}}, C{"hp2002", 2, 0, {148791, 18269, 5235}}}) {
+        const Atmosphere a = preset(c.p);
+        const View view = height::view_for({0, 0, c.eyez}, direction(c.sun, 30));
+        const Frame<float> f = height::frame_for(a, view);
+        auto fd = aerial::prepare_frame<double>(a, view, Model::height);
+        const glm::dvec3 v = view.eye + c.d;
+        const auto cd = aerial::scatter(*fd, v);
+        const auto cf = aerial::scatter(f, glm::vec3(v));
+        const ArbResults r = aerial::run_arb_program(program, machine_with(::parameters(f, 1.0f, o)), vertex_at(glm::vec3(v)));
+        const ArbResults re = aerial::run_arb_program(pe, machine_with(::parameters(f, 1.0f, oe)), vertex_at(glm::vec3(v)));
+        std::printf("%s eye %g sun %g: double %g %g %g  float %g %g %g  full %g %g %g  exact %g %g %g\n", c.p, c.eyez, c.sun,
+            cd.in_scattering.x, cd.in_scattering.y, cd.in_scattering.z, cf.in_scattering.x, cf.in_scattering.y, cf.in_scattering.z,
+            r.color_secondary.value[0], r.color_secondary.value[1], r.color_secondary.value[2],
+            re.color_secondary.value[0], re.color_secondary.value[1], re.color_secondary.value[2]);
     }
 }

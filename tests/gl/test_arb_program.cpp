@@ -1651,7 +1651,6 @@ TEST(ArbHeightProgram, FullFidelityMatchesTheCpuModelWithin1LsbOverTheWholeGrid)
         for (const glm::dvec3& eye : grid.eyes) {
             for (double sun : grid.sun_elevations) {
                 const height::Case k = height::make_case(name, eye, sun, grid);
-                height::Worst dbg;
                 const aerial::ArbMachine m = machine_with(::parameters(k.frame, k.exposure, o));
                 for (std::size_t i = 0; i < k.vertices.size(); ++i) {
                     const ArbResults r =
@@ -1660,9 +1659,7 @@ TEST(ArbHeightProgram, FullFidelityMatchesTheCpuModelWithin1LsbOverTheWholeGrid)
                     const std::string where = height::describe(k, k.vertices[i]);
                     fex.add(e.extinction, where);
                     lin.add(e.in_scattering, where);
-                    dbg.add(e.in_scattering, where);
                 }
-                if (getenv("DBG") && dbg.lsb > 1) std::printf("DBG %s sun %g eye %g: max %d over1 %ld: %s\n", name.c_str(), sun, eye.z, dbg.lsb, dbg.over_one, dbg.where.c_str());
             }
         }
     }
@@ -1801,27 +1798,5 @@ TEST(ArbHeightFidelity, FullProgramReadsEveryParameterItDocuments) {
             const bool unused = i == 16 && j >= 2;
             EXPECT_EQ(changed_somewhere, !unused) << "parameter " << i << " component " << j;
         }
-    }
-}
-TEST(Dbg, Worst) {
-    const ArbProgramOptions o = at_fidelity(aerial::ArbHeightFidelity::full);
-    const auto program = parse(generate(o).text);
-    const ArbProgramOptions oe = at_fidelity(aerial::ArbHeightFidelity::exact_optical_depth);
-    const auto pe = parse(generate(oe).text);
-    struct C { const char* p; double eyez, sun; glm::dvec3 d; };
-    for (C c : {C{"hazy", 2, 0, {146620, 18003, 26047}}, C{"hazy", 2, 5, {129409, 74715, 13073}}, C{"earth", 2, 10, {148791, 18269, -5235}}, C{"hazy", 1000, -3, {146620, 18003, 26047}}, C{"hp2002", 2, 0, {148791, 18269, 5235}}}) {
-        const Atmosphere a = preset(c.p);
-        const View view = height::view_for({0, 0, c.eyez}, direction(c.sun, 30));
-        const Frame<float> f = height::frame_for(a, view);
-        auto fd = aerial::prepare_frame<double>(a, view, Model::height);
-        const glm::dvec3 v = view.eye + c.d;
-        const auto cd = aerial::scatter(*fd, v);
-        const auto cf = aerial::scatter(f, glm::vec3(v));
-        const ArbResults r = aerial::run_arb_program(program, machine_with(::parameters(f, 1.0f, o)), vertex_at(glm::vec3(v)));
-        const ArbResults re = aerial::run_arb_program(pe, machine_with(::parameters(f, 1.0f, oe)), vertex_at(glm::vec3(v)));
-        std::printf("%s eye %g sun %g: double %g %g %g  float %g %g %g  full %g %g %g  exact %g %g %g\n", c.p, c.eyez, c.sun,
-            cd.in_scattering.x, cd.in_scattering.y, cd.in_scattering.z, cf.in_scattering.x, cf.in_scattering.y, cf.in_scattering.z,
-            r.color_secondary.value[0], r.color_secondary.value[1], r.color_secondary.value[2],
-            re.color_secondary.value[0], re.color_secondary.value[1], re.color_secondary.value[2]);
     }
 }

@@ -399,7 +399,7 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
                "sqrt(1/2)/C, log2 of the blocked factor, 'no sun', Q_0");
         w.line("PARAM erfa = " + vec(q[8], q[7], q[6], q[5]) + ";", "erfcx(y) ~ t Q(t)");
         w.line("PARAM erfb = " + vec(q[4], q[3], q[2], q[1]) + ";", "t = C/(y + C), C = 2");
-        w.line("PARAM lim = " + vec(16.0, 1.0 / 16.0, 0.0, 0.0) + ";");
+        w.line("PARAM lim = " + vec(-ln2, 0.0, 0.0, 0.0) + ";");
         w.line("PARAM fitc = " + param(kHeightFitClamp) + ";", "clamp of the fit's end");
         w.line("TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc, chp;");
     } else {
@@ -496,7 +496,10 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
         w.line("MIN acc.xy, acc, chc.y;", "log2 column factors at the vertex");
         w.line("MIN ext.z, alt.x, fit.z;");
         w.line("SLT ext.z, ext.x, ext.z;");
-        w.line("MUL ext.z, ext.z, work.x;", "the planet blocks the sun at the vertex");
+        w.line("MUL ext.z, ext.z, work.x;", "the planet blocks the sun at the vertex,");
+        w.line("SGE work.zw, acc.xyxy, chc.y;");
+        w.line("MAX ext.z, ext.z, work.z;");
+        w.line("MAX ext.z, ext.z, work.w;", "or a factor reaches the model's blocked value");
         w.comment("Factors along the segment lr0 + (lr1 - lr0) u, as the model: a blocked end takes");
         w.comment("the other end's; both blocked: no sun (chp.xy raised beyond float range).");
         w.line("SUB work.xy, sky, acc;");
@@ -578,14 +581,15 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
     w.line(full ? "MUL node.xyz, rho, acc.w;" : "MUL node.xyz, rho, sphi.y;", "f");
     w.line("MAD sphi, -work, sphi, sphi;", "(1 - F_ex) / log2(F_ex)");
     if (full) {
-        w.comment("The model's scale phi(tau_total) / phi(tau_G), tau_G with the sag (kept within");
-        w.comment("1/16 .. 16 where float rounds F_G or F_total to 1).");
+        w.comment("The model's scale phi(tau_total) / phi(tau_G), tau_G with the sag; where float");
+        w.comment("rounds F to 1, (1 - F)/log2(F) is 0 and takes its limit -ln(2) instead.");
         w.line("MAD acc.y, -acc.z, acc.w, acc.w;", "(1 - F_total) / log2(F_total)");
-        w.line("ADD acc.z, sphi.y, cst.y;");
+        w.line("SGE acc.z, acc.y, fit.z;");
+        w.line("MAD acc.y, acc.z, lim.x, acc.y;");
+        w.line("SGE acc.z, sphi.y, fit.z;");
+        w.line("MAD acc.z, acc.z, lim.x, sphi.y;");
         w.line("RCP acc.z, acc.z;");
         w.line("MUL acc.y, acc.y, acc.z;");
-        w.line("MIN acc.y, acc.y, lim.x;");
-        w.line("MAX acc.y, acc.y, lim.y;");
     }
     w.line("EX2 ext.w, -alt.y;");
     w.line("ADD ext.w, ext.w, hg.w;", "E = 2^-b - 1");

@@ -1749,10 +1749,11 @@ TEST(ArbHeightFidelity, AutomaticTakesTheHighestLevelTheLimitsAcceptAndFallsBack
 }
 
 TEST(ArbHeightFidelity, EachLevelGetsItsOwnParameters) {
-    // The parameters follow the level: 16 vectors for full, and its eye column factors are not
-    // capped; asking for automatic resolves like generate_arb_program.
+    // The parameters follow the level: 17 vectors for full, its eye column factors are not
+    // capped, and eyealt.w says whether the sun reaches the eye; asking for automatic resolves
+    // like generate_arb_program.
     const Frame<float> f =
-        height::frame_for(preset("earth"), height::view_for({0, 0, 100}, direction(-2, 0)));
+        height::frame_for(preset("earth"), height::view_for({0, 0, 100}, direction(-0.2, 0)));
     const Params spec = ::parameters(f, 4.0f, at_fidelity(aerial::ArbHeightFidelity::spec_minimum));
     const Params full = ::parameters(f, 4.0f, at_fidelity(aerial::ArbHeightFidelity::full));
     ArbProgramOptions automatic = at_fidelity(aerial::ArbHeightFidelity::automatic);
@@ -1762,6 +1763,12 @@ TEST(ArbHeightFidelity, EachLevelGetsItsOwnParameters) {
     EXPECT_EQ(spec[5][3], 0.0f);
     EXPECT_EQ(full[5][3], 1.0f) << "the sun at -0.2 deg still reaches an eye at 100 m";
     EXPECT_FLOAT_EQ(full[12][0], float(f.eye_log_chapman_rayleigh * 1.4426950408889634));
+    const Frame<float> night =
+        height::frame_for(preset("earth"), height::view_for({0, 0, 100}, direction(-2, 0)));
+    const Params blocked = ::parameters(night, 4.0f, at_fidelity(aerial::ArbHeightFidelity::full));
+    EXPECT_EQ(blocked[5][3], 0.0f) << "the planet blocks the sun at -2 deg from 100 m";
+    EXPECT_EQ(blocked[12][0], 0.0f);
+    EXPECT_EQ(blocked[12][1], 0.0f);
 }
 
 TEST(ArbHeightFidelity, FullProgramReadsEveryParameterItDocuments) {
@@ -1770,20 +1777,32 @@ TEST(ArbHeightFidelity, FullProgramReadsEveryParameterItDocuments) {
     // the fit clamp's z and w, documented as unused (eyealt.w is read at this level).
     const ArbProgramOptions o = at_fidelity(aerial::ArbHeightFidelity::full);
     const auto program = parse(generate(o).text);
-    const std::vector<std::pair<glm::dvec3, double>> views{{{0, 0, 200}, 20.0},
-                                                           {{0, 0, 3000}, -3.0}};
-    const std::vector<glm::vec3> offsets{{0, 0, 0},         {4000, 2500, 900}, {60000, 1000, 0},
-                                         {3000, 0, -0.7f},  {500, 0, -30000},  {-90000, 0, 8000},
-                                         {-40000, 0, -2000}};
+    struct ViewCase {
+        const char* preset;
+        glm::dvec3 eye;
+        double sun;
+    };
+    // Sunlit; twilight (the eye in the planet's shadow, vertices high up still lit, with the
+    // sun below their horizon); a ray from 20 km down into the fog layer (the fit's clamp).
+    const std::vector<ViewCase> views{
+        {"hazy", {0, 0, 200}, 20.0}, {"hazy", {0, 0, 3000}, -3.0}, {"foggy", {0, 0, 20000}, 30.0}};
+    const std::vector<glm::vec3> offsets{{0, 0, 0},        {4000, 2500, 900}, {60000, 1000, 0},
+                                         {3000, 0, -0.7f}, {500, 0, -30000},  {-90000, 0, 8000},
+                                         {-40000, 0, -2000}, {-20000, 0, 20000}, {0, 0, 20000}};
     for (std::size_t i = 0; i < std::size_t(aerial::kArbHeightFullParameterCount); ++i) {
         for (std::size_t j = 0; j < 4; ++j) {
             bool changed_somewhere = false;
-            for (const auto& [eye, sun] : views) {
+            for (const ViewCase& view : views) {
+                const glm::dvec3 eye = view.eye;
                 const Frame<float> f = height::frame_for(
-                    preset("hazy"), height::view_for(eye, direction(sun, 0)));
+                    preset(view.preset), height::view_for(eye, direction(view.sun, 0)));
                 const Params p = ::parameters(f, 8.0f, o);
                 Params changed = p;
-                changed[i][j] = p[i][j] == 0.0f ? 0.5f : p[i][j] * 1.5f;
+                // The fit clamp is a log2 bound: Rayleigh's binds lowered by 60, the fog's
+                // stops binding raised by 60.
+                changed[i][j] = i == 16 ? p[i][j] + (j == 0 ? -60.0f : 60.0f)
+                                : p[i][j] == 0.0f ? 0.5f
+                                                  : p[i][j] * 1.5f;
                 for (const glm::vec3& offset : offsets) {
                     const glm::vec3 v = glm::vec3(eye) + offset;
                     const ArbResults a =

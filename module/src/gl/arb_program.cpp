@@ -647,6 +647,10 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
     }
     w.line("MAD seg.xyz, colm, inv.x, node;");
     w.line("MAD alt.xyz, colm, inv.y, node;");
+    if (full) {
+        w.line("MIN seg.xyz, seg, chc.y;", "the model's bound e^80 on the weights");
+        w.line("MIN alt.xyz, alt, chc.y;");
+    }
     for (const char* reg : {"seg", "alt"}) {
         for (char lane : {'x', 'y', 'z'}) {
             const std::string r = std::string(reg) + "." + lane;
@@ -659,6 +663,8 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
         w.line("MAD colr.xyz, colm, inv.x, colr;");
         w.line("MAD acc.xyz, work, chp.w, chp.y;");
         w.line("MAD colm.xyz, colm, inv.y, acc;");
+        w.line("MIN colr.xyz, colr, chc.y;", "and on the columns (no inf: alpha stays 0)");
+        w.line("MIN colm.xyz, colm, chc.y;");
     } else {
         w.line("MAD colr.xyz, colm, inv.x, sky.x;");
         w.line("MAD colm.xyz, colm, inv.y, sky.y;");

@@ -1798,9 +1798,9 @@ TEST(ArbHeightFidelity, FullProgramReadsEveryParameterItDocuments) {
                     preset(view.preset), height::view_for(eye, direction(view.sun, 0)));
                 const Params p = ::parameters(f, 8.0f, o);
                 Params changed = p;
-                // The fit clamp is a log2 bound: Rayleigh's binds lowered by 60, the fog's
+                // The fit clamp is a log2 bound: Rayleigh's binds lowered by 200, the fog's
                 // stops binding raised by 60.
-                changed[i][j] = i == 16 ? p[i][j] + (j == 0 ? -60.0f : 60.0f)
+                changed[i][j] = i == 16 ? p[i][j] + (j == 0 ? -200.0f : 60.0f)
                                 : p[i][j] == 0.0f ? 0.5f
                                                   : p[i][j] * 1.5f;
                 for (const glm::vec3& offset : offsets) {

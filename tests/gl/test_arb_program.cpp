@@ -866,6 +866,31 @@ TEST(ArbProgram, AerialEvalPrintsExactlyTheGeneratedText) {
     EXPECT_EQ(run_aerial_eval("--print-arb-program --model height").first, generate(height).text);
     EXPECT_EQ(run_aerial_eval("--print-arb-program --model reference").second, 2)
         << "reference has no program";
+    // The fidelity levels of the height program (beyond spec-minimum checked against 256).
+    for (auto f : {aerial::ArbHeightFidelity::spec_minimum,
+                   aerial::ArbHeightFidelity::exact_optical_depth,
+                   aerial::ArbHeightFidelity::full}) {
+        ArbProgramOptions o = height;
+        o.height_fidelity = f;
+        if (f != aerial::ArbHeightFidelity::spec_minimum) o.limits.max_instructions = 256;
+        const std::string flag =
+            std::string("--arb-height-fidelity ") + aerial::arb_height_fidelity_name(f);
+        const auto [text, code] = run_aerial_eval("--print-arb-program " + flag);
+        EXPECT_EQ(code, 0) << flag;
+        EXPECT_EQ(text, generate(o).text) << flag;
+        EXPECT_EQ(run_aerial_eval("--print-arb-program --model height " + flag).first, text);
+    }
+    EXPECT_EQ(run_aerial_eval("--print-arb-program --arb-height-fidelity fullest").second, 2);
+    EXPECT_EQ(run_aerial_eval("--print-arb-program --arb-height-fidelity automatic").second, 2)
+        << "without a driver there is nothing to choose from";
+    EXPECT_EQ(run_aerial_eval("--print-arb-program --model hoffman-preetham "
+                              "--arb-height-fidelity full")
+                  .second,
+              2);
+    EXPECT_EQ(run_aerial_eval("--preset earth --eye 0,0,2 --sun 0,0,1 --arb-height-fidelity full")
+                  .second,
+              2)
+        << "only with --print-arb-program";
 }
 #endif
 
@@ -991,6 +1016,18 @@ TEST(ArbInterpreter, ParseErrorsGiveTheLine) {
 }  // namespace
 
 // ---- The height program ----------------------------------------------------------------------
+
+namespace {
+
+ArbProgramOptions at_fidelity(aerial::ArbHeightFidelity fidelity) {
+    ArbProgramOptions o;
+    o.model = Model::height;
+    o.height_fidelity = fidelity;
+    o.limits.max_instructions = 256;  // Direct3D 9-class native limit
+    return o;
+}
+
+}  // namespace
 
 namespace {
 namespace height {
@@ -1509,7 +1546,11 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
     // 2^-11 in LG2 (or a relative one in EX2) swamps when the two ends of the segment have
     // nearly the same extinction (|b| << 1), and L_in = (1 - F_ex)/beta cancels near the eye as
     // in the 2002 program. Figures printed; F_ex asserted.
-    const auto program = height::program();
+  for (auto level : {aerial::ArbHeightFidelity::spec_minimum,
+                     aerial::ArbHeightFidelity::exact_optical_depth,
+                     aerial::ArbHeightFidelity::full}) {
+    const ArbProgramOptions o = at_fidelity(level);
+    const auto program = parse(generate(o).text);
     const int approx = aerial::count_approximate_instructions(program);
     height::Grid grid;
     grid.eyes = {{0, 0, 2}, {0, 0, 1000}};
@@ -1526,7 +1567,7 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
         for (const glm::dvec3& eye : grid.eyes) {
             for (double sun : grid.sun_elevations) {
                 const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::ArbMachine m = machine_with(height::parameters(k.frame, k.exposure));
+                const aerial::ArbMachine m = machine_with(::parameters(k.frame, k.exposure, o));
                 for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
                     const aerial::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
                     const height::Lsb exact = height::lsb_against(
@@ -1550,12 +1591,13 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
         }
     }
     std::printf(
-        "[ info     ] height program with 2^-11 on its %d approximate instructions, %ld "
-        "vertices: F_ex max %d LSB; L_in max %d LSB (%.1f%% > 1 LSB; exact: max %d, "
+        "[ info     ] height program (%s) with 2^-11 on its %d approximate instructions, %ld "
+        "vertices: F_ex max %d LSB; L_in max %d LSB (%.1f%% > 1 LSB; unperturbed: max %d, "
         "%.1f%% > 1), worst at %s\n",
-        approx, lin.vertices, fex.lsb, lin.lsb, lin.percent_over_one(), lin_exact.lsb,
-        lin_exact.percent_over_one(), lin.where.c_str());
+        aerial::arb_height_fidelity_name(level), approx, lin.vertices, fex.lsb, lin.lsb,
+        lin.percent_over_one(), lin_exact.lsb, lin_exact.percent_over_one(), lin.where.c_str());
     EXPECT_LE(fex.lsb, 1) << fex.where;
+  }
 }
 
 /// Regression bounds of height_exact_optical_depth against the CPU model, measured like
@@ -1624,17 +1666,6 @@ TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
 
 // ---- The height program's fidelity levels ----------------------------------------------------
 
-namespace {
-
-ArbProgramOptions at_fidelity(aerial::ArbHeightFidelity fidelity) {
-    ArbProgramOptions o;
-    o.model = Model::height;
-    o.height_fidelity = fidelity;
-    o.limits.max_instructions = 256;  // Direct3D 9-class native limit
-    return o;
-}
-
-}  // namespace
 
 TEST(ArbHeightProgram, FullFidelityMatchesTheCpuModelWithin1LsbOverTheWholeGrid) {
     // All of the model: every preset, eyes 2 m to 30 km, the sun from -10 to 90 deg (twilight,

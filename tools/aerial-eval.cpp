@@ -64,9 +64,10 @@ int main(int argc, char** argv) {
         if (fidelity_opt->count() > 0) {
             const auto fidelity = parse_arb_height_fidelity(fidelity_text);
             if (!fidelity || *fidelity == ArbHeightFidelity::automatic) {
-                return tools::fail(kTool, "--arb-height-fidelity: expected spec-minimum, "
-                                          "exact-optical-depth or full, got '" +
-                                              fidelity_text + "'");
+                return tools::fail(kTool,
+                                   "--arb-height-fidelity: expected spec-minimum, "
+                                   "exact-optical-depth or full, got '" +
+                                       fidelity_text + "'");
             }
             options.model = Model::height;
             options.height_fidelity = *fidelity;
@@ -83,9 +84,10 @@ int main(int argc, char** argv) {
                                    "and height, got 'reference'");
             }
             if (fidelity_opt->count() > 0 && *model != Model::height) {
-                return tools::fail(kTool, "--arb-height-fidelity: only the height model has "
-                                          "fidelity levels, got --model " +
-                                              model_text);
+                return tools::fail(kTool,
+                                   "--arb-height-fidelity: only the height model has "
+                                   "fidelity levels, got --model " +
+                                       model_text);
             }
             options.model = *model;
         }

@@ -867,9 +867,9 @@ TEST(ArbProgram, AerialEvalPrintsExactlyTheGeneratedText) {
     EXPECT_EQ(run_aerial_eval("--print-arb-program --model reference").second, 2)
         << "reference has no program";
     // The fidelity levels of the height program (beyond spec-minimum checked against 256).
-    for (auto f : {aerial::ArbHeightFidelity::spec_minimum,
-                   aerial::ArbHeightFidelity::exact_optical_depth,
-                   aerial::ArbHeightFidelity::full}) {
+    for (auto f :
+         {aerial::ArbHeightFidelity::spec_minimum, aerial::ArbHeightFidelity::exact_optical_depth,
+          aerial::ArbHeightFidelity::full}) {
         ArbProgramOptions o = height;
         o.height_fidelity = f;
         if (f != aerial::ArbHeightFidelity::spec_minimum) o.limits.max_instructions = 256;
@@ -887,9 +887,9 @@ TEST(ArbProgram, AerialEvalPrintsExactlyTheGeneratedText) {
                               "--arb-height-fidelity full")
                   .second,
               2);
-    EXPECT_EQ(run_aerial_eval("--preset earth --eye 0,0,2 --sun 0,0,1 --arb-height-fidelity full")
-                  .second,
-              2)
+    EXPECT_EQ(
+        run_aerial_eval("--preset earth --eye 0,0,2 --sun 0,0,1 --arb-height-fidelity full").second,
+        2)
         << "only with --print-arb-program";
 }
 #endif
@@ -1546,58 +1546,58 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
     // 2^-11 in LG2 (or a relative one in EX2) swamps when the two ends of the segment have
     // nearly the same extinction (|b| << 1), and L_in = (1 - F_ex)/beta cancels near the eye as
     // in the 2002 program. Figures printed; F_ex asserted.
-  for (auto level : {aerial::ArbHeightFidelity::spec_minimum,
-                     aerial::ArbHeightFidelity::exact_optical_depth,
-                     aerial::ArbHeightFidelity::full}) {
-    const ArbProgramOptions o = at_fidelity(level);
-    const auto program = parse(generate(o).text);
-    const int approx = aerial::count_approximate_instructions(program);
-    height::Grid grid;
-    grid.eyes = {{0, 0, 2}, {0, 0, 1000}};
-    grid.sun_elevations = {10, 45};
-    grid.distances = {10, 1e3, 1e4, 3e4};
-    grid.azimuths = 2;
-    std::uint32_t seed = 12345u;
-    const auto next = [&] {
-        seed = seed * 1664525u + 1013904223u;
-        return seed;
-    };
-    height::Worst fex, lin, lin_exact;
-    for (const std::string& name : aerial::atmosphere_preset_names()) {
-        for (const glm::dvec3& eye : grid.eyes) {
-            for (double sun : grid.sun_elevations) {
-                const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::ArbMachine m = machine_with(::parameters(k.frame, k.exposure, o));
-                for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
-                    const aerial::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
-                    const height::Lsb exact = height::lsb_against(
-                        aerial::run_arb_program(program, m, v), k.cpu[i], k.exposure);
-                    height::Lsb worst;
-                    for (int pattern = 0; pattern < 48; ++pattern) {
-                        aerial::ArbInterpreterOptions o;
-                        o.relative_error = kOldHardwareError;
-                        o.sign_pattern = pattern == 0 ? 0u : pattern == 1 ? ~0u : next();
-                        const height::Lsb e = height::lsb_against(
-                            aerial::run_arb_program(program, m, v, o), k.cpu[i], k.exposure);
-                        worst.extinction = std::max(worst.extinction, e.extinction);
-                        worst.in_scattering = std::max(worst.in_scattering, e.in_scattering);
+    for (auto level :
+         {aerial::ArbHeightFidelity::spec_minimum, aerial::ArbHeightFidelity::exact_optical_depth,
+          aerial::ArbHeightFidelity::full}) {
+        const ArbProgramOptions o = at_fidelity(level);
+        const auto program = parse(generate(o).text);
+        const int approx = aerial::count_approximate_instructions(program);
+        height::Grid grid;
+        grid.eyes = {{0, 0, 2}, {0, 0, 1000}};
+        grid.sun_elevations = {10, 45};
+        grid.distances = {10, 1e3, 1e4, 3e4};
+        grid.azimuths = 2;
+        std::uint32_t seed = 12345u;
+        const auto next = [&] {
+            seed = seed * 1664525u + 1013904223u;
+            return seed;
+        };
+        height::Worst fex, lin, lin_exact;
+        for (const std::string& name : aerial::atmosphere_preset_names()) {
+            for (const glm::dvec3& eye : grid.eyes) {
+                for (double sun : grid.sun_elevations) {
+                    const height::Case k = height::make_case(name, eye, sun, grid);
+                    const aerial::ArbMachine m = machine_with(::parameters(k.frame, k.exposure, o));
+                    for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
+                        const aerial::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
+                        const height::Lsb exact = height::lsb_against(
+                            aerial::run_arb_program(program, m, v), k.cpu[i], k.exposure);
+                        height::Lsb worst;
+                        for (int pattern = 0; pattern < 48; ++pattern) {
+                            aerial::ArbInterpreterOptions o;
+                            o.relative_error = kOldHardwareError;
+                            o.sign_pattern = pattern == 0 ? 0u : pattern == 1 ? ~0u : next();
+                            const height::Lsb e = height::lsb_against(
+                                aerial::run_arb_program(program, m, v, o), k.cpu[i], k.exposure);
+                            worst.extinction = std::max(worst.extinction, e.extinction);
+                            worst.in_scattering = std::max(worst.in_scattering, e.in_scattering);
+                        }
+                        const std::string where = height::describe(k, k.vertices[i]);
+                        fex.add(worst.extinction, where);
+                        lin.add(worst.in_scattering, where);
+                        lin_exact.add(exact.in_scattering, where);
                     }
-                    const std::string where = height::describe(k, k.vertices[i]);
-                    fex.add(worst.extinction, where);
-                    lin.add(worst.in_scattering, where);
-                    lin_exact.add(exact.in_scattering, where);
                 }
             }
         }
+        std::printf(
+            "[ info     ] height program (%s) with 2^-11 on its %d approximate instructions, %ld "
+            "vertices: F_ex max %d LSB; L_in max %d LSB (%.1f%% > 1 LSB; unperturbed: max %d, "
+            "%.1f%% > 1), worst at %s\n",
+            aerial::arb_height_fidelity_name(level), approx, lin.vertices, fex.lsb, lin.lsb,
+            lin.percent_over_one(), lin_exact.lsb, lin_exact.percent_over_one(), lin.where.c_str());
+        EXPECT_LE(fex.lsb, 1) << fex.where;
     }
-    std::printf(
-        "[ info     ] height program (%s) with 2^-11 on its %d approximate instructions, %ld "
-        "vertices: F_ex max %d LSB; L_in max %d LSB (%.1f%% > 1 LSB; unperturbed: max %d, "
-        "%.1f%% > 1), worst at %s\n",
-        aerial::arb_height_fidelity_name(level), approx, lin.vertices, fex.lsb, lin.lsb,
-        lin.percent_over_one(), lin_exact.lsb, lin_exact.percent_over_one(), lin.where.c_str());
-    EXPECT_LE(fex.lsb, 1) << fex.where;
-  }
 }
 
 /// Regression bounds of height_exact_optical_depth against the CPU model, measured like
@@ -1665,7 +1665,6 @@ TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
 }
 
 // ---- The height program's fidelity levels ----------------------------------------------------
-
 
 TEST(ArbHeightProgram, FullFidelityMatchesTheCpuModelWithin1LsbOverTheWholeGrid) {
     // All of the model: every preset, eyes 2 m to 30 km, the sun from -10 to 90 deg (twilight,
@@ -1817,8 +1816,8 @@ TEST(ArbHeightFidelity, FullProgramReadsEveryParameterItDocuments) {
     // sun below their horizon); a ray from 20 km down into the fog layer (the fit's clamp).
     const std::vector<ViewCase> views{
         {"hazy", {0, 0, 200}, 20.0}, {"hazy", {0, 0, 3000}, -3.0}, {"foggy", {0, 0, 20000}, 30.0}};
-    const std::vector<glm::vec3> offsets{{0, 0, 0},        {4000, 2500, 900}, {60000, 1000, 0},
-                                         {3000, 0, -0.7f}, {500, 0, -30000},  {-90000, 0, 8000},
+    const std::vector<glm::vec3> offsets{{0, 0, 0},          {4000, 2500, 900},  {60000, 1000, 0},
+                                         {3000, 0, -0.7f},   {500, 0, -30000},   {-90000, 0, 8000},
                                          {-40000, 0, -2000}, {-20000, 0, 20000}, {0, 0, 20000}};
     for (std::size_t i = 0; i < std::size_t(aerial::kArbHeightFullParameterCount); ++i) {
         for (std::size_t j = 0; j < 4; ++j) {
@@ -1831,7 +1830,7 @@ TEST(ArbHeightFidelity, FullProgramReadsEveryParameterItDocuments) {
                 Params changed = p;
                 // The fit clamp is a log2 bound: Rayleigh's binds lowered by 200, the fog's
                 // stops binding raised by 60.
-                changed[i][j] = i == 16 ? p[i][j] + (j == 0 ? -200.0f : 60.0f)
+                changed[i][j] = i == 16           ? p[i][j] + (j == 0 ? -200.0f : 60.0f)
                                 : p[i][j] == 0.0f ? 0.5f
                                                   : p[i][j] * 1.5f;
                 for (const glm::vec3& offset : offsets) {

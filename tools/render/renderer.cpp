@@ -286,10 +286,9 @@ Result<RenderedImage> render_scene(const headless::Context& context, const Scene
             auto program = gl::ArbVertexProgram::create(api, *text);
             while (!program && scene.model == Model::height &&
                    text->options.height_fidelity != ArbHeightFidelity::spec_minimum) {
-                arb.height_fidelity =
-                    text->options.height_fidelity == ArbHeightFidelity::full
-                        ? ArbHeightFidelity::exact_optical_depth
-                        : ArbHeightFidelity::spec_minimum;
+                arb.height_fidelity = text->options.height_fidelity == ArbHeightFidelity::full
+                                          ? ArbHeightFidelity::exact_optical_depth
+                                          : ArbHeightFidelity::spec_minimum;
                 text = generate_arb_program(arb);
                 if (!text) return Error{text.error().field, where + text.error().message};
                 program = gl::ArbVertexProgram::create(api, *text);

@@ -317,6 +317,11 @@ std::array<double, kErfcxDegree + 1> erfcx_fit() {
 // and the planet-shadow test per node (about 10). Budget: 4 transform, 6 distance and fog, 3
 // phase, 12 altitude, 17 densities, 8 fit, 11 F_ex, 14 nodes, 6 node altitudes, 9 weights,
 // 8 columns, 21 transmittance sums, 6 L_in, 1 per texture unit: 127 with one unit.
+// exact_optical_depth adds the correction (23 more: 150). full adds the rest of the model (99
+// more: 249): the vertex's column factors (the erfcx fit, the below-horizon branch, the choice
+// between them, the blocked tests and the ends' interpolation), the shadow per node, tau_total
+// without the sag for the node placement and the scale phi(tau_total)/phi(tau_G), the model's
+// bounds on the fit, the weights and the columns, and the interpolated factors at the nodes.
 std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fidelity) {
     const bool exact = fidelity != ArbHeightFidelity::spec_minimum;
     const bool full = fidelity == ArbHeightFidelity::full;
@@ -500,7 +505,8 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
         w.line("SGE work.zw, acc.xyxy, chc.y;");
         w.line("MAX ext.z, ext.z, work.z;");
         w.line("MAX ext.z, ext.z, work.w;", "or a factor reaches the model's blocked value");
-        w.comment("Factors along the segment lr0 + (lr1 - lr0) u, as the model: a blocked end takes");
+        w.comment(
+            "Factors along the segment lr0 + (lr1 - lr0) u, as the model: a blocked end takes");
         w.comment("the other end's; both blocked: no sun (chp.xy raised beyond float range).");
         w.line("SUB work.xy, sky, acc;");
         w.line("MAD chp.xy, work, eyealt.w, acc;", "lr0");
@@ -632,7 +638,8 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
     w.comment("Weights W_n rho_i(u_n) e^(a u_n) (the Jacobian of the fitted profile).");
     w.line("SUB node.xyz, logw, node;");
     if (full) {
-        w.comment("Planet shadow at each point p = eye + u d, c = eye + R up: along = (c + u d).sun < 0");
+        w.comment(
+            "Planet shadow at each point p = eye + u d, c = eye + R up: along = (c + u d).sun < 0");
         w.comment("and |c + u d|^2 - along^2 < R^2; a shadowed point gets no weight.");
         w.line("DP3 colr.w, seg, sunc;", "d.sun");
         w.line("MAD colr.xyz, work, colr.w, sunc.w;", "along");
@@ -781,9 +788,9 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
         p[kHeightChapmanH] = {root * hr, root * hm, 2.0 * root * hr, 2.0 * root * hm};
         // The model's k_end takes exp(min(-rise/H_i, 80)): the same bound on the exponent of
         // sky.zw's fitted end, log2(beta_i/k0) + eps + (80 - h0/H_i) log2(e).
-        p[kHeightFitClamp] = {
-            p[kHeightSunColumn][2] + (kBlockedLogColumn - h0 * inv_r) * kLog2E,
-            p[kHeightSunColumn][3] + (kBlockedLogColumn - h0 * inv_m) * kLog2E, 0.0, 0.0};
+        p[kHeightFitClamp] = {p[kHeightSunColumn][2] + (kBlockedLogColumn - h0 * inv_r) * kLog2E,
+                              p[kHeightSunColumn][3] + (kBlockedLogColumn - h0 * inv_m) * kLog2E,
+                              0.0, 0.0};
     }
     return to_float_parameters(p);
 }
@@ -833,8 +840,7 @@ int arb_parameter_count(const ArbProgramOptions& options) {
     if (options.model == Model::height && options.height_fidelity == ArbHeightFidelity::full) {
         return kArbHeightFullParameterCount;
     }
-    if (options.model == Model::height &&
-        options.height_fidelity == ArbHeightFidelity::automatic) {
+    if (options.model == Model::height && options.height_fidelity == ArbHeightFidelity::automatic) {
         ArbProgramOptions resolved = options;
         resolved.height_fidelity = resolve_arb_height_fidelity(options);
         return arb_parameter_count(resolved);

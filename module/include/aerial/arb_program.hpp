@@ -7,7 +7,7 @@
 //      it is to glProgramStringARB(GL_VERTEX_PROGRAM_ARB, GL_PROGRAM_FORMAT_ASCII_ARB, ...).
 //   2. Per frame: `auto frame = aerial::prepare_frame<float>(atmosphere, view, options.model);`
 //      then `auto p = aerial::arb_program_parameters(*frame, display, options);` and upload p[i]
-//      (arb_parameter_count(options.model) vectors) to program.local[options.parameter_base + i]
+//      (arb_parameter_count(options) vectors) to program.local[options.parameter_base + i]
 //      (glProgramLocalParameter4fvARB) or program.env[...] (glProgramEnvParameter4fvARB).
 //   3. Draw with the program bound and enabled, texture env MODULATE and GL_COLOR_SUM on: the
 //      primary colour is F_ex (it modulates the texture), the secondary colour is L_in with the
@@ -73,9 +73,9 @@ enum class ArbHeightFidelity {
     /// All of the CPU model: exact_optical_depth plus the sun's column factors at the vertex
     /// (an erfcx fit and the below-horizon branch) interpolated along the segment as the model
     /// does, the planet's shadow per sunlight point and the eye's or the vertex's blocked sun:
-    /// 12 temporaries and kArbHeightFullParameterCount parameters; its instruction count is in
-    /// README. Needs a driver whose MAX_PROGRAM_NATIVE_INSTRUCTIONS is at least 256 (Direct3D
-    /// 9-class hardware, Mesa).
+    /// 249 instructions, 12 temporaries and kArbHeightFullParameterCount parameters: within 1
+    /// LSB of the CPU model. Needs a driver whose MAX_PROGRAM_NATIVE_INSTRUCTIONS is at least
+    /// 249 (256 on Direct3D 9-class hardware; Mesa's are far larger).
     full,
 };
 
@@ -87,8 +87,8 @@ Result<ArbHeightFidelity> parse_arb_height_fidelity(std::string_view name);
 
 /// Options of generate_arb_program and arb_program_parameters (use the same for both).
 struct ArbProgramOptions {
-    /// hoffman_preetham (22 instructions) or height (127; approximations listed at
-    /// kArbHeightParameterCount). `reference` has no program.
+    /// hoffman_preetham (22 instructions) or height (127 to 249 by height_fidelity).
+    /// `reference` has no program.
     Model model = Model::hoffman_preetham;
     ParameterSpace parameter_space = ParameterSpace::local;
     int parameter_base = 0;  ///< index of the first parameter, >= 0

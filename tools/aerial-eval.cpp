@@ -26,7 +26,10 @@ constexpr const char* kDescription =
     "--eye=X,Y,Z when a value is negative. Exit status: 0 on success, 2 on bad input.\n"
     "--print-arb-program prints the ARB vertex program of --model (hoffman-preetham, the default\n"
     "here, or height) exactly as it is handed to glProgramStringARB (no other flag is needed) and\n"
-    "exits; reference has no program.";
+    "exits; reference has no program. --arb-height-fidelity spec-minimum|exact-optical-depth|full\n"
+    "(with --print-arb-program; implies --model height) chooses how much of the height model the\n"
+    "program computes; the levels beyond spec-minimum are checked against 256 instructions (the\n"
+    "native limit of Direct3D 9-class hardware) instead of the spec's 128.";
 
 }  // namespace
 
@@ -48,12 +51,30 @@ int main(int argc, char** argv) {
     bool print_arb_program = false;
     app.add_flag("--print-arb-program", print_arb_program,
                  "Print the ARB vertex program (hoffman-preetham) as loaded into GL, and exit");
+    std::string fidelity_text;
+    auto* fidelity_opt = app.add_option(
+        "--arb-height-fidelity", fidelity_text,
+        "With --print-arb-program: spec-minimum (default), exact-optical-depth or full");
     app.add_option("--up", up_text, "World up axis X,Y,Z (normalised; default 0,0,1)");
     app.add_option("--points", points_file, "File of points x,y,z (default: stdin)");
     if (auto status = tools::parse_command_line(app, argc, argv, kTool)) return *status;
 
     if (print_arb_program) {
         ArbProgramOptions options;  // the defaults: program.local[0...], one texture unit
+        if (fidelity_opt->count() > 0) {
+            const auto fidelity = parse_arb_height_fidelity(fidelity_text);
+            if (!fidelity || *fidelity == ArbHeightFidelity::automatic) {
+                return tools::fail(kTool,
+                                   "--arb-height-fidelity: expected spec-minimum, "
+                                   "exact-optical-depth or full, got '" +
+                                       fidelity_text + "'");
+            }
+            options.model = Model::height;
+            options.height_fidelity = *fidelity;
+            if (*fidelity != ArbHeightFidelity::spec_minimum) {
+                options.limits.max_instructions = 256;
+            }
+        }
         if (model_opt->count() > 0) {
             auto model = parse_model(model_text);
             if (!model) return tools::fail(kTool, "--model: " + model.error().message);
@@ -61,6 +82,12 @@ int main(int argc, char** argv) {
                 return tools::fail(kTool,
                                    "--model: the ARB vertex program exists for hoffman-preetham "
                                    "and height, got 'reference'");
+            }
+            if (fidelity_opt->count() > 0 && *model != Model::height) {
+                return tools::fail(kTool,
+                                   "--arb-height-fidelity: only the height model has "
+                                   "fidelity levels, got --model " +
+                                       model_text);
             }
             options.model = *model;
         }
@@ -72,6 +99,9 @@ int main(int argc, char** argv) {
             return tools::fail(kTool, "cannot write output");
         }
         return 0;
+    }
+    if (fidelity_opt->count() > 0) {
+        return tools::fail(kTool, "--arb-height-fidelity: only with --print-arb-program");
     }
     if (eye_opt->count() == 0) return tools::fail(kTool, "--eye is required (see --help)");
     if (sun_opt->count() == 0) return tools::fail(kTool, "--sun is required (see --help)");

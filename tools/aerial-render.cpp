@@ -86,9 +86,10 @@ int main(int argc, char** argv) {
     }
     const char* path_name =
         options.backend == render::Backend::cpu ? gl::path_name(image->path_used) : "-";
-    std::printf("backend=%s path=%s gl=%s size=%dx%d ms=%.2f renderer=\"%s\"\n",
+    std::printf("backend=%s path=%s gl=%s size=%dx%d ms=%.2f program=%s renderer=\"%s\"\n",
                 render::backend_name(options.backend), path_name, gl_text.c_str(), image->width,
-                image->height, image->milliseconds, context->api().caps.renderer.c_str());
+                image->height, image->milliseconds, image->program.c_str(),
+                context->api().caps.renderer.c_str());
     if (std::fflush(stdout) != 0) return tools::fail(kTool, "cannot write output");
     return 0;
 }

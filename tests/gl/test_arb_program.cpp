@@ -866,6 +866,31 @@ TEST(ArbProgram, AerialEvalPrintsExactlyTheGeneratedText) {
     EXPECT_EQ(run_aerial_eval("--print-arb-program --model height").first, generate(height).text);
     EXPECT_EQ(run_aerial_eval("--print-arb-program --model reference").second, 2)
         << "reference has no program";
+    // The fidelity levels of the height program (beyond spec-minimum checked against 256).
+    for (auto f :
+         {aerial::ArbHeightFidelity::spec_minimum, aerial::ArbHeightFidelity::exact_optical_depth,
+          aerial::ArbHeightFidelity::full}) {
+        ArbProgramOptions o = height;
+        o.height_fidelity = f;
+        if (f != aerial::ArbHeightFidelity::spec_minimum) o.limits.max_instructions = 256;
+        const std::string flag =
+            std::string("--arb-height-fidelity ") + aerial::arb_height_fidelity_name(f);
+        const auto [text, code] = run_aerial_eval("--print-arb-program " + flag);
+        EXPECT_EQ(code, 0) << flag;
+        EXPECT_EQ(text, generate(o).text) << flag;
+        EXPECT_EQ(run_aerial_eval("--print-arb-program --model height " + flag).first, text);
+    }
+    EXPECT_EQ(run_aerial_eval("--print-arb-program --arb-height-fidelity fullest").second, 2);
+    EXPECT_EQ(run_aerial_eval("--print-arb-program --arb-height-fidelity automatic").second, 2)
+        << "without a driver there is nothing to choose from";
+    EXPECT_EQ(run_aerial_eval("--print-arb-program --model hoffman-preetham "
+                              "--arb-height-fidelity full")
+                  .second,
+              2);
+    EXPECT_EQ(
+        run_aerial_eval("--preset earth --eye 0,0,2 --sun 0,0,1 --arb-height-fidelity full").second,
+        2)
+        << "only with --print-arb-program";
 }
 #endif
 
@@ -991,6 +1016,18 @@ TEST(ArbInterpreter, ParseErrorsGiveTheLine) {
 }  // namespace
 
 // ---- The height program ----------------------------------------------------------------------
+
+namespace {
+
+ArbProgramOptions at_fidelity(aerial::ArbHeightFidelity fidelity) {
+    ArbProgramOptions o;
+    o.model = Model::height;
+    o.height_fidelity = fidelity;
+    o.limits.max_instructions = 256;  // Direct3D 9-class native limit
+    return o;
+}
+
+}  // namespace
 
 namespace {
 namespace height {
@@ -1386,7 +1423,7 @@ TEST(ArbHeightProgram, AgainstTheReferenceModelItErrsLikeTheCpuHeightModel) {
     // the truth? Eyes up to 10 km, rays up to 30 km, sun 5 to 60 deg.
     const auto program = height::program();
     ArbProgramOptions exact_options;
-    exact_options.height_exact_optical_depth = true;
+    exact_options.height_fidelity = aerial::ArbHeightFidelity::exact_optical_depth;
     exact_options.limits.max_instructions = 256;
     const auto exact = height::program(exact_options);
     height::Grid grid;
@@ -1509,53 +1546,58 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
     // 2^-11 in LG2 (or a relative one in EX2) swamps when the two ends of the segment have
     // nearly the same extinction (|b| << 1), and L_in = (1 - F_ex)/beta cancels near the eye as
     // in the 2002 program. Figures printed; F_ex asserted.
-    const auto program = height::program();
-    const int approx = aerial::count_approximate_instructions(program);
-    height::Grid grid;
-    grid.eyes = {{0, 0, 2}, {0, 0, 1000}};
-    grid.sun_elevations = {10, 45};
-    grid.distances = {10, 1e3, 1e4, 3e4};
-    grid.azimuths = 2;
-    std::uint32_t seed = 12345u;
-    const auto next = [&] {
-        seed = seed * 1664525u + 1013904223u;
-        return seed;
-    };
-    height::Worst fex, lin, lin_exact;
-    for (const std::string& name : aerial::atmosphere_preset_names()) {
-        for (const glm::dvec3& eye : grid.eyes) {
-            for (double sun : grid.sun_elevations) {
-                const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::ArbMachine m = machine_with(height::parameters(k.frame, k.exposure));
-                for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
-                    const aerial::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
-                    const height::Lsb exact = height::lsb_against(
-                        aerial::run_arb_program(program, m, v), k.cpu[i], k.exposure);
-                    height::Lsb worst;
-                    for (int pattern = 0; pattern < 48; ++pattern) {
-                        aerial::ArbInterpreterOptions o;
-                        o.relative_error = kOldHardwareError;
-                        o.sign_pattern = pattern == 0 ? 0u : pattern == 1 ? ~0u : next();
-                        const height::Lsb e = height::lsb_against(
-                            aerial::run_arb_program(program, m, v, o), k.cpu[i], k.exposure);
-                        worst.extinction = std::max(worst.extinction, e.extinction);
-                        worst.in_scattering = std::max(worst.in_scattering, e.in_scattering);
+    for (auto level :
+         {aerial::ArbHeightFidelity::spec_minimum, aerial::ArbHeightFidelity::exact_optical_depth,
+          aerial::ArbHeightFidelity::full}) {
+        const ArbProgramOptions o = at_fidelity(level);
+        const auto program = parse(generate(o).text);
+        const int approx = aerial::count_approximate_instructions(program);
+        height::Grid grid;
+        grid.eyes = {{0, 0, 2}, {0, 0, 1000}};
+        grid.sun_elevations = {10, 45};
+        grid.distances = {10, 1e3, 1e4, 3e4};
+        grid.azimuths = 2;
+        std::uint32_t seed = 12345u;
+        const auto next = [&] {
+            seed = seed * 1664525u + 1013904223u;
+            return seed;
+        };
+        height::Worst fex, lin, lin_exact;
+        for (const std::string& name : aerial::atmosphere_preset_names()) {
+            for (const glm::dvec3& eye : grid.eyes) {
+                for (double sun : grid.sun_elevations) {
+                    const height::Case k = height::make_case(name, eye, sun, grid);
+                    const aerial::ArbMachine m = machine_with(::parameters(k.frame, k.exposure, o));
+                    for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
+                        const aerial::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
+                        const height::Lsb exact = height::lsb_against(
+                            aerial::run_arb_program(program, m, v), k.cpu[i], k.exposure);
+                        height::Lsb worst;
+                        for (int pattern = 0; pattern < 48; ++pattern) {
+                            aerial::ArbInterpreterOptions o;
+                            o.relative_error = kOldHardwareError;
+                            o.sign_pattern = pattern == 0 ? 0u : pattern == 1 ? ~0u : next();
+                            const height::Lsb e = height::lsb_against(
+                                aerial::run_arb_program(program, m, v, o), k.cpu[i], k.exposure);
+                            worst.extinction = std::max(worst.extinction, e.extinction);
+                            worst.in_scattering = std::max(worst.in_scattering, e.in_scattering);
+                        }
+                        const std::string where = height::describe(k, k.vertices[i]);
+                        fex.add(worst.extinction, where);
+                        lin.add(worst.in_scattering, where);
+                        lin_exact.add(exact.in_scattering, where);
                     }
-                    const std::string where = height::describe(k, k.vertices[i]);
-                    fex.add(worst.extinction, where);
-                    lin.add(worst.in_scattering, where);
-                    lin_exact.add(exact.in_scattering, where);
                 }
             }
         }
+        std::printf(
+            "[ info     ] height program (%s) with 2^-11 on its %d approximate instructions, %ld "
+            "vertices: F_ex max %d LSB; L_in max %d LSB (%.1f%% > 1 LSB; unperturbed: max %d, "
+            "%.1f%% > 1), worst at %s\n",
+            aerial::arb_height_fidelity_name(level), approx, lin.vertices, fex.lsb, lin.lsb,
+            lin.percent_over_one(), lin_exact.lsb, lin_exact.percent_over_one(), lin.where.c_str());
+        EXPECT_LE(fex.lsb, 1) << fex.where;
     }
-    std::printf(
-        "[ info     ] height program with 2^-11 on its %d approximate instructions, %ld "
-        "vertices: F_ex max %d LSB; L_in max %d LSB (%.1f%% > 1 LSB; exact: max %d, "
-        "%.1f%% > 1), worst at %s\n",
-        approx, lin.vertices, fex.lsb, lin.lsb, lin.percent_over_one(), lin_exact.lsb,
-        lin_exact.percent_over_one(), lin.where.c_str());
-    EXPECT_LE(fex.lsb, 1) << fex.where;
 }
 
 /// Regression bounds of height_exact_optical_depth against the CPU model, measured like
@@ -1568,7 +1610,7 @@ TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
     // tau) like the model's; what remains is the eye's sun column along the segment and the
     // missing per-point shadow. Sun >= 5 deg, rays up to 30 km, per preset.
     ArbProgramOptions exact;
-    exact.height_exact_optical_depth = true;
+    exact.height_fidelity = aerial::ArbHeightFidelity::exact_optical_depth;
     exact.limits.max_instructions = 256;  // Direct3D 9-class native limit
     const aerial::ArbProgram text = generate(height::options(exact));
     std::printf(
@@ -1578,7 +1620,7 @@ TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
     EXPECT_EQ(text.instruction_count, generate(height::options()).instruction_count + 23);
     EXPECT_LE(text.resources.temporaries, 12);
     ArbProgramOptions at_minimum;
-    at_minimum.height_exact_optical_depth = true;
+    at_minimum.height_fidelity = aerial::ArbHeightFidelity::exact_optical_depth;
     const auto rejected = aerial::generate_arb_program(height::options(at_minimum));
     ASSERT_FALSE(rejected.ok()) << "beyond 128 instructions";
     EXPECT_EQ(rejected.error().field, "instructions");
@@ -1618,6 +1660,192 @@ TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
             if (name == bound.preset) {
                 EXPECT_LE(exact_worst.lsb, bound.rays_to_30km_lsb) << exact_worst.where;
             }
+        }
+    }
+}
+
+// ---- The height program's fidelity levels ----------------------------------------------------
+
+TEST(ArbHeightProgram, FullFidelityMatchesTheCpuModelWithin1LsbOverTheWholeGrid) {
+    // All of the model: every preset, eyes 2 m to 30 km, the sun from -10 to 90 deg (twilight,
+    // the planet's shadow), rays from 1 m to 150 km and vertices far below sea level.
+    const ArbProgramOptions o = at_fidelity(aerial::ArbHeightFidelity::full);
+    const aerial::ArbProgram text = generate(o);
+    std::printf(
+        "[ info     ] full height program: %d instructions, %d temporaries, %d parameters\n",
+        text.instruction_count, text.resources.temporaries, text.resources.parameters);
+    const auto program = parse(text.text);
+    const height::Grid grid;
+    height::Worst fex, lin;
+    for (const std::string& name : aerial::atmosphere_preset_names()) {
+        for (const glm::dvec3& eye : grid.eyes) {
+            for (double sun : grid.sun_elevations) {
+                const height::Case k = height::make_case(name, eye, sun, grid);
+                const aerial::ArbMachine m = machine_with(::parameters(k.frame, k.exposure, o));
+                for (std::size_t i = 0; i < k.vertices.size(); ++i) {
+                    const ArbResults r =
+                        aerial::run_arb_program(program, m, vertex_at(glm::vec3(k.vertices[i])));
+                    const height::Lsb e = height::lsb_against(r, k.cpu[i], k.exposure);
+                    const std::string where = height::describe(k, k.vertices[i]);
+                    fex.add(e.extinction, where);
+                    lin.add(e.in_scattering, where);
+                }
+            }
+        }
+    }
+    std::printf(
+        "[ info     ] full height program vs CPU height model (double), %ld vertices: F_ex max %d "
+        "LSB, L_in max %d LSB (%.3f%% > 1), worst at %s\n",
+        lin.vertices, fex.lsb, lin.lsb, lin.percent_over_one(), lin.where.c_str());
+    EXPECT_LE(fex.lsb, 1) << fex.where;
+    EXPECT_LE(lin.lsb, 1) << lin.where;
+}
+
+TEST(ArbHeightFidelity, AutomaticTakesTheHighestLevelTheLimitsAcceptAndFallsBack) {
+    using aerial::ArbHeightFidelity;
+    const int exact =
+        generate(at_fidelity(ArbHeightFidelity::exact_optical_depth)).instruction_count;
+    const aerial::ArbProgram full_program = generate(at_fidelity(ArbHeightFidelity::full));
+    const int full = full_program.instruction_count;
+    ASSERT_LT(128, exact);
+    ASSERT_LT(exact, full);
+    ASSERT_LE(full, 256) << "fits Direct3D 9-class native limits";
+    EXPECT_LE(full_program.resources.temporaries, 12);
+    // Simulated driver limits: each level where it fits, the next lower one a step below.
+    const struct {
+        int max_instructions;
+        int max_temporaries;
+        ArbHeightFidelity expected;
+    } cases[] = {{128, 12, ArbHeightFidelity::spec_minimum},
+                 {exact - 1, 12, ArbHeightFidelity::spec_minimum},
+                 {exact, 12, ArbHeightFidelity::exact_optical_depth},
+                 {full - 1, 12, ArbHeightFidelity::exact_optical_depth},
+                 {full, 12, ArbHeightFidelity::full},
+                 {16384, 11, ArbHeightFidelity::exact_optical_depth},
+                 {16384, 10, ArbHeightFidelity::spec_minimum}};
+    for (const auto& c : cases) {
+        ArbProgramOptions o = height::options();
+        o.limits.max_instructions = c.max_instructions;
+        o.limits.max_temporaries = c.max_temporaries;
+        const std::string where = std::to_string(c.max_instructions) + " instructions, " +
+                                  std::to_string(c.max_temporaries) + " temporaries";
+        EXPECT_EQ(aerial::resolve_arb_height_fidelity(o), c.expected) << where;
+        const auto p = aerial::generate_arb_program(o);
+        if (c.max_temporaries < 11) {
+            ASSERT_FALSE(p.ok()) << where << ": not even the smallest level fits";
+            EXPECT_EQ(p.error().field, "temporaries");
+            continue;
+        }
+        ASSERT_TRUE(p.ok()) << where << ": " << p.error().message;
+        EXPECT_EQ(p->options.height_fidelity, c.expected) << where << ": reports its choice";
+        ArbProgramOptions explicit_level = o;
+        explicit_level.height_fidelity = c.expected;
+        EXPECT_EQ(p->text, generate(explicit_level).text) << where;
+        EXPECT_EQ(aerial::arb_parameter_count(o), aerial::arb_parameter_count(p->options));
+    }
+    // Position invariance frees 4 instructions of the limit's... and takes 4 from it.
+    ArbProgramOptions invariant = height::options();
+    invariant.position_invariant = true;
+    invariant.limits.max_instructions = full;
+    EXPECT_EQ(aerial::resolve_arb_height_fidelity(invariant), ArbHeightFidelity::full);
+    // Parameters: 16 for full, 13 below; the index range limits the choice too.
+    EXPECT_EQ(aerial::arb_parameter_count(at_fidelity(ArbHeightFidelity::full)),
+              aerial::kArbHeightFullParameterCount);
+    EXPECT_EQ(aerial::arb_parameter_count(at_fidelity(ArbHeightFidelity::exact_optical_depth)),
+              aerial::kArbHeightParameterCount);
+    ArbProgramOptions high_base = height::options();
+    high_base.limits.max_instructions = 256;
+    high_base.parameter_base = 96 - aerial::kArbHeightParameterCount;
+    EXPECT_EQ(aerial::resolve_arb_height_fidelity(high_base),
+              ArbHeightFidelity::exact_optical_depth)
+        << "full's 16 parameters do not fit above index 83";
+    // An explicit level beyond the limits is an error naming the limit, not a silent fallback.
+    ArbProgramOptions forced = height::options();
+    forced.height_fidelity = ArbHeightFidelity::full;
+    const auto refused = aerial::generate_arb_program(forced);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field, "instructions");
+    // Names.
+    for (ArbHeightFidelity f : {ArbHeightFidelity::automatic, ArbHeightFidelity::spec_minimum,
+                                ArbHeightFidelity::exact_optical_depth, ArbHeightFidelity::full}) {
+        const auto parsed = aerial::parse_arb_height_fidelity(aerial::arb_height_fidelity_name(f));
+        ASSERT_TRUE(parsed.ok());
+        EXPECT_EQ(*parsed, f);
+    }
+    const auto unknown = aerial::parse_arb_height_fidelity("fullest");
+    ASSERT_FALSE(unknown.ok());
+    EXPECT_EQ(unknown.error().field, "height_fidelity");
+    EXPECT_NE(unknown.error().message.find("'fullest'"), std::string::npos);
+}
+
+TEST(ArbHeightFidelity, EachLevelGetsItsOwnParameters) {
+    // The parameters follow the level: 17 vectors for full, its eye column factors are not
+    // capped, and eyealt.w says whether the sun reaches the eye; asking for automatic resolves
+    // like generate_arb_program.
+    const Frame<float> f =
+        height::frame_for(preset("earth"), height::view_for({0, 0, 100}, direction(-0.2, 0)));
+    const Params spec = ::parameters(f, 4.0f, at_fidelity(aerial::ArbHeightFidelity::spec_minimum));
+    const Params full = ::parameters(f, 4.0f, at_fidelity(aerial::ArbHeightFidelity::full));
+    ArbProgramOptions automatic = at_fidelity(aerial::ArbHeightFidelity::automatic);
+    EXPECT_EQ(spec.size(), std::size_t(aerial::kArbHeightParameterCount));
+    EXPECT_EQ(full.size(), std::size_t(aerial::kArbHeightFullParameterCount));
+    EXPECT_EQ(::parameters(f, 4.0f, automatic), full);
+    EXPECT_EQ(spec[5][3], 0.0f);
+    EXPECT_EQ(full[5][3], 1.0f) << "the sun at -0.2 deg still reaches an eye at 100 m";
+    EXPECT_FLOAT_EQ(full[12][0], float(f.eye_log_chapman_rayleigh * 1.4426950408889634));
+    const Frame<float> night =
+        height::frame_for(preset("earth"), height::view_for({0, 0, 100}, direction(-2, 0)));
+    const Params blocked = ::parameters(night, 4.0f, at_fidelity(aerial::ArbHeightFidelity::full));
+    EXPECT_EQ(blocked[5][3], 0.0f) << "the planet blocks the sun at -2 deg from 100 m";
+    EXPECT_EQ(blocked[12][0], 0.0f);
+    EXPECT_EQ(blocked[12][1], 0.0f);
+}
+
+TEST(ArbHeightFidelity, FullProgramReadsEveryParameterItDocuments) {
+    // Changing any component of the 16 vectors changes an output at one of a few vertices (a
+    // sunlit view and one at twilight, where the vertex's column and the shadow act), except
+    // the fit clamp's z and w, documented as unused (eyealt.w is read at this level).
+    const ArbProgramOptions o = at_fidelity(aerial::ArbHeightFidelity::full);
+    const auto program = parse(generate(o).text);
+    struct ViewCase {
+        const char* preset;
+        glm::dvec3 eye;
+        double sun;
+    };
+    // Sunlit; twilight (the eye in the planet's shadow, vertices high up still lit, with the
+    // sun below their horizon); a ray from 20 km down into the fog layer (the fit's clamp).
+    const std::vector<ViewCase> views{
+        {"hazy", {0, 0, 200}, 20.0}, {"hazy", {0, 0, 3000}, -3.0}, {"foggy", {0, 0, 20000}, 30.0}};
+    const std::vector<glm::vec3> offsets{{0, 0, 0},          {4000, 2500, 900},  {60000, 1000, 0},
+                                         {3000, 0, -0.7f},   {500, 0, -30000},   {-90000, 0, 8000},
+                                         {-40000, 0, -2000}, {-20000, 0, 20000}, {0, 0, 20000}};
+    for (std::size_t i = 0; i < std::size_t(aerial::kArbHeightFullParameterCount); ++i) {
+        for (std::size_t j = 0; j < 4; ++j) {
+            bool changed_somewhere = false;
+            for (const ViewCase& view : views) {
+                const glm::dvec3 eye = view.eye;
+                const Frame<float> f = height::frame_for(
+                    preset(view.preset), height::view_for(eye, direction(view.sun, 0)));
+                const Params p = ::parameters(f, 8.0f, o);
+                Params changed = p;
+                // The fit clamp is a log2 bound: Rayleigh's binds lowered by 200, the fog's
+                // stops binding raised by 60.
+                changed[i][j] = i == 16           ? p[i][j] + (j == 0 ? -200.0f : 60.0f)
+                                : p[i][j] == 0.0f ? 0.5f
+                                                  : p[i][j] * 1.5f;
+                for (const glm::vec3& offset : offsets) {
+                    const glm::vec3 v = glm::vec3(eye) + offset;
+                    const ArbResults a =
+                        aerial::run_arb_program(program, machine_with(p), vertex_at(v));
+                    const ArbResults b =
+                        aerial::run_arb_program(program, machine_with(changed), vertex_at(v));
+                    changed_somewhere |= a.color_primary.value != b.color_primary.value ||
+                                         a.color_secondary.value != b.color_secondary.value ||
+                                         a.fogcoord.value[0] != b.fogcoord.value[0];
+                }
+            }
+            const bool unused = i == 16 && j >= 2;
+            EXPECT_EQ(changed_somewhere, !unused) << "parameter " << i << " component " << j;
         }
     }
 }

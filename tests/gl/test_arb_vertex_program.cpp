@@ -274,6 +274,57 @@ TEST_F(ArbVertexProgramGl, HeightProgramStaysWithinItsMeasuredErrorOfTheCpuModel
     run_parity(*ctx_, options, "program.local", kHeightProgramRegressionLsb);
 }
 
+/// The exact_optical_depth level leaves out the vertex's sun column, the shadow and the sag's
+/// share of the quadrature: measured up to 73 LSB on this grid (foggy, a 120 km ray; 18 on rays
+/// up to 30 km in test_gl_arb_program), on llvmpipe and softpipe alike. A regression bound.
+constexpr int kHeightExactRegressionLsb = 75;
+
+TEST_F(ArbVertexProgramGl, ExactOpticalDepthHeightProgramStaysWithinItsMeasuredError) {
+    if (!has_programs()) GTEST_SKIP() << "no GL_ARB_vertex_program";
+    aerial::ArbProgramOptions options;
+    options.model = aerial::Model::height;
+    options.height_fidelity = aerial::ArbHeightFidelity::exact_optical_depth;
+    options.limits = aerial::gl::native_arb_limits(gl());
+    if (!aerial::generate_arb_program(options).ok()) {
+        GTEST_SKIP() << "the driver's native limits do not take the exact_optical_depth level";
+    }
+    run_parity(*ctx_, options, "program.local, exact-optical-depth", kHeightExactRegressionLsb);
+}
+
+TEST_F(ArbVertexProgramGl, FullHeightProgramMatchesTheCpuModelWithin1Lsb) {
+    // The highest level the driver's native limits take: on Mesa, full. All of the CPU height
+    // model, so GL and the CPU agree within 1 LSB, like the 2002 program.
+    if (!has_programs()) GTEST_SKIP() << "no GL_ARB_vertex_program";
+    aerial::ArbProgramOptions options;
+    options.model = aerial::Model::height;
+    options.limits = aerial::gl::native_arb_limits(gl());
+    auto generated = aerial::generate_arb_program(options);
+    ASSERT_TRUE(generated.ok()) << generated.error().message;
+    std::printf(
+        "[ info     ] %s: native limits %d instructions, %d temporaries; automatic chose "
+        "%s (%d instructions)\n",
+        aerial_test::context_label(*ctx_).c_str(), options.limits.max_instructions,
+        options.limits.max_temporaries,
+        aerial::arb_height_fidelity_name(generated->options.height_fidelity),
+        generated->instruction_count);
+    if (generated->options.height_fidelity != aerial::ArbHeightFidelity::full) {
+        GTEST_SKIP() << "the driver's native limits do not take the full program";
+    }
+    run_parity(*ctx_, generated->options, "program.local, full");
+}
+
+TEST_F(ArbVertexProgramGl, NativeLimitsAreAtLeastTheSpecMinimums) {
+    const aerial::ArbLimits native = aerial::gl::native_arb_limits(gl());
+    const aerial::ArbLimits spec;
+    EXPECT_GE(native.max_instructions, spec.max_instructions);
+    EXPECT_GE(native.max_temporaries, spec.max_temporaries);
+    EXPECT_GE(native.max_parameters, spec.max_parameters);
+    EXPECT_GE(native.max_attributes, spec.max_attributes);
+    if (!has_programs()) {
+        EXPECT_EQ(native.max_instructions, spec.max_instructions) << "no extension: the minimums";
+    }
+}
+
 TEST_F(ArbVertexProgramGl, CreateAndDrawLeaveTheGlStateAsTheyFoundIt) {
     if (!has_programs()) GTEST_SKIP() << "no GL_ARB_vertex_program";
     // Another program bound and enabled, fog and blending on, unit 1 active.

@@ -98,6 +98,22 @@ TEST_F(AerialRender, WritesAnImageOfTheRequestedSizeAndOneReportLine) {
     }
 }
 
+TEST_F(AerialRender, ArbBackendNamesTheProgramItLoaded) {
+    // The 2002 model's program, and for `height` the highest fidelity the driver takes (Mesa's
+    // native limits take the full program).
+    RunResult r = render(valid_scene(), "arb");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find(" program=hoffman-preetham:22 renderer="), std::string::npos) << r.out;
+    Json height = valid_scene();
+    height["model"] = "height";
+    r = render(height, "arb");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find(" program=height:full:"), std::string::npos) << r.out;
+    r = render(valid_scene(), "perpixel");
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find(" program=- renderer="), std::string::npos) << r.out;
+}
+
 TEST_F(AerialRender, TheSameSceneGivesTheSameImage) {
     ASSERT_EQ(render(valid_scene(), "perpixel", {}, "a.png").exit_code, 0);
     ASSERT_EQ(render(valid_scene(), "perpixel", {}, "b.png").exit_code, 0);

@@ -276,16 +276,34 @@ Result<RenderedImage> render_scene(const headless::Context& context, const Scene
             break;
         }
         case Backend::arb: {
+            // The highest height fidelity the driver's native limits take; should the driver
+            // still refuse it, the next lower level.
             ArbProgramOptions arb;
             arb.model = scene.model;
+            arb.limits = gl::native_arb_limits(api);
             auto text = generate_arb_program(arb);
             if (!text) return Error{text.error().field, where + text.error().message};
-            auto parameters = arb_program_parameters(*frame, scene.display, arb);
+            auto program = gl::ArbVertexProgram::create(api, *text);
+            while (!program && scene.model == Model::height &&
+                   text->options.height_fidelity != ArbHeightFidelity::spec_minimum) {
+                arb.height_fidelity = text->options.height_fidelity == ArbHeightFidelity::full
+                                          ? ArbHeightFidelity::exact_optical_depth
+                                          : ArbHeightFidelity::spec_minimum;
+                text = generate_arb_program(arb);
+                if (!text) return Error{text.error().field, where + text.error().message};
+                program = gl::ArbVertexProgram::create(api, *text);
+            }
+            if (!program) return Error{program.error().field, where + program.error().message};
+            auto parameters = arb_program_parameters(*frame, scene.display, text->options);
             if (!parameters) {
                 return Error{parameters.error().field, where + parameters.error().message};
             }
-            auto program = gl::ArbVertexProgram::create(api, *text);
-            if (!program) return Error{program.error().field, where + program.error().message};
+            image.program = std::string(model_name(scene.model)) + ":";
+            if (scene.model == Model::height) {
+                image.program +=
+                    std::string(arb_height_fidelity_name(text->options.height_fidelity)) + ":";
+            }
+            image.program += std::to_string(text->instruction_count);
             gl::ArbVertexProgram& p = program.value();
             if (auto e = p.set_parameters(*parameters)) return Error{e->field, where + e->message};
             auto drawn = p.draw(draw_mesh);

@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -50,6 +51,9 @@ struct RenderedImage {
     std::vector<std::uint8_t> rgba;  ///< top row first
     double milliseconds = 0.0;       ///< shading, drawing, glFinish (and read-back for perpixel)
     gl::Path path_used = gl::Path::automatic;  ///< cpu backend: the path draw_with_colours took
+    /// arb backend: the program loaded, "MODEL:INSTRUCTIONS" or, for height, "height:FIDELITY:
+    /// INSTRUCTIONS" (the highest fidelity the driver's native limits run); "-" otherwise.
+    std::string program = "-";
 };
 
 /// Whether the backend can render this scene at all, before any context exists: the ARB program

@@ -7,7 +7,7 @@
 //      it is to glProgramStringARB(GL_VERTEX_PROGRAM_ARB, GL_PROGRAM_FORMAT_ASCII_ARB, ...).
 //   2. Per frame: `auto frame = aerial::prepare_frame<float>(atmosphere, view, options.model);`
 //      then `auto p = aerial::arb_program_parameters(*frame, display, options);` and upload p[i]
-//      (arb_parameter_count(options.model) vectors) to program.local[options.parameter_base + i]
+//      (arb_parameter_count(options) vectors) to program.local[options.parameter_base + i]
 //      (glProgramLocalParameter4fvARB) or program.env[...] (glProgramEnvParameter4fvARB).
 //   3. Draw with the program bound and enabled, texture env MODULATE and GL_COLOR_SUM on: the
 //      primary colour is F_ex (it modulates the texture), the secondary colour is L_in with the
@@ -55,10 +55,40 @@ struct ArbLimits {
 /// Largest texture-coordinate set passed through (MAX_TEXTURE_COORDS of the hardware era).
 inline constexpr int kArbMaxTexcoordUnits = 8;
 
+/// How much of the CPU `height` model the height program computes. Each level is a different
+/// program with its own parameter count; README ("ARB vertex program") gives the measured error
+/// of each against the CPU model.
+enum class ArbHeightFidelity {
+    /// The highest of the levels below whose program fits ArbProgramOptions::limits (the spec
+    /// minimums by default: spec_minimum; a driver's native limits via aerial::gl::
+    /// native_arb_limits). generate_arb_program reports the level it chose in
+    /// ArbProgram::options.
+    automatic,
+    /// 127 instructions (with one texture unit), 11 temporaries: within the spec minimums of 128
+    /// instructions and 12 temporaries. Leaves out three parts of the model (listed at
+    /// kArbHeightParameterCount).
+    spec_minimum,
+    /// spec_minimum plus the weights' correction by the exact optical depth: 150 instructions.
+    exact_optical_depth,
+    /// All of the CPU model: exact_optical_depth plus the sun's column factors at the vertex
+    /// (an erfcx fit and the below-horizon branch) interpolated along the segment as the model
+    /// does, the planet's shadow per sunlight point and the eye's or the vertex's blocked sun:
+    /// 249 instructions, 12 temporaries and kArbHeightFullParameterCount parameters: within 1
+    /// LSB of the CPU model. Needs a driver whose MAX_PROGRAM_NATIVE_INSTRUCTIONS is at least
+    /// 249 (256 on Direct3D 9-class hardware; Mesa's are far larger).
+    full,
+};
+
+/// "automatic", "spec-minimum", "exact-optical-depth" or "full".
+const char* arb_height_fidelity_name(ArbHeightFidelity fidelity);
+/// The inverse of arb_height_fidelity_name; an error names the field "height_fidelity" and lists
+/// the known names.
+Result<ArbHeightFidelity> parse_arb_height_fidelity(std::string_view name);
+
 /// Options of generate_arb_program and arb_program_parameters (use the same for both).
 struct ArbProgramOptions {
-    /// hoffman_preetham (22 instructions) or height (127; approximations listed at
-    /// kArbHeightParameterCount). `reference` has no program.
+    /// hoffman_preetham (22 instructions) or height (127 to 249 by height_fidelity).
+    /// `reference` has no program.
     Model model = Model::hoffman_preetham;
     ParameterSpace parameter_space = ParameterSpace::local;
     int parameter_base = 0;  ///< index of the first parameter, >= 0
@@ -78,11 +108,9 @@ struct ArbProgramOptions {
     /// the vertex-shader exp that the same hardware runs). hoffman-preetham only; the height
     /// program ignores it.
     bool guard_coarse_ex2 = false;
-    /// height only: weights the sunlight points by the exact optical depth to them, as the CPU
-    /// model does (see kArbHeightParameterCount). 23 more instructions (150 by default): beyond
-    /// the spec minimum of 128, so raise `limits` to the driver's MAX_PROGRAM_NATIVE_INSTRUCTIONS
-    /// (256 on Direct3D 9-class hardware) or generation fails naming "instructions".
-    bool height_exact_optical_depth = false;
+    /// height only: how much of the CPU height model the program computes (see
+    /// ArbHeightFidelity). `automatic` takes the highest level whose program fits `limits`.
+    ArbHeightFidelity height_fidelity = ArbHeightFidelity::automatic;
     ArbLimits limits;  ///< checked by generate_arb_program
 };
 
@@ -112,31 +140,43 @@ inline constexpr int kArbParameterCount = 6;
 ///   3  centre     xyz: 2 c, c = eye + R up (from the planet centre to the eye);
 ///                 w: |eye|^2 + 2 R eye.up (m^2)
 ///   4  planet     (R^2, R, frame.min_altitude_m, 1 / meters_per_unit)
-///   5  eye alt.   (frame.eye_altitude_m, 1/(12 R), 1/(2 R), unused)
+///   5  eye alt.   (frame.eye_altitude_m, 1/(12 R), 1/(2 R), w): w = 1 if the sun reaches the
+///                 eye (its column factors are below the model's blocked value), else 0; read
+///                 by `full` only
 ///   6  inverse H  log2(e) (-1/H_R, -1/H_M, 1/H_R, 1/H_M)
 ///   7  extr       xyz: -log2(e) beta_R (<= -1e-30);  w: 0 (keeps the secondary alpha 0)
 ///   8  extm       xyz: -log2(e) beta_M,extinction (<= -1e-30);  w: 0 (the same)
 ///   9  rayleigh   xyz: log2(e)^2 exposure E_sun0 beta_R 3/(16 pi);
-///                 w: log2(e)^2 beta_R,G exp(-h0/H_R) (read with height_exact_optical_depth)
+///                 w: log2(e)^2 beta_R,G exp(-h0/H_R) (read from exact_optical_depth on)
 ///   10 mie        xyz: log2(e)^2 exposure E_sun0 beta_M (1 - g^2)/(4 pi);
 ///                 w: log2(e)^2 beta_M,ext,G exp(-h0/H_M) (the same)
 ///   11 phase      (|g|, 1/4, (1 - |g|)^2, -1)
 ///   12 sun column x, y: log2(e) times the eye's log Chapman factors (frame.eye_log_chapman_*),
-///                 capped at 40 (a blocked sun becomes a column of e^40 H_i exp(-h/H_i));
+///                 capped at 40 (a blocked sun becomes a column of e^40 H_i exp(-h/H_i)); for
+///                 `full` not capped, and 0 when the sun is blocked at the eye;
 ///                 z, w: log2(beta_i,G / k0) + 2^-10, k0 = G extinction at the eye
 /// The program computes what the CPU `height` model computes, F_ex exactly (within 1 LSB), L_in
 /// with three approximations that fit it into 128 instructions:
 ///   - the quadrature weights use the fitted exponential extinction profile's Jacobian only,
 ///     without the model's correction by the exact optical depth to each node (exp(tau_fit -
 ///     tau)), which matters where two components with very different scale heights both carry
-///     optical depth (rays leaving or entering a haze or fog layer); height_exact_optical_depth
-///     adds it, beyond 128 instructions;
+///     optical depth (rays leaving or entering a haze or fog layer); the exact_optical_depth
+///     fidelity adds it, beyond 128 instructions;
 ///   - the sun's column factors are the eye's along the whole segment (the model interpolates to
 ///     the vertex's), which matters at a low sun on long rays;
 ///   - no per-node planet shadow: a sun below the eye's horizon is treated as blocked (the model
 ///     lights the parts of the segment that still see it: twilight is dark).
-/// README ("ARB vertex program") gives the measured error against the CPU and reference models.
+/// The `full` fidelity leaves none of them out. README ("ARB vertex program") gives the measured
+/// error against the CPU and reference models.
 inline constexpr int kArbHeightParameterCount = 13;
+
+/// How many parameter vectors the `full` height program reads: the 13 above, then
+///   13 sun (true) xyz: sun_dir (not negated);  w: c.sun_dir, c = eye + R up (m)
+///   14 chapman x  (1/H_R, 1/H_M, R/H_R, R/H_M): x = (R + h)/H at altitude h
+///   15 chapman h  (H_R sqrt(pi/2), H_M sqrt(pi/2), 2 H_R sqrt(pi/2), 2 H_M sqrt(pi/2)) (m)
+///   16 fit clamp  x, y: sky.z, sky.w + (80 - h0/H_i) log2(e), the model's bound on the fitted
+///                 profile's end (exp(-rise/H_i) <= e^80);  z, w: 0 (unused)
+inline constexpr int kArbHeightFullParameterCount = 17;
 
 /// kArbParameterCount or kArbHeightParameterCount (0 for a model without a program).
 constexpr int arb_parameter_count(Model model) {
@@ -144,6 +184,16 @@ constexpr int arb_parameter_count(Model model) {
            : model == Model::height         ? kArbHeightParameterCount
                                             : 0;
 }
+
+/// The parameter count of the program `options` describe: arb_parameter_count(options.model),
+/// or kArbHeightFullParameterCount for the height program at the `full` fidelity (`automatic`
+/// resolved against options.limits as generate_arb_program resolves it).
+int arb_parameter_count(const ArbProgramOptions& options);
+
+/// The fidelity generate_arb_program uses for `options` (height model): options.height_fidelity,
+/// or for `automatic` the highest level whose program fits options.limits, spec_minimum when
+/// none does (generation then fails naming the exceeded limit).
+ArbHeightFidelity resolve_arb_height_fidelity(const ArbProgramOptions& options);
 
 /// What a program uses, counted as the spec counts it (section 2.14.3.7).
 struct ArbResources {
@@ -158,7 +208,9 @@ struct ArbProgram {
     std::string text;  ///< exactly what goes to glProgramStringARB; "!!ARBvp1.0" ... "END\n"
     ArbResources resources;
     int instruction_count = 0;  ///< resources.instructions, for convenience
-    ArbProgramOptions options;  ///< what it was generated with
+    /// What it was generated with; for the height model, height_fidelity is the level chosen
+    /// (never automatic). Pass these to arb_program_parameters.
+    ArbProgramOptions options;
 };
 
 /// Generates the program for options.model. Errors name the field: "model" (reference has no
@@ -166,7 +218,7 @@ struct ArbProgram {
 /// "temporaries", "parameters", "attributes").
 Result<ArbProgram> generate_arb_program(const ArbProgramOptions& options = {});
 
-/// The arb_parameter_count(options.model) parameter vectors of one frame (element i goes to
+/// The arb_parameter_count(options) parameter vectors of one frame (element i goes to
 /// index options.parameter_base + i; layouts above). Requires frame.model == options.model, a
 /// finite display.exposure > 0 and display.tone == ToneCurve::clamp (GL clamps the secondary
 /// colour; the exponential curve has no room in the program). Every value is finite.

@@ -192,6 +192,14 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
                                      const VertexColours& colours,
                                      const std::function<void()>& draw);
 
+/// The driver's native ARB_vertex_program limits (GL_MAX_PROGRAM_NATIVE_INSTRUCTIONS_ARB,
+/// _TEMPORARIES_, _PARAMETERS_, _ATTRIBS_ of GL_VERTEX_PROGRAM_ARB); a limit the driver answers
+/// with 0, and all of them when the context lacks GL_ARB_vertex_program, are the spec's minimums
+/// (ArbLimits{}). Put them in ArbProgramOptions::limits with height_fidelity = automatic and
+/// generate_arb_program takes the highest height fidelity this driver runs natively (its choice
+/// is in ArbProgram::options.height_fidelity).
+ArbLimits native_arb_limits(const Api& api);
+
 /// A GL program object holding a generated ARB vertex program. Move-only; the destructor deletes
 /// the program object (the context and `api` must still be alive then). Keeps a pointer to `api`.
 class ArbVertexProgram {

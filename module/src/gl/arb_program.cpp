@@ -49,7 +49,11 @@ std::optional<Error> validate_options(const ArbProgramOptions& o, const char* fu
                                   "only hoffman-preetham and height have an ARB program, got " +
                                   std::string(model_name(o.model))};
     }
-    const int count = arb_parameter_count(o.model);
+    ArbProgramOptions counted = o;
+    if (o.model == Model::height && o.height_fidelity == ArbHeightFidelity::automatic) {
+        counted.height_fidelity = ArbHeightFidelity::spec_minimum;  // the smallest
+    }
+    const int count = arb_parameter_count(counted);
     if (o.parameter_base < 0) {
         return Error{"parameter_base", "parameter_base: " + fn + "expected >= 0, got " +
                                            std::to_string(o.parameter_base)};
@@ -212,9 +216,16 @@ enum HeightParameterIndex {
     kHeightMie,
     kHeightPhase,
     kHeightSunColumn,
-    kHeightParameterCount
+    kHeightParameterCount,
+    kHeightTrueSun = kHeightParameterCount,
+    kHeightChapmanX,
+    kHeightChapmanH,
+    kHeightFitClamp,
+    kHeightFullParameterCount
 };
 static_assert(kHeightParameterCount == kArbHeightParameterCount, "layout and count disagree");
+static_assert(kHeightFullParameterCount == kArbHeightFullParameterCount,
+              "layout and count disagree");
 
 /// 3-point Gauss-Legendre nodes and weights on [0, 1] (the height model's kSunNodes/kSunWeights).
 constexpr double kGaussNodes[3] = {0.11270166537925831148, 0.5, 0.88729833462074168852};
@@ -233,9 +244,59 @@ constexpr double kMaxFitSlope = 80.0;
 /// (factor >= 80) or a larger one is capped here: e^(40 + 40) still fits a float, and a column of
 /// e^40 H_i exp(-h/H_i) puts the sun out up to 100 km.
 constexpr double kMaxLogColumnFactor = 40.0;
+/// The height model's log column factor of a blocked sun (scattering.cpp's kBlockedLogColumn).
+constexpr double kBlockedLogColumn = 80.0;
+/// Added to a log2 exponent, makes EX2 give 0 (or +inf for a column, whose transmittance is
+/// then 0): no sun.
+constexpr double kBlocked = 1e30;
 
 /// (1 - e^-x)/x in double.
 double one_minus_exp_over_x(double x) { return x == 0.0 ? 1.0 : -std::expm1(-x) / x; }
+
+/// The full height program's erfcx: erfcx(y) = exp(y^2) erfc(y) ~ t Q(t), t = C / (y + C) in
+/// (0, 1], Q a polynomial of degree kErfcxDegree interpolated at Chebyshev nodes of [0, 1] when
+/// the program is generated (relative error 1.2e-6 over y >= 0 in float; the CPU model's erfcx is
+/// within 2e-5).
+constexpr double kErfcxScale = 2.0;  // C
+constexpr int kErfcxDegree = 8;
+
+/// erfcx in double for y >= 0 (the fit's data): the product below y = 25, the asymptotic series
+/// (relative error < 1e-16 there) above.
+double erfcx_double(double y) {
+    if (y < 25.0) return std::exp(y * y) * std::erfc(y);
+    const double inv2 = 1.0 / (y * y);
+    double sum = 1.0, term = 1.0;
+    for (int k = 1; k < 8; ++k) {
+        term *= -(2.0 * k - 1.0) * 0.5 * inv2;
+        sum += term;
+    }
+    return sum / (y * std::sqrt(kPi));
+}
+
+/// Q's monomial coefficients, constant term first.
+std::array<double, kErfcxDegree + 1> erfcx_fit() {
+    constexpr int n = kErfcxDegree + 1;
+    std::array<double, n> t{}, c{};
+    for (int k = 0; k < n; ++k) {
+        t[k] = 0.5 - 0.5 * std::cos(kPi * (k + 0.5) / n);
+        const double y = kErfcxScale * (1.0 - t[k]) / t[k];
+        c[k] = erfcx_double(y) / t[k];
+    }
+    for (int j = 1; j < n; ++j) {  // Newton's divided differences
+        for (int i = n - 1; i >= j; --i) c[i] = (c[i] - c[i - 1]) / (t[i] - t[i - j]);
+    }
+    std::array<double, n> p{};
+    for (int i = n - 1; i >= 0; --i) {  // p = p (t - t_i) + c_i
+        std::array<double, n> q{};
+        for (int k = 0; k + 1 < n; ++k) {
+            q[k + 1] += p[k];
+            q[k] -= p[k] * t[i];
+        }
+        q[0] += c[i];
+        p = q;
+    }
+    return p;
+}
 
 // The height program. Per vertex, like height_model() in scattering.cpp (metres; d = p - eye,
 // s = |d|, the G channel drives the quadrature):
@@ -256,7 +317,14 @@ double one_minus_exp_over_x(double x) { return x == 0.0 ? 1.0 : -std::expm1(-x) 
 // and the planet-shadow test per node (about 10). Budget: 4 transform, 6 distance and fog, 3
 // phase, 12 altitude, 17 densities, 8 fit, 11 F_ex, 14 nodes, 6 node altitudes, 9 weights,
 // 8 columns, 21 transmittance sums, 6 L_in, 1 per texture unit: 127 with one unit.
-std::string height_program_text(const ArbProgramOptions& o) {
+// exact_optical_depth adds the correction (23 more: 150). full adds the rest of the model (99
+// more: 249): the vertex's column factors (the erfcx fit, the below-horizon branch, the choice
+// between them, the blocked tests and the ends' interpolation), the shadow per node, tau_total
+// without the sag for the node placement and the scale phi(tau_total)/phi(tau_G), the model's
+// bounds on the fit, the weights and the columns, and the interpolated factors at the nodes.
+std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fidelity) {
+    const bool exact = fidelity != ArbHeightFidelity::spec_minimum;
+    const bool full = fidelity == ArbHeightFidelity::full;
     const std::string space = o.parameter_space == ParameterSpace::local ? "local" : "env";
     const auto param = [&](int i) {
         return "program." + space + "[" + std::to_string(o.parameter_base + i) + "]";
@@ -267,6 +335,19 @@ std::string height_program_text(const ArbProgramOptions& o) {
     };
     const double ln2 = std::log(2.0);
     ProgramWriter w;
+    // colm = (y_R, y_M, C_R, C_M) of the exact optical depth tau(u) (see there).
+    const auto optical_depth_coefficients = [&w] {
+        w.line("MUL colm.xy, alt.w, inv.zwzw;", "y");
+        w.line("SGE colm.zw, colm.xyxy, fit.z;");
+        w.line("MAD colm.zw, colm, fit.y, fit.x;");
+        w.line("ADD colm.xy, colm, colm.zwzw;");
+        w.line("MAX colm.xy, colm, cst.w;", "y, |y| >= eps");
+        w.line("RCP colm.z, colm.x;");
+        w.line("RCP colm.w, colm.y;");
+        w.line("MUL colm.z, colm.z, ray.w;");
+        w.line("MUL colm.w, colm.w, mie.w;");
+        w.line("MUL colm.zw, colm, view.w;", "C_i = s k_i0 log2(e)^2 / y_i");
+    };
     w.line("!!ARBvp1.0");
     if (o.position_invariant) w.line("OPTION ARB_position_invariant;");
     w.comment("aerial: aerial perspective per vertex, height model: exponential Rayleigh and Mie");
@@ -312,7 +393,23 @@ std::string height_program_text(const ArbProgramOptions& o) {
                    std::log2(kGaussWeights[2]), 0.0) +
                ";",
            "log2 of the Gauss weights");
-    w.line("TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc;");
+    if (full) {
+        const std::array<double, kErfcxDegree + 1> q = erfcx_fit();
+        w.line("PARAM sunc = " + param(kHeightTrueSun) + ";", "(sun, c.sun), c = eye + R up");
+        w.line("PARAM chx = " + param(kHeightChapmanX) + ";", "(1/H_R, 1/H_M, R/H_R, R/H_M)");
+        w.line("PARAM chh = " + param(kHeightChapmanH) + ";", "(1, 1, 2, 2) sqrt(pi/2) H_i");
+        w.line("PARAM chc = " +
+                   vec(std::sqrt(0.5) / kErfcxScale, kBlockedLogColumn * kLog2E, kBlocked, q[0]) +
+                   ";",
+               "sqrt(1/2)/C, log2 of the blocked factor, 'no sun', Q_0");
+        w.line("PARAM erfa = " + vec(q[8], q[7], q[6], q[5]) + ";", "erfcx(y) ~ t Q(t)");
+        w.line("PARAM erfb = " + vec(q[4], q[3], q[2], q[1]) + ";", "t = C/(y + C), C = 2");
+        w.line("PARAM lim = " + vec(-ln2, 0.0, 0.0, 0.0) + ";");
+        w.line("PARAM fitc = " + param(kHeightFitClamp) + ";", "clamp of the fit's end");
+        w.line("TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc, chp;");
+    } else {
+        w.line("TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc;");
+    }
     if (!o.position_invariant) {
         w.comment("Clip-space position.");
         for (int row = 0; row < 4; ++row) {
@@ -342,10 +439,84 @@ std::string height_program_text(const ArbProgramOptions& o) {
     w.line("RCP alt.y, alt.y;");
     w.line("MUL alt.x, alt.x, alt.y;");
     w.line("MAX alt.x, alt.x, planet.z;", "h1, clamped like the density");
+    if (full) {
+        w.line("DPH chp.x, seg, sunc;", "(c + d).sun");
+        w.line("MUL chp.x, chp.x, alt.z;", "mu: cosine of the sun's zenith angle at the vertex");
+    }
     w.line("MIN alt.z, alt.x, eyealt.x;");
     w.line("MAD alt.z, seg.w, -eyealt.y, alt.z;");
     w.line("MAX alt.z, alt.z, planet.z;", "h_low");
     w.line("SUB alt.w, alt.x, eyealt.x;", "rise");
+    if (full) {
+        w.comment("Sun column factors at the vertex, log2(H_i Ch(x_i, mu)), x_i = (R + h1)/H_i:");
+        w.comment("upwards H sqrt(pi x/2) erfcx(y), y = sqrt(x/2) |mu|, with erfcx(y) ~ t Q(t).");
+        w.line("MAD colr.xy, alt.x, chx, chx.zwzw;", "x_i");
+        w.line("RSQ colr.z, colr.x;");
+        w.line("RSQ colr.w, colr.y;");
+        w.line("MUL colr.zw, colr.xyxy, colr;", "sqrt(x_i)");
+        w.line("MAX colm.x, chp.x, -chp.x;", "|mu|");
+        w.line("MUL colm.x, colm.x, chc.x;");
+        w.line("MAD colm.xy, colr.zwzw, colm.x, cst.z;", "1 + y_i/C");
+        w.line("RCP colm.x, colm.x;");
+        w.line("RCP colm.y, colm.y;", "t_i");
+        w.line("MAD acc.xy, colm, erfa.x, erfa.y;");
+        for (const char* c : {"erfa.z", "erfa.w", "erfb.x", "erfb.y", "erfb.z", "erfb.w"}) {
+            w.line(std::string("MAD acc.xy, acc, colm, ") + c + ";");
+        }
+        w.line("MAD acc.xy, acc, colm, chc.w;", "Q(t_i)");
+        w.line("MUL acc.xy, acc, colm;", "erfcx(y_i)");
+        w.line("MUL acc.xy, acc, colr.zwzw;");
+        w.line("MUL acc.xy, acc, chh;", "H_i x upward Chapman factor");
+        w.comment("Below the horizon: tangent altitude t = h1 sin chi - R mu^2/(1 + sin chi),");
+        w.comment("H factor = 2 H sqrt(pi x_t/2) - H upward e^-(h1 - t)/H, x_t = (R + t)/H.");
+        w.line("MUL ext.w, chp.x, chp.x;", "mu^2");
+        w.line("ADD ext.x, cst.z, -ext.w;");
+        w.line("MAX ext.x, ext.x, -cst.y;");
+        w.line("RSQ ext.y, ext.x;");
+        w.line("MUL ext.y, ext.x, ext.y;", "sin chi");
+        w.line("ADD ext.z, ext.y, cst.z;");
+        w.line("RCP ext.z, ext.z;");
+        w.line("MUL ext.w, ext.w, planet.y;");
+        w.line("MUL ext.z, ext.w, ext.z;");
+        w.line("MAD ext.x, alt.x, ext.y, -ext.z;", "t");
+        w.line("SUB ext.y, alt.x, ext.x;", "h1 - t");
+        w.line("MAD rho.xy, ext.x, chx, chx.zwzw;", "x_t");
+        w.line("MAX rho.xy, rho, -cst.y;");
+        w.line("RSQ rho.z, rho.x;");
+        w.line("RSQ rho.w, rho.y;");
+        w.line("MUL rho.xy, rho, rho.zwzw;");
+        w.line("MUL rho.xy, rho, chh.zwzw;", "2 H sqrt(pi x_t/2)");
+        w.line("MUL rho.zw, ext.y, inv.zwzw;", "(h1 - t) log2(e)/H");
+        w.line("EX2 work.x, -rho.z;");
+        w.line("EX2 work.y, -rho.w;");
+        w.line("MAD rho.xy, -acc, work, rho;");
+        w.line("MAX rho.xy, rho, -cst.y;", "H factor below the horizon");
+        w.line("SLT work.x, chp.x, fit.z;", "below the horizon");
+        w.line("SGE work.y, chp.x, fit.z;", "above");
+        w.line("MUL acc.xy, acc, work.y;");
+        w.line("MAD acc.xy, rho, work.x, acc;");
+        w.line("LG2 acc.x, acc.x;");
+        w.line("LG2 acc.y, acc.y;");
+        w.line("MAD acc.xy, rho.zwzw, work.x, acc;");
+        w.line("MIN acc.xy, acc, chc.y;", "log2 column factors at the vertex");
+        w.line("MIN ext.z, alt.x, fit.z;");
+        w.line("SLT ext.z, ext.x, ext.z;");
+        w.line("MUL ext.z, ext.z, work.x;", "the planet blocks the sun at the vertex,");
+        w.line("SGE work.zw, acc.xyxy, chc.y;");
+        w.line("MAX ext.z, ext.z, work.z;");
+        w.line("MAX ext.z, ext.z, work.w;", "or a factor reaches the model's blocked value");
+        w.comment(
+            "Factors along the segment lr0 + (lr1 - lr0) u, as the model: a blocked end takes");
+        w.comment("the other end's; both blocked: no sun (chp.xy raised beyond float range).");
+        w.line("SUB work.xy, sky, acc;");
+        w.line("MAD chp.xy, work, eyealt.w, acc;", "lr0");
+        w.line("SUB work.xy, acc, chp;");
+        w.line("SUB work.z, cst.z, ext.z;", "the vertex sees the sun");
+        w.line("MUL chp.zw, work.xyxy, work.z;", "lr1 - lr0");
+        w.line("MAX work.w, work.z, eyealt.w;");
+        w.line("SUB work.w, cst.z, work.w;");
+        w.line("MAD chp.xy, work.w, chc.z, chp;");
+    }
     w.comment(
         "Path-averaged densities rho_i = exp(-h_low/H_i) phi(|rise|/H_i), phi(x) = (1-e^-x)/x:");
     w.comment("its series below c plus the quotient above c, minus phi(c) (no branch).");
@@ -369,6 +540,7 @@ std::string height_program_text(const ArbProgramOptions& o) {
     w.comment("Fitted extinction profile k0 exp(-a u) through the G extinction at both ends:");
     w.comment("b = a log2(e) = log2(k0 / k(h1)), clamped like the model's, then kept off 0.");
     w.line("MAD ext.xy, alt.x, inv, sky.zwzw;", "log2(beta_i exp(-h1/H_i) / k0) + eps");
+    if (full) w.line("MIN ext.xy, ext, fitc;", "the model's k_end: exp(-rise/H_i) <= e^80");
     w.line("EX2 ext.x, ext.x;");
     w.line("EX2 ext.y, ext.y;");
     w.line("ADD ext.x, ext.x, ext.y;");
@@ -392,12 +564,39 @@ std::string height_program_text(const ArbProgramOptions& o) {
         "Sunlight points: Gauss nodes y_n in the share of the G attenuation. The share of the");
     w.comment("optical depth f = -ln(1 - y (1 - F_G)) / tau_G, then the fitted profile's");
     w.comment("u = -ln(1 - f (1 - 2^-b)) / (b ln 2).");
-    w.line("MAD node.xyz, ynode, work.y, ynode1;");
+    if (full) {
+        w.comment("The model places them by the G optical depth along the straight altitude");
+        w.comment("profile (no sag), tau_total = tau(1) (see below), not by F_G: acc = (tau_total");
+        w.comment("log2(e), ., 2^-tau_total log2(e), -1/(tau_total log2(e))).");
+        optical_depth_coefficients();
+        w.line("EX2 acc.x, -colm.x;");
+        w.line("EX2 acc.y, -colm.y;");
+        w.line("ADD acc.xy, cst.z, -acc;");
+        w.line("MUL acc.xy, acc, colm.zwzw;");
+        w.line("ADD acc.x, acc.x, acc.y;");
+        w.line("MAX acc.x, acc.x, -cst.y;", "tau_total log2(e), never 0");
+        w.line("EX2 acc.z, -acc.x;");
+        w.line("RCP acc.w, -acc.x;");
+        w.line("MAD node.xyz, ynode, acc.z, ynode1;");
+    } else {
+        w.line("MAD node.xyz, ynode, work.y, ynode1;");
+    }
     w.line("LG2 rho.x, node.x;");
     w.line("LG2 rho.y, node.y;");
     w.line("LG2 rho.z, node.z;", "-tau_fit log2(e)");
-    w.line("MUL node.xyz, rho, sphi.y;", "f");
+    w.line(full ? "MUL node.xyz, rho, acc.w;" : "MUL node.xyz, rho, sphi.y;", "f");
     w.line("MAD sphi, -work, sphi, sphi;", "(1 - F_ex) / log2(F_ex)");
+    if (full) {
+        w.comment("The model's scale phi(tau_total) / phi(tau_G), tau_G with the sag; where float");
+        w.comment("rounds F to 1, (1 - F)/log2(F) is 0 and takes its limit -ln(2) instead.");
+        w.line("MAD acc.y, -acc.z, acc.w, acc.w;", "(1 - F_total) / log2(F_total)");
+        w.line("SGE acc.z, acc.y, fit.z;");
+        w.line("MAD acc.y, acc.z, lim.x, acc.y;");
+        w.line("SGE acc.z, sphi.y, fit.z;");
+        w.line("MAD acc.z, acc.z, lim.x, sphi.y;");
+        w.line("RCP acc.z, acc.z;");
+        w.line("MUL acc.y, acc.y, acc.z;");
+    }
     w.line("EX2 ext.w, -alt.y;");
     w.line("ADD ext.w, ext.w, hg.w;", "E = 2^-b - 1");
     w.line("MAD node.xyz, node, ext.w, cst.z;");
@@ -408,22 +607,14 @@ std::string height_program_text(const ArbProgramOptions& o) {
     w.line("MUL work.xyz, node, -ext.z;", "u");
     w.line("MUL ext.w, ext.w, ext.z;");
     w.line("MUL ext.w, ext.w, view.w;", "s E/b = -s ln(2) phi(a)");
-    if (o.height_exact_optical_depth) {
+    if (full) w.line("MUL ext.w, ext.w, acc.y;");
+    if (exact) {
         w.comment("Exact optical depth to the points along the straight altitude profile,");
         w.comment(
             "tau(u) = sum_i s k_i0 (1 - 2^(-y_i u)) / (y_i ln 2), y_i = rise log2(e)/H_i kept off");
         w.comment(
             "0; the weights get exp(tau_fit - tau) (log2 units, k_i0 log2(e)^2 in ray.w, mie.w).");
-        w.line("MUL colm.xy, alt.w, inv.zwzw;", "y");
-        w.line("SGE colm.zw, colm.xyxy, fit.z;");
-        w.line("MAD colm.zw, colm, fit.y, fit.x;");
-        w.line("ADD colm.xy, colm, colm.zwzw;");
-        w.line("MAX colm.xy, colm, cst.w;", "y, |y| >= eps");
-        w.line("RCP colm.z, colm.x;");
-        w.line("RCP colm.w, colm.y;");
-        w.line("MUL colm.z, colm.z, ray.w;");
-        w.line("MUL colm.w, colm.w, mie.w;");
-        w.line("MUL colm.zw, colm, view.w;", "C_i = s k_i0 log2(e)^2 / y_i");
+        if (!full) optical_depth_coefficients();
         w.line("MUL colr.xyz, work, -colm.x;");
         w.line("MUL acc.xyz, work, -colm.y;");
         for (const char* reg : {"colr", "acc"}) {
@@ -446,8 +637,27 @@ std::string height_program_text(const ArbProgramOptions& o) {
     w.line("MAX colm.xyz, colm, planet.z;", "h_n");
     w.comment("Weights W_n rho_i(u_n) e^(a u_n) (the Jacobian of the fitted profile).");
     w.line("SUB node.xyz, logw, node;");
+    if (full) {
+        w.comment(
+            "Planet shadow at each point p = eye + u d, c = eye + R up: along = (c + u d).sun < 0");
+        w.comment("and |c + u d|^2 - along^2 < R^2; a shadowed point gets no weight.");
+        w.line("DP3 colr.w, seg, sunc;", "d.sun");
+        w.line("MAD colr.xyz, work, colr.w, sunc.w;", "along");
+        w.line("DP3 acc.w, seg, centre;", "2 d.c");
+        w.line("MAD acc.xyz, work, seg.w, acc.w;");
+        w.line("MAD acc.xyz, acc, work, centre.w;", "|c + u d|^2 - R^2");
+        w.line("MAD acc.xyz, -colr, colr, acc;");
+        w.line("SLT acc.xyz, acc, fit.z;");
+        w.line("SLT colr.xyz, colr, fit.z;");
+        w.line("MUL acc.xyz, acc, colr;", "in the shadow");
+        w.line("MAD node.xyz, acc, -chc.z, node;");
+    }
     w.line("MAD seg.xyz, colm, inv.x, node;");
     w.line("MAD alt.xyz, colm, inv.y, node;");
+    if (full) {
+        w.line("MIN seg.xyz, seg, chc.y;", "the model's bound e^80 on the weights");
+        w.line("MIN alt.xyz, alt, chc.y;");
+    }
     for (const char* reg : {"seg", "alt"}) {
         for (char lane : {'x', 'y', 'z'}) {
             const std::string r = std::string(reg) + "." + lane;
@@ -455,8 +665,17 @@ std::string height_program_text(const ArbProgramOptions& o) {
         }
     }
     w.comment("Sun columns at the points: the eye's Chapman factors, the points' densities.");
-    w.line("MAD colr.xyz, colm, inv.x, sky.x;");
-    w.line("MAD colm.xyz, colm, inv.y, sky.y;");
+    if (full) {
+        w.line("MAD colr.xyz, work, chp.z, chp.x;", "log2 factors at the points");
+        w.line("MAD colr.xyz, colm, inv.x, colr;");
+        w.line("MAD acc.xyz, work, chp.w, chp.y;");
+        w.line("MAD colm.xyz, colm, inv.y, acc;");
+        w.line("MIN colr.xyz, colr, chc.y;", "and on the columns (no inf: alpha stays 0)");
+        w.line("MIN colm.xyz, colm, chc.y;");
+    } else {
+        w.line("MAD colr.xyz, colm, inv.x, sky.x;");
+        w.line("MAD colm.xyz, colm, inv.y, sky.y;");
+    }
     for (const char* reg : {"colr", "colm"}) {
         for (char lane : {'x', 'y', 'z'}) {
             const std::string r = std::string(reg) + "." + lane;
@@ -497,7 +716,9 @@ std::string height_program_text(const ArbProgramOptions& o) {
 }
 
 Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& frame,
-                                                            const Display& display) {
+                                                            const Display& display,
+                                                            ArbHeightFidelity fidelity) {
+    const bool full = fidelity == ArbHeightFidelity::full;
     const glm::dvec3 up = frame.view.up;
     const glm::dvec3 sun = frame.view.sun_dir;
     const double mpu = frame.view.meters_per_unit;
@@ -509,8 +730,14 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
     const double h0 = frame.eye_altitude_m;
 
     // The sun column factors at the eye, capped (natural log units).
-    double lf[2] = {std::min(double(frame.eye_log_chapman_rayleigh), kMaxLogColumnFactor),
-                    std::min(double(frame.eye_log_chapman_mie), kMaxLogColumnFactor)};
+    // `full` takes them as they are where the sun reaches the eye, and its eyealt.w says whether
+    // it does (the model's blocked value is kBlockedLogColumn for both components).
+    const bool eye_lit = double(frame.eye_log_chapman_rayleigh) < kBlockedLogColumn &&
+                         double(frame.eye_log_chapman_mie) < kBlockedLogColumn;
+    const double cap = full ? kBlockedLogColumn : kMaxLogColumnFactor;
+    double lf[2] = {std::min(double(frame.eye_log_chapman_rayleigh), cap),
+                    std::min(double(frame.eye_log_chapman_mie), cap)};
+    if (full && !eye_lit) lf[0] = lf[1] = 0.0;
     // G extinction at the eye without the sag (the model's k_total), for the fitted profile.
     const double beta_g[2] = {std::max(double(frame.rayleigh_scattering.y), 1e-30),
                               std::max(double(frame.mie_extinction.y), 1e-30)};
@@ -522,14 +749,14 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
     const double log2_k0 = std::log2(std::max(k0, 1e-300));
 
     const double sign = g < 0.0 ? -1.0 : 1.0;
-    std::vector<std::array<double, 4>> p(kHeightParameterCount);
+    std::vector<std::array<double, 4>> p(full ? kHeightFullParameterCount : kHeightParameterCount);
     p[kHeightEye] = {eye.x, eye.y, eye.z, 1.0 - kEpsilon};
     p[kHeightScale] = {mpu, mpu, mpu, 1.0};
     p[kHeightSun] = {sign * sun.x, sign * sun.y, sign * sun.z, 0.0};
     p[kHeightCentre] = {2.0 * centre.x, 2.0 * centre.y, 2.0 * centre.z,
                         glm::dot(eye, eye) + 2.0 * r * glm::dot(eye, up)};
     p[kHeightPlanet] = {r * r, r, frame.min_altitude_m, 1.0 / mpu};
-    p[kHeightEyeAltitude] = {h0, 1.0 / (12.0 * r), 1.0 / (2.0 * r), 0.0};
+    p[kHeightEyeAltitude] = {h0, 1.0 / (12.0 * r), 1.0 / (2.0 * r), full && eye_lit ? 1.0 : 0.0};
     const double inv_r = frame.inv_rayleigh_scale_height, inv_m = frame.inv_mie_scale_height;
     p[kHeightInverseScaleHeights] = {-kLog2E * inv_r, -kLog2E * inv_m, kLog2E * inv_r,
                                      kLog2E * inv_m};
@@ -553,10 +780,73 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
     p[kHeightSunColumn] = {kLog2E * lf[0], kLog2E * lf[1],
                            std::log2(beta_g[0]) - log2_k0 + kMinFitSlope,
                            std::log2(beta_g[1]) - log2_k0 + kMinFitSlope};
+    if (full) {
+        const double hr = frame.rayleigh_scale_height_m, hm = frame.mie_scale_height_m;
+        const double root = std::sqrt(0.5 * kPi);
+        p[kHeightTrueSun] = {sun.x, sun.y, sun.z, glm::dot(centre, sun)};
+        p[kHeightChapmanX] = {1.0 / hr, 1.0 / hm, r / hr, r / hm};
+        p[kHeightChapmanH] = {root * hr, root * hm, 2.0 * root * hr, 2.0 * root * hm};
+        // The model's k_end takes exp(min(-rise/H_i, 80)): the same bound on the exponent of
+        // sky.zw's fitted end, log2(beta_i/k0) + eps + (80 - h0/H_i) log2(e).
+        p[kHeightFitClamp] = {p[kHeightSunColumn][2] + (kBlockedLogColumn - h0 * inv_r) * kLog2E,
+                              p[kHeightSunColumn][3] + (kBlockedLogColumn - h0 * inv_m) * kLog2E,
+                              0.0, 0.0};
+    }
     return to_float_parameters(p);
 }
 
 }  // namespace
+
+const char* arb_height_fidelity_name(ArbHeightFidelity fidelity) {
+    switch (fidelity) {
+        case ArbHeightFidelity::automatic:
+            return "automatic";
+        case ArbHeightFidelity::spec_minimum:
+            return "spec-minimum";
+        case ArbHeightFidelity::exact_optical_depth:
+            return "exact-optical-depth";
+        case ArbHeightFidelity::full:
+            return "full";
+    }
+    return "?";
+}
+
+Result<ArbHeightFidelity> parse_arb_height_fidelity(std::string_view name) {
+    for (ArbHeightFidelity f : {ArbHeightFidelity::automatic, ArbHeightFidelity::spec_minimum,
+                                ArbHeightFidelity::exact_optical_depth, ArbHeightFidelity::full}) {
+        if (name == arb_height_fidelity_name(f)) return f;
+    }
+    return Error{"height_fidelity", "height_fidelity: '" + std::string(name) +
+                                        "' is unknown; known: automatic, spec-minimum, "
+                                        "exact-optical-depth, full"};
+}
+
+ArbHeightFidelity resolve_arb_height_fidelity(const ArbProgramOptions& options) {
+    if (options.height_fidelity != ArbHeightFidelity::automatic) return options.height_fidelity;
+    for (ArbHeightFidelity f : {ArbHeightFidelity::full, ArbHeightFidelity::exact_optical_depth}) {
+        ArbProgramOptions o = options;
+        o.model = Model::height;
+        o.height_fidelity = f;
+        if (o.parameter_base + arb_parameter_count(o) > o.limits.max_parameters) continue;
+        const auto parsed = parse_arb_program(height_program_text(o, f));
+        if (parsed && !check_arb_limits(parsed->resources, o.limits, o.position_invariant)) {
+            return f;
+        }
+    }
+    return ArbHeightFidelity::spec_minimum;
+}
+
+int arb_parameter_count(const ArbProgramOptions& options) {
+    if (options.model == Model::height && options.height_fidelity == ArbHeightFidelity::full) {
+        return kArbHeightFullParameterCount;
+    }
+    if (options.model == Model::height && options.height_fidelity == ArbHeightFidelity::automatic) {
+        ArbProgramOptions resolved = options;
+        resolved.height_fidelity = resolve_arb_height_fidelity(options);
+        return arb_parameter_count(resolved);
+    }
+    return arb_parameter_count(options.model);
+}
 
 std::optional<Error> check_arb_limits(const ArbResources& r, const ArbLimits& limits,
                                       bool position_invariant) {
@@ -589,9 +879,14 @@ std::optional<Error> check_arb_limits(const ArbResources& r, const ArbLimits& li
 Result<ArbProgram> generate_arb_program(const ArbProgramOptions& options) {
     if (auto e = validate_options(options, "generate_arb_program")) return *e;
     ArbProgram program;
-    program.text =
-        options.model == Model::height ? height_program_text(options) : program_text(options);
     program.options = options;
+    if (options.model == Model::height) {
+        program.options.height_fidelity = resolve_arb_height_fidelity(options);
+        program.text = height_program_text(options, program.options.height_fidelity);
+        if (auto e = validate_options(program.options, "generate_arb_program")) return *e;
+    } else {
+        program.text = program_text(options);
+    }
     auto parsed = parse_arb_program(program.text);
     if (!parsed) {
         return Error{"text",
@@ -630,7 +925,9 @@ Result<std::vector<std::array<float, 4>>> arb_program_parameters(const Frame<flo
                      "available"};
     }
 
-    if (options.model == Model::height) return height_parameters(frame, display);
+    if (options.model == Model::height) {
+        return height_parameters(frame, display, resolve_arb_height_fidelity(options));
+    }
 
     const glm::dvec3 eye = frame.view.eye;  // engine units
     const glm::dvec3 sun = frame.view.sun_dir;

@@ -65,16 +65,11 @@ int parameters_end(std::string_view text, ParameterSpace space) {
 
 }  // namespace
 
-Result<ArbVertexProgram> ArbVertexProgram::create(const Api& api, const ArbProgram& program) {
-    if (!api.caps.vertex_program) {
-        return Error{"GL_ARB_vertex_program",
-                     "GL_ARB_vertex_program: the context does not offer it (GL " +
-                         api.caps.version + ", " + api.caps.renderer +
-                         "); use the fixed-function paths (draw_with_colours)"};
-    }
-    // The driver's native limits; a driver that answers 0 (none known to do so, but the query
-    // is cheap to distrust) is held to the spec's minimums instead.
+ArbLimits native_arb_limits(const Api& api) {
     ArbLimits native;
+    if (!api.caps.vertex_program) return native;
+    // A driver that answers 0 (none known to do so, but the query is cheap to distrust) is held
+    // to the spec's minimums instead.
     auto limit = [&](GLenum pname, int spec_minimum) {
         const GLint value = program_integer(api, pname);
         return value > 0 ? static_cast<int>(value) : spec_minimum;
@@ -85,6 +80,17 @@ Result<ArbVertexProgram> ArbVertexProgram::create(const Api& api, const ArbProgr
         limit(GL_MAX_PROGRAM_NATIVE_TEMPORARIES_ARB, ArbLimits{}.max_temporaries);
     native.max_parameters = limit(GL_MAX_PROGRAM_NATIVE_PARAMETERS_ARB, ArbLimits{}.max_parameters);
     native.max_attributes = limit(GL_MAX_PROGRAM_NATIVE_ATTRIBS_ARB, ArbLimits{}.max_attributes);
+    return native;
+}
+
+Result<ArbVertexProgram> ArbVertexProgram::create(const Api& api, const ArbProgram& program) {
+    if (!api.caps.vertex_program) {
+        return Error{"GL_ARB_vertex_program",
+                     "GL_ARB_vertex_program: the context does not offer it (GL " +
+                         api.caps.version + ", " + api.caps.renderer +
+                         "); use the fixed-function paths (draw_with_colours)"};
+    }
+    const ArbLimits native = native_arb_limits(api);
     if (auto e = check_arb_limits(program.resources, native, program.options.position_invariant)) {
         e->message += " (the driver's GL_MAX_PROGRAM_NATIVE_* limit, " + api.caps.renderer + ")";
         return *e;

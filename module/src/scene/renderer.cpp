@@ -164,6 +164,9 @@ struct SceneRenderer::Impl {
     gl::Path path = gl::Path::automatic;
     std::optional<gl::CombinerTexture> combiner;
     std::optional<gl::ArbVertexProgram> program_hp, program_height;
+    /// The options each program was generated with (the height fidelity resolved against the
+    /// driver's native limits); its parameters are computed with the same.
+    ArbProgramOptions arb_hp, arb_height;
     SkyDrawer sky = default_sky_drawer();
     SkyDrawer sun = default_sun_drawer();
     std::unordered_map<const Node*, NodeState> nodes;
@@ -339,12 +342,14 @@ Result<SceneRenderer> SceneRenderer::create(const gl::Api& api, const RendererOp
         for (Model model : {Model::hoffman_preetham, Model::height}) {
             ArbProgramOptions arb;
             arb.model = model;
+            arb.limits = gl::native_arb_limits(api);  // the most accurate height program it takes
             auto text = generate_arb_program(arb);
             if (!text) return Error{text.error().field, where + text.error().message};
             auto program = gl::ArbVertexProgram::create(api, *text);
             if (!program) return Error{program.error().field, where + program.error().message};
             (model == Model::height ? impl->program_height : impl->program_hp)
                 .emplace(std::move(program.value()));
+            (model == Model::height ? impl->arb_height : impl->arb_hp) = text->options;
         }
     }
     return SceneRenderer(std::move(impl));
@@ -857,8 +862,7 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
         }
         gl::ArbVertexProgram& program =
             model == Model::hoffman_preetham ? *im.program_hp : *im.program_height;
-        ArbProgramOptions arb;
-        arb.model = model;
+        const ArbProgramOptions& arb = model == Model::hoffman_preetham ? im.arb_hp : im.arb_height;
         auto parameters = arb_program_parameters(frame_for(model), settings.display, arb);
         if (!parameters) {
             failure =

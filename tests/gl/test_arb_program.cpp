@@ -1244,7 +1244,7 @@ TEST(ArbHeightProgram, ReadsEveryDocumentedParameterAndNothingElse) {
 
     // Every component the program reads matters: changing it changes an output at one of a few
     // vertices (a long ray, one at the eye's altitude, one far below sea level, where the clamps
-    // act). Only eyealt.w (parameter 5) and, without height_exact_optical_depth, ray.w and mie.w
+    // act). Only eyealt.w (parameter 5) and, at the spec_minimum level, ray.w and mie.w
     // (9, 10) are documented as unused; extr.w and extm.w keep the secondary alpha at 0. (NaN
     // would not do: MIN and MAX
     // may drop it, and some of the reads are clamps.)
@@ -1600,13 +1600,13 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
     }
 }
 
-/// Regression bounds of height_exact_optical_depth against the CPU model, measured like
+/// Regression bounds of the exact_optical_depth level against the CPU model, measured like
 /// kHeightInScatteringLsb (rays up to 30 km; the first column is unused).
 constexpr HeightInScatteringBound kHeightExactInScatteringLsb[] = {
     {"earth", 0, 3}, {"hp2002", 0, 3}, {"hazy", 0, 6}, {"foggy", 0, 18}, {"mars", 0, 10}};
 
 TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
-    // Beyond the spec minimum: with height_exact_optical_depth the weights carry exp(tau_fit -
+    // Beyond the spec minimum: at the exact_optical_depth level the weights carry exp(tau_fit -
     // tau) like the model's; what remains is the eye's sun column along the segment and the
     // missing per-point shadow. Sun >= 5 deg, rays up to 30 km, per preset.
     ArbProgramOptions exact;

@@ -772,7 +772,8 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
         p[kHeightMie][c] = light * frame.mie_scattering[i] * mie_constant;
     }
     // The G extinction of each component at the eye (log2(e)^2 per metre), for the optical depth
-    // of height_exact_optical_depth; in the w of two vectors whose w is otherwise unused.
+    // of the exact_optical_depth and full levels; in the w of two vectors whose w is otherwise
+    // unused.
     p[kHeightRayleigh][3] = kLog2E * kLog2E * k0_rayleigh;
     p[kHeightMie][3] = kLog2E * kLog2E * k0_mie;
     const double abs_g = std::abs(g);

@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
     if (!context) return fail("--gl: " + context.error().message, 1);
     const aerial::gl::Api& api = context->api();
 
-    const sample::FlightState start = sample::flight_at(world, 0.1);
+    const sample::FlightState start = sample::flight_at(world, 0.1, sample::default_sun_schedule());
     struct Scenario {
         const char* name;
         bool policy;

@@ -127,7 +127,7 @@ aerial::Result<SunSchedule> make_sun_schedule(int year, int month, int day, doub
     }
     if (events->polar_night) {
         return aerial::Error{"latitude",
-                             "latitude: the sun does not rise on that date there (polar night)"};
+                             "the sun does not rise on that date at this latitude (polar night)"};
     }
     schedule.noon_utc_min = events->solar_noon_utc_min;
     schedule.end_utc_min = events->sunset_utc_min

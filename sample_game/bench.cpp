@@ -12,6 +12,7 @@
 
 #include "aerial/headless.hpp"
 #include "aerial/scene_renderer.hpp"
+#include "aerial/scene_sky.hpp"
 #include "world.hpp"
 
 namespace {
@@ -45,6 +46,9 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--backend", backend_text, "cpu or arb")->capture_default_str();
     app.add_option("--gl", gl_text, "osmesa or egl")->capture_default_str();
+    std::string sky_text = "dome";
+    app.add_option("--sky", sky_text, "dome (the renderer's) or cubemap (install_cubemap_sky)")
+        ->capture_default_str();
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp&) {
@@ -65,12 +69,15 @@ int main(int argc, char** argv) {
     auto gl_backend = aerial::headless::parse_backend(gl_text);
     if (!gl_backend) return fail("--gl: '" + gl_text + "' is unknown (expected osmesa or egl)");
 
+    if (sky_text != "dome" && sky_text != "cubemap") {
+        return fail("--sky: '" + sky_text + "' is unknown (expected dome or cubemap)");
+    }
     const sample::World world = sample::build_world({});
     auto context = aerial::headless::Context::create({*gl_backend, width, height});
     if (!context) return fail("--gl: " + context.error().message, 1);
     const aerial::gl::Api& api = context->api();
 
-    const sample::FlightState start = sample::flight_at(world, 0.1);
+    const sample::FlightState start = sample::flight_at(world, 0.1, sample::default_sun_schedule());
     struct Scenario {
         const char* name;
         bool policy;
@@ -83,6 +90,12 @@ int main(int argc, char** argv) {
         options.backend = *backend;
         auto renderer = aerial::scene::SceneRenderer::create(api, options);
         if (!renderer) return fail("--backend: " + renderer.error().message, 1);
+        std::shared_ptr<const aerial::scene::CubemapSkyStats> sky;
+        if (sky_text == "cubemap") {
+            auto installed = aerial::scene::install_cubemap_sky(renderer.value(), api);
+            if (!installed) return fail("--sky: " + installed.error().message, 1);
+            sky = *installed;
+        }
         Totals totals;
         for (int i = 0; i < frames; ++i) {
             sample::FlightState state = start;
@@ -127,13 +140,14 @@ int main(int argc, char** argv) {
         std::printf(
             "%s: frames=%d vertices_shaded=%.0f cache_hits=%.1f culled=%.1f "
             "nodes_hoffman_preetham=%.1f nodes_%s=%.1f shading_ms=%.2f render_ms=%.2f "
-            "frame_ms=%.2f\n",
+            "frame_ms=%.2f sky_recomputes=%d\n",
             sc.name, frames - 1, totals.vertices_shaded / n, totals.cache_hits / n,
             totals.culled / n, totals.hp_nodes / n, model_text.c_str(), totals.height_nodes / n,
-            totals.shading_ms / n, totals.render_ms / n, totals.frame_ms / n);
+            totals.shading_ms / n, totals.render_ms / n, totals.frame_ms / n,
+            sky ? sky->recomputes : 0);
     }
-    std::printf("world: tiles=%zu vertices=%zu size=%dx%d backend=%s renderer=\"%s\"\n",
-                world.tiles, world.vertices, width, height, backend_text.c_str(),
+    std::printf("world: tiles=%zu vertices=%zu size=%dx%d backend=%s sky=%s renderer=\"%s\"\n",
+                world.tiles, world.vertices, width, height, backend_text.c_str(), sky_text.c_str(),
                 api.caps.renderer.c_str());
     return 0;
 }

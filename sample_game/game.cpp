@@ -17,6 +17,22 @@ std::string upper(std::string s) {
 
 }  // namespace
 
+const char* sky_name(SkyKind sky) { return sky == SkyKind::dome ? "dome" : "cubemap"; }
+
+aerial::Result<SkySetup> install_sky(aerial::scene::SceneRenderer& renderer,
+                                     const aerial::gl::Api& api, const GameConfig& config) {
+    SkySetup setup;
+    if (config.sky == SkyKind::dome) return setup;
+    auto stats = aerial::scene::install_cubemap_sky(renderer, api);
+    if (!stats) {
+        if (stats.error().field == "cube_map") return setup;  // GL 1.1: the dome
+        return stats.error();
+    }
+    setup.used = SkyKind::cubemap;
+    setup.stats = *stats;
+    return setup;
+}
+
 std::string clock_text(double hours) {
     const int minutes = int(std::lround(hours * 60.0));
     char buffer[16];
@@ -54,20 +70,25 @@ aerial::Result<FrameOutcome> render_frame(const aerial::gl::Api& api,
         const int scale = std::max(1, config.height / 270);
         const double ms = outcome.milliseconds;
         char line[160];
-        std::snprintf(line, sizeof line, "FPS %.1f (%.0f MS, SHADING %.1f MS)  %s %s", 1000.0 / ms,
-                      ms, report->shading_milliseconds, clock_text(state.clock_hours).c_str(),
+        std::snprintf(line, sizeof line, "FPS %.1f (%.0f MS, SHADING %.1f MS)  %s", 1000.0 / ms, ms,
+                      report->shading_milliseconds,
                       upper(state.fog ? config.preset + "+FOG" : config.preset).c_str());
         draw_text(api, config.width, config.height, 4 * scale, 4 * scale, scale, line);
+        std::snprintf(line, sizeof line, "SOLAR TIME %s  SUN %.1f DEG  AZIMUTH %.0f DEG",
+                      clock_text(state.clock_hours).c_str(),
+                      state.sun_elevation_rad * 180.0 / 3.14159265358979323846,
+                      state.sun_azimuth_rad * 180.0 / 3.14159265358979323846);
+        draw_text(api, config.width, config.height, 4 * scale, 14 * scale, scale, line);
         std::snprintf(line, sizeof line, "SHADED %zu / %zu VERTS  CACHED %zu  CULLED %zu",
                       report->vertices_shaded, report->vertices_drawn, report->cache_hits,
                       report->culled);
-        draw_text(api, config.width, config.height, 4 * scale, 14 * scale, scale, line);
-        const bool cpu = config.backend == aerial::scene::Backend::cpu;
-        std::snprintf(line, sizeof line, "METHOD %s  %s %s%s", upper(report->main_method()).c_str(),
-                      cpu ? "CPU" : "ARB",
-                      cpu ? upper(aerial::gl::path_name(report->path)).c_str() : "PROGRAM",
-                      config.policy ? "" : "  NO POLICY");
         draw_text(api, config.width, config.height, 4 * scale, 24 * scale, scale, line);
+        const bool cpu = config.backend == aerial::scene::Backend::cpu;
+        std::snprintf(line, sizeof line, "METHOD %s  %s %s  SKY %s%s",
+                      upper(report->main_method()).c_str(), cpu ? "CPU" : "ARB",
+                      cpu ? upper(aerial::gl::path_name(report->path)).c_str() : "PROGRAM",
+                      upper(sky_name(config.sky)).c_str(), config.policy ? "" : "  NO POLICY");
+        draw_text(api, config.width, config.height, 4 * scale, 34 * scale, scale, line);
         api.Finish();
     }
     return outcome;

@@ -8,12 +8,19 @@
 //   3. `run_window(...)` flies interactively in a GLFW window (builds with GLFW only).
 #pragma once
 
+#include <memory>
 #include <string>
 
 #include "aerial/scene_renderer.hpp"
+#include "aerial/scene_sky.hpp"
 #include "world.hpp"
 
 namespace sample {
+
+/// The sky: the renderer's per-vertex dome and flat sun, or the CPU cubemap and the sun sprite
+/// (aerial::scene::install_cubemap_sky).
+enum class SkyKind { dome, cubemap };
+const char* sky_name(SkyKind sky);
 
 struct GameConfig {
     std::string preset = "earth";
@@ -23,6 +30,8 @@ struct GameConfig {
     bool policy = true;
     double error_target_lsb = 2.0;
     bool readout = true;
+    SkyKind sky = SkyKind::cubemap;
+    SunSchedule sun;  ///< the day: date, place, noon and dusk
     int width = 480;
     int height = 270;
 };
@@ -32,6 +41,15 @@ struct FrameOutcome {
     aerial::scene::FrameSettings settings;
     double milliseconds = 0.0;  ///< render() and glFinish, without the readout
 };
+
+/// Installs config.sky on the renderer. The cubemap needs cube maps: without them the renderer
+/// keeps its dome and `used` says dome. Returns the cubemap's statistics (null for the dome).
+struct SkySetup {
+    SkyKind used = SkyKind::dome;
+    std::shared_ptr<const aerial::scene::CubemapSkyStats> stats;
+};
+aerial::Result<SkySetup> install_sky(aerial::scene::SceneRenderer& renderer,
+                                     const aerial::gl::Api& api, const GameConfig& config);
 
 aerial::Result<FrameOutcome> render_frame(const aerial::gl::Api& api,
                                           aerial::scene::SceneRenderer& renderer,

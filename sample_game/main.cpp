@@ -23,11 +23,12 @@ namespace {
 
 constexpr const char* kTool = "aerial-sample";
 constexpr const char* kDescription =
-    "Flies over 16 x 16 km of procedural, textured terrain with a sky dome and a sun; F_ex and\n"
+    "Flies over 16 x 16 km of procedural, textured terrain with a sky and a sun; F_ex and\n"
     "L_in per vertex from the aerial module (aerial::scene, cpu colours or the ARB program),\n"
-    "applied by the fixed pipeline. Headless (default): renders a scripted flythrough (noon to\n"
-    "dusk, ground fog in the middle) to DIR/frame_NNNN.png, DIR/contact_sheet.png and\n"
-    "DIR/frames.csv, and prints one summary line.\n"
+    "applied by the fixed pipeline. The sun stands where it does on --date at --latitude and\n"
+    "--longitude (NOAA solar calculator). Headless (default): renders a scripted flythrough\n"
+    "(solar noon to just after sunset, ground fog in the middle) to DIR/frame_NNNN.png,\n"
+    "DIR/contact_sheet.png and DIR/frames.csv, and prints one summary line.\n"
     "Exit status: 0 on success, 2 on bad input, 1 when the GL context or rendering fails.";
 
 constexpr int kMaxSide = 4096;
@@ -50,6 +51,12 @@ bool parse_size(const std::string& text, int& width, int& height) {
     width = int(w);
     height = int(h);
     return true;
+}
+
+bool parse_date(const std::string& text, int& year, int& month, int& day) {
+    int consumed = 0;
+    return std::sscanf(text.c_str(), "%4d-%2d-%2d%n", &year, &month, &day, &consumed) == 3 &&
+           std::size_t(consumed) == text.size() && text.size() == 10;
 }
 
 /// A box-filtered thumbnail `factor` times smaller.
@@ -103,10 +110,15 @@ int main(int argc, char** argv) {
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     std::string out = "build/out/flythrough", size = "480x270", preset = "earth",
                 model_text = "height", backend_text = "cpu", path_text = "automatic",
-                gl_text = "osmesa";
+                gl_text = "osmesa", sky_text = "cubemap";
     int frames = 24;
     unsigned seed = 7;
-    double error_target = 2.0;
+    double error_target = 2.0, latitude_deg = sample::kDefaultLatitudeDeg,
+           longitude_deg = sample::kDefaultLongitudeDeg;
+    char default_date[16];
+    std::snprintf(default_date, sizeof default_date, "%04d-%02d-%02d", sample::kDefaultYear,
+                  sample::kDefaultMonth, sample::kDefaultDay);
+    std::string date = default_date;
     bool headless = false, window = false, no_policy = false, no_readout = false;
     app.add_flag("--headless", headless, "Render the scripted flythrough off-screen (the default)");
     app.add_flag("--window", window, "Fly interactively in a window (needs GLFW and a display)");
@@ -131,6 +143,17 @@ int main(int argc, char** argv) {
     app.add_option("--seed", seed, "Terrain seed")->capture_default_str();
     app.add_option("--error-target", error_target,
                    "Largest 8-bit difference to --model the update policy accepts, >= 0")
+        ->capture_default_str();
+    app.add_option("--date", date, "UTC date of the flight, YYYY-MM-DD (1901..2099)")
+        ->capture_default_str();
+    app.add_option("--latitude", latitude_deg, "Latitude of the terrain, degrees north, -90..90")
+        ->capture_default_str();
+    app.add_option("--longitude", longitude_deg,
+                   "Longitude of the terrain, degrees east, -180..180")
+        ->capture_default_str();
+    app.add_option("--sky", sky_text,
+                   "cubemap (CPU sky cubemap and sun sprite; the dome where cube maps are "
+                   "missing) or dome (per-vertex dome and flat sun)")
         ->capture_default_str();
     app.add_flag("--no-policy", no_policy, "Shade every visible vertex every frame with --model");
     app.add_flag("--no-readout", no_readout, "Leave out the on-screen readout (for goldens)");
@@ -178,6 +201,31 @@ int main(int argc, char** argv) {
         return fail("--error-target: expected a finite value >= 0");
     }
     if (out.empty()) return fail("--out: expected a directory");
+    if (sky_text != "cubemap" && sky_text != "dome") {
+        return fail("--sky: '" + sky_text + "' is unknown (expected cubemap or dome)");
+    }
+    int year = 0, month = 0, day = 0;
+    if (!parse_date(date, year, month, day)) {
+        return fail("--date: expected YYYY-MM-DD, got '" + date + "'");
+    }
+    if (!(latitude_deg >= -90.0 && latitude_deg <= 90.0)) {
+        return fail("--latitude: expected -90..90 degrees, got " + std::to_string(latitude_deg));
+    }
+    if (!(longitude_deg >= -180.0 && longitude_deg <= 180.0)) {
+        return fail("--longitude: expected -180..180 degrees, got " +
+                    std::to_string(longitude_deg));
+    }
+    constexpr double kDegree = 3.14159265358979323846 / 180.0;
+    auto schedule = sample::make_sun_schedule(year, month, day, latitude_deg * kDegree,
+                                              longitude_deg * kDegree);
+    if (!schedule) {
+        const std::string& field = schedule.error().field;
+        const std::string flag = field == "latitude"    ? "--latitude"
+                                 : field == "longitude" ? "--longitude"
+                                                        : "--date";
+        return fail(flag + (flag == "--date" ? " " + date : std::string()) + ": " +
+                    schedule.error().message);
+    }
     if (window && headless) return fail("--window: not together with --headless");
     if (window && !sample::window_available()) {
         return fail("--window: this build has no window support (GLFW); use --headless");
@@ -194,6 +242,8 @@ int main(int argc, char** argv) {
     config.policy = !no_policy;
     config.error_target_lsb = error_target;
     config.readout = !no_readout;
+    config.sky = sky_text == "dome" ? sample::SkyKind::dome : sample::SkyKind::cubemap;
+    config.sun = *schedule;
     config.width = width;
     config.height = height;
     if (window) {
@@ -215,51 +265,71 @@ int main(int argc, char** argv) {
         return fail("--backend " + backend_text + ": " + renderer.error().message, status);
     }
 
+    auto sky = sample::install_sky(renderer.value(), api, config);
+    if (!sky) return fail("--sky: " + sky.error().message, 1);
+    config.sky = sky->used;
+
     if (auto e = aerial::tools::make_parent_directories(out + "/frames.csv"))
         return fail("--out " + *e);
     std::ofstream csv(out + "/frames.csv");
     if (!csv) return fail("--out: cannot write " + out + "/frames.csv");
-    csv << "frame,t,clock,sun_elevation_deg,fog,exposure,vertices_shaded,vertices_drawn,"
-           "cache_hits,culled,skipped,nodes_hoffman_preetham,nodes_height,nodes_reference,"
-           "method,shading_ms,ms\n";
+    csv << "frame,t,utc,solar_time,sun_elevation_deg,sun_azimuth_deg,fog,exposure,"
+           "vertices_shaded,vertices_drawn,cache_hits,culled,skipped,nodes_hoffman_preetham,"
+           "nodes_height,nodes_reference,method,shading_ms,ms,sky,sky_refreshes,sky_refresh_ms\n";
 
     std::vector<aerial::tools::Rgb8Image> thumbnails;
     const int factor = std::max(1, width / kThumbnailWidth);
     double total_ms = 0.0, total_shaded = 0.0;
     for (int i = 0; i < frames; ++i) {
         const double t = frames == 1 ? 0.0 : double(i) / double(frames - 1);
-        const sample::FlightState state = sample::flight_at(world, t);
+        const sample::FlightState state = sample::flight_at(world, t, config.sun);
         auto outcome = sample::render_frame(api, renderer.value(), world, state, config);
         if (!outcome) return fail("frame " + std::to_string(i) + ": " + outcome.error().message, 1);
         const aerial::scene::FrameReport& report = outcome->report;
         const double ms = outcome->milliseconds;
         total_ms += ms;
         total_shaded += double(report.vertices_shaded);
-        const double sun_deg = state.sun_elevation_rad * 180.0 / 3.14159265358979323846;
+        const double sun_deg = state.sun_elevation_rad / kDegree;
         const aerial::tools::Rgb8Image image =
             aerial::tools::rgb_from_rgba8(width, height, context->read_rgba8());
         char name[64];
         std::snprintf(name, sizeof name, "/frame_%04d.png", i);
         if (auto e = aerial::tools::write_png(out + name, image)) return fail("--out " + *e);
         thumbnails.push_back(shrink(image, factor));
-        char row[512];
-        std::snprintf(row, sizeof row,
-                      "%d,%.4f,%s,%.2f,%d,%.3f,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%s,%.3f,%.3f\n", i,
-                      t, sample::clock_text(state.clock_hours).c_str(), sun_deg, state.fog ? 1 : 0,
-                      double(outcome->settings.display.exposure), report.vertices_shaded,
-                      report.vertices_drawn, report.cache_hits, report.culled, report.skipped,
-                      report.shaded_hoffman_preetham, report.shaded_height, report.shaded_reference,
-                      report.main_method().c_str(), report.shading_milliseconds, ms);
+        // The cubemap's refreshes so far, and the cost of this frame's refresh (0: none).
+        const aerial::scene::CubemapSkyStats* stats = sky->stats.get();
+        if (stats && !stats->error.empty())
+            return fail("frame " + std::to_string(i) + ": " + stats->error, 1);
+        const int refreshes = stats ? stats->recomputes : 0;
+        const double refresh_ms =
+            stats && stats->recomputed_last_frame ? stats->last_recompute_ms : 0.0;
+        char row[640];
+        std::snprintf(
+            row, sizeof row,
+            "%d,%.4f,%s,%s,%.2f,%.2f,%d,%.3f,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%s,%.3f,%.3f,%s,%d,"
+            "%.2f\n",
+            i, t, sample::clock_text(std::fmod(state.utc_min / 60.0 + 24.0, 24.0)).c_str(),
+            sample::clock_text(state.clock_hours).c_str(), sun_deg, state.sun_azimuth_rad / kDegree,
+            state.fog ? 1 : 0, double(outcome->settings.display.exposure), report.vertices_shaded,
+            report.vertices_drawn, report.cache_hits, report.culled, report.skipped,
+            report.shaded_hoffman_preetham, report.shaded_height, report.shaded_reference,
+            report.main_method().c_str(), report.shading_milliseconds, ms,
+            sample::sky_name(config.sky), refreshes, refresh_ms);
         csv << row;
     }
     if (auto e = aerial::tools::write_png(out + "/contact_sheet.png", contact_sheet(thumbnails))) {
         return fail("--out " + *e);
     }
+    const int refreshes = sky->stats ? sky->stats->recomputes : 0;
     std::printf(
-        "%s: %d frames %dx%d preset=%s model=%s backend=%s policy=%s tiles=%zu vertices=%zu "
-        "mean_ms=%.2f mean_vertices_shaded=%.0f renderer=\"%s\" -> %s/\n",
+        "%s: %d frames %dx%d preset=%s model=%s backend=%s policy=%s sky=%s date=%s "
+        "latitude=%.4f longitude=%.4f tiles=%zu vertices=%zu mean_ms=%.2f "
+        "mean_vertices_shaded=%.0f sky_refreshes=%d mean_sky_refresh_ms=%.1f renderer=\"%s\" "
+        "-> %s/\n",
         kTool, frames, width, height, preset.c_str(), model_text.c_str(), backend_text.c_str(),
-        no_policy ? "off" : "on", world.tiles, world.vertices, total_ms / frames,
-        total_shaded / frames, api.caps.renderer.c_str(), out.c_str());
+        no_policy ? "off" : "on", sample::sky_name(config.sky), date.c_str(), latitude_deg,
+        longitude_deg, world.tiles, world.vertices, total_ms / frames, total_shaded / frames,
+        refreshes, refreshes > 0 ? sky->stats->total_recompute_ms / refreshes : 0.0,
+        api.caps.renderer.c_str(), out.c_str());
     return 0;
 }

@@ -59,8 +59,16 @@ int run_window(const World& world, GameConfig config, int frames, const std::str
             glfwTerminate();
             return 1;
         }
-        FlightState state = flight_at(world, 0.0);
-        double speed = 100.0, t_day = 0.0;  // m/s; 0 = noon .. 1 = dusk of the script
+        auto sky = install_sky(renderer.value(), *api, config);
+        if (!sky) {
+            std::cerr << "aerial-sample: --sky: " << sky.error().message << '\n';
+            glfwDestroyWindow(window);
+            glfwTerminate();
+            return 1;
+        }
+        config.sky = sky->used;
+        FlightState state = flight_at(world, 0.0, config.sun);
+        double speed = 100.0, t_day = 0.0;  // m/s; 0 = solar noon .. 1 = just after sunset
         auto last = std::chrono::steady_clock::now();
         std::printf(
             "aerial-sample: keys: arrows turn/climb, W/S speed, T/G time of day, F fog, "
@@ -97,10 +105,7 @@ int run_window(const World& world, GameConfig config, int frames, const std::str
             state.y += std::cos(state.heading_rad) * speed * dt;
             state.altitude_agl += ground - ground_height(world, state.x, state.y);
             state.altitude_agl = std::max(20.0, state.altitude_agl);
-            const FlightState sky = flight_at(world, t_day);
-            state.sun_elevation_rad = sky.sun_elevation_rad;
-            state.sun_azimuth_rad = sky.sun_azimuth_rad;
-            state.clock_hours = sky.clock_hours;
+            place_sun(state, config.sun, t_day);
 
             glfwGetFramebufferSize(window, &config.width, &config.height);
             auto outcome = render_frame(*api, renderer.value(), world, state, config);

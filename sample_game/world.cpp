@@ -10,10 +10,15 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kTextureSize = 256;
-/// Display value of a white surface under the ground's irradiance (see settings_for).
-constexpr double kExposureKey = 8.0;
-/// The same for the exponential tone curve 1 - exp(-x), which needs more to reach the same level.
-constexpr double kExposureKeyExponential = 12.0;
+/// Altitude of the light that sets the exposure and the terrain's skylight, m (the terrain
+/// spans about 20 to 920 m).
+constexpr double kLightingAltitudeM = 300.0;
+/// The grey card's exposed radiance (aerial::ExposureOptions::key): brighter than the default
+/// 0.5, since the terrain's texture and albedo make it darker than an 18 % card.
+constexpr double kExposureKey = 0.8;
+/// At most this many times the exposure of the sun at the zenith: dusk may stay darker than
+/// noon instead of turning the bright sky around the low sun white.
+constexpr double kExposureMaxGain = 3.5;
 /// Ground reflectance over pi (the lit colour is albedo x irradiance, radiance needs the 1/pi);
 /// the texture (mean about 0.45) carries the colour.
 constexpr float kGroundAlbedo = float(0.3 / kPi);
@@ -68,7 +73,92 @@ std::shared_ptr<aerial::scene::Texture> ground_texture(std::uint32_t seed) {
     return texture;
 }
 
+/// Days since 1970-01-01 of a proleptic Gregorian date, and back (H. Hinnant's algorithms).
+long days_from_civil(int y, int m, int d) {
+    y -= m <= 2;
+    const long era = (y >= 0 ? y : y - 399) / 400;
+    const long yoe = y - era * 400;
+    const long doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+    const long doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    return era * 146097 + doe - 719468;
+}
+
+void civil_from_days(long z, int& y, int& m, int& d) {
+    z += 719468;
+    const long era = (z >= 0 ? z : z - 146096) / 146097;
+    const long doe = z - era * 146097;
+    const long yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+    const long doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    const long mp = (5 * doy + 2) / 153;
+    d = int(doy - (153 * mp + 2) / 5 + 1);
+    m = int(mp < 10 ? mp + 3 : mp - 9);
+    y = int(yoe + era * 400 + (m <= 2));
+}
+
+/// The UTC moment `minutes` after 00:00 of the schedule's date (any sign, days roll over).
+aerial::UtcDateTime utc_at(const SunSchedule& schedule, double minutes) {
+    const double whole_days = std::floor(minutes / 1440.0);
+    double rest = minutes - whole_days * 1440.0;
+    aerial::UtcDateTime time;
+    civil_from_days(days_from_civil(schedule.year, schedule.month, schedule.day) + long(whole_days),
+                    time.year, time.month, time.day);
+    time.hour = std::min(23, int(rest / 60.0));
+    rest -= time.hour * 60.0;
+    time.minute = std::min(59, int(rest));
+    time.second = std::clamp((rest - time.minute) * 60.0, 0.0, 59.999);
+    return time;
+}
+
 }  // namespace
+
+aerial::Result<SunSchedule> make_sun_schedule(int year, int month, int day, double latitude_rad,
+                                              double longitude_rad) {
+    SunSchedule schedule;
+    schedule.year = year;
+    schedule.month = month;
+    schedule.day = day;
+    schedule.latitude_rad = latitude_rad;
+    schedule.longitude_rad = longitude_rad;
+    auto events = aerial::solar_events(year, month, day, latitude_rad, longitude_rad);
+    if (!events) {
+        aerial::Error e = events.error();
+        if (e.field == "year" || e.field == "month" || e.field == "day") e.field = "date";
+        return e;
+    }
+    if (events->polar_night) {
+        return aerial::Error{"latitude",
+                             "the sun does not rise on that date at this latitude (polar night)"};
+    }
+    schedule.noon_utc_min = events->solar_noon_utc_min;
+    schedule.end_utc_min = events->sunset_utc_min
+                               ? *events->sunset_utc_min + kDuskMinutesAfterSunset
+                               : events->solar_noon_utc_min + 600.0;
+    return schedule;
+}
+
+SunSchedule default_sun_schedule() {
+    constexpr double kDegree = kPi / 180.0;
+    return make_sun_schedule(kDefaultYear, kDefaultMonth, kDefaultDay,
+                             kDefaultLatitudeDeg * kDegree, kDefaultLongitudeDeg * kDegree)
+        .value();  // a valid date and place
+}
+
+void place_sun(FlightState& state, const SunSchedule& schedule, double day) {
+    day = std::clamp(day, 0.0, 1.0);
+    // Slow at first, fast through the afternoon, slow again towards sunset.
+    const double u = smoothstep(0.15, 1.0, day);
+    state.utc_min = schedule.noon_utc_min + (schedule.end_utc_min - schedule.noon_utc_min) * u;
+    // The schedule's place and date are valid (make_sun_schedule checked them).
+    const auto sun = aerial::sun_position(utc_at(schedule, state.utc_min), schedule.latitude_rad,
+                                          schedule.longitude_rad);
+    if (!sun) return;
+    state.sun_elevation_rad = sun->elevation_rad;
+    state.sun_azimuth_rad = sun->azimuth_rad;
+    // Local apparent solar time: UTC + longitude (4 minutes a degree) + equation of time.
+    const double local_min =
+        state.utc_min + schedule.longitude_rad * 180.0 / kPi * 4.0 + sun->equation_of_time_min;
+    state.clock_hours = std::fmod(std::fmod(local_min, 1440.0) + 1440.0, 1440.0) / 60.0;
+}
 
 World build_world(const WorldOptions& options) {
     World world;
@@ -111,7 +201,7 @@ double ground_height(const World& world, double x, double y) {
     return aerial::scene::procedural_height(world.terrain, x, y);
 }
 
-FlightState flight_at(const World& world, double t) {
+FlightState flight_at(const World& world, double t, const SunSchedule& schedule) {
     t = std::clamp(t, 0.0, 1.0);
     FlightState s;
     // North from the south edge, weaving, turning west in the second half.
@@ -137,10 +227,8 @@ FlightState flight_at(const World& world, double t) {
     }
     s.altitude_agl = 250.0 + (ground - ground_height(world, x, y));
     s.pitch_rad = -0.09;
-    s.sun_elevation_rad = (60.0 - 58.0 * smoothstep(0.15, 1.0, t)) * kPi / 180.0;
-    s.sun_azimuth_rad = (200.0 + 85.0 * smoothstep(0.15, 1.0, t)) * kPi / 180.0;
     s.fog = t > 0.4 && t < 0.6;
-    s.clock_hours = 12.5 + 6.0 * smoothstep(0.15, 1.0, t);
+    place_sun(s, schedule, t);
     return s;
 }
 
@@ -185,18 +273,24 @@ aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& s,
                         std::cos(s.sun_elevation_rad) * std::cos(s.sun_azimuth_rad),
                         std::sin(s.sun_elevation_rad)};
     settings.model = model;
-    // Exposure: the irradiance of level ground (the sun through the atmosphere plus an
-    // estimate of the sky's) mapped to a fixed display level, so that noon and dusk both read.
-    const double sin_elevation = std::sin(s.sun_elevation_rad);
-    const glm::dvec3 sun = settings.atmosphere.sun_irradiance *
-                           aerial::sun_transmittance(settings.atmosphere, 300.0, sin_elevation);
-    const double irradiance =
-        sun.g * std::max(0.0, sin_elevation) +
-        0.15 * settings.atmosphere.sun_irradiance.g * std::sqrt(std::max(0.01, sin_elevation));
-    // Dusk is allowed to stay darker than noon: the exposure follows the irradiance only in part.
-    const double key =
-        tone == aerial::ToneCurve::exponential ? kExposureKeyExponential : kExposureKey;
-    settings.display.exposure = float(std::clamp(key / std::pow(irradiance, 0.75), 2.0, 60.0));
+    // Light of level ground at a typical terrain altitude: the sun through the atmosphere
+    // (zero in the planet's shadow) and the skylight, which is also the terrain's ambient term.
+    // The exposure maps a grey card under that light to a fixed display level, so that noon
+    // and dusk both read (aerial::auto_exposure).
+    const glm::dvec3 sun = aerial::sun_irradiance_at_altitude(
+        settings.atmosphere, kLightingAltitudeM, s.sun_elevation_rad);
+    aerial::SkyAmbientOptions ambient_options;
+    ambient_options.elevation_steps = 8;
+    ambient_options.azimuth_steps = 16;
+    auto sky = aerial::sky_ambient(settings.atmosphere, kLightingAltitudeM, s.sun_elevation_rad,
+                                   ambient_options);
+    if (!sky) return sky.error();
+    settings.ambient = glm::vec3(*sky);
+    aerial::ExposureOptions exposure;
+    exposure.key = kExposureKey;
+    exposure.max_gain = kExposureMaxGain;
+    settings.display.exposure = float(aerial::auto_exposure(
+        sun, s.sun_elevation_rad, *sky, settings.atmosphere.sun_irradiance, exposure));
     settings.display.tone = tone;
     return settings;
 }

@@ -3,9 +3,12 @@
 //
 // How to use this:
 //   1. `auto world = build_world(options);` once.
-//   2. Per frame: `FlightState state = flight_at(world, t);` for t in [0, 1] (the scripted
-//      flythrough: noon to dusk, a ground-fog segment in the middle), or steer `state` yourself.
-//   3. `camera_for(world, state, aspect)` and `settings_for(world, state, ...)` give what
+//   2. `auto sun = make_sun_schedule(2026, 6, 21, latitude_rad, longitude_rad);` once: the day
+//      from solar noon to just after sunset (aerial::solar_events).
+//   3. Per frame: `FlightState state = flight_at(world, t, *sun);` for t in [0, 1] (the scripted
+//      flythrough: noon to dusk, a ground-fog segment in the middle), or steer `state` yourself
+//      and `place_sun(state, *sun, day)` (the sun from aerial::sun_position).
+//   4. `camera_for(world, state, aspect)` and `settings_for(world, state, ...)` give what
 //      aerial::scene::SceneRenderer::render takes.
 #pragma once
 
@@ -14,6 +17,7 @@
 #include <string>
 
 #include "aerial/scene_renderer.hpp"
+#include "aerial/sun.hpp"
 
 namespace sample {
 
@@ -39,27 +43,61 @@ World build_world(const WorldOptions& options);
 /// Ground height under (x, y), m.
 double ground_height(const World& world, double x, double y);
 
+/// The day of the flight: where and when, and the times the script runs between.
+struct SunSchedule {
+    int year = 2026, month = 6, day = 21;  ///< UTC date
+    double latitude_rad = 0.0;             ///< north positive
+    double longitude_rad = 0.0;            ///< east positive
+    double noon_utc_min = 720.0;           ///< solar noon, minutes after 00:00 UTC of the date
+    double end_utc_min = 1200.0;           ///< where the script ends: a few minutes after sunset
+};
+
+/// Minutes after sea-level sunset at which the scripted day ends. At 250 m above hills of
+/// up to 900 m the horizon lies about 1 deg lower than at sea level, so the sun is still
+/// seen, red, from the aircraft.
+inline constexpr double kDuskMinutesAfterSunset = 4.0;
+
+/// The schedule of a UTC date and place (radians). Errors name the field: "date" (no such
+/// day), "latitude" / "longitude" (out of range, or polar night: the sun does not rise). In
+/// polar day the script ends 10 hours after noon.
+aerial::Result<SunSchedule> make_sun_schedule(int year, int month, int day, double latitude_rad,
+                                              double longitude_rad);
+
+/// The sample's default day: the summer solstice of 2026 over the Swiss Alps' latitude.
+inline constexpr int kDefaultYear = 2026, kDefaultMonth = 6, kDefaultDay = 21;
+inline constexpr double kDefaultLatitudeDeg = 46.5, kDefaultLongitudeDeg = 8.0;
+/// make_sun_schedule of the defaults above.
+SunSchedule default_sun_schedule();
+
 /// Where the flight is and what the sky is like.
 struct FlightState {
     double x = 0.0, y = 0.0, altitude_agl = 250.0;  ///< m; altitude above the ground below
     double heading_rad = 0.0;                       ///< clockwise from +y (north)
     double pitch_rad = -0.08;                       ///< negative looks down
-    double sun_elevation_rad = 1.0;
-    double sun_azimuth_rad = 3.14159;  ///< clockwise from +y
+    double sun_elevation_rad = 1.0;    ///< geometric (aerial::SunPosition::elevation_rad)
+    double sun_azimuth_rad = 3.14159;  ///< clockwise from +y (north); +x is east
     bool fog = false;                  ///< the ground-fog layer is on
-    double clock_hours = 12.0;         ///< local solar time shown in the readout
+    double clock_hours = 12.0;         ///< local apparent solar time shown in the readout
+    double utc_min = 720.0;            ///< minutes after 00:00 UTC of the schedule's date
 };
 
+/// Sets the sun of `state` for `day` in [0, 1] of the schedule (0 solar noon, 1 its end; the
+/// clock runs slowly at first so that most of the script is in the afternoon and dusk): position
+/// from aerial::sun_position, the local apparent solar time from the equation of time.
+void place_sun(FlightState& state, const SunSchedule& schedule, double day);
+
 /// The scripted flythrough at t in [0, 1]: 12 km northwards turning west, 250 m above the
-/// ground; the sun from 60° (noon) down to 2° (dusk) in the west; fog for 0.4 < t < 0.6.
-FlightState flight_at(const World& world, double t);
+/// ground; the sun from solar noon to just after sunset (place_sun with day = t); fog for
+/// 0.4 < t < 0.6.
+FlightState flight_at(const World& world, double t, const SunSchedule& schedule);
 
 aerial::scene::Camera camera_for(const World& world, const FlightState& state, double aspect);
 
 /// The atmosphere of `preset`, with a ground-fog layer (visibility 1.2 km in a 500 m layer,
-/// Mie g 0.5 standing in for multiple scattering) added when state.fog; an exposure that keeps the
-/// lit ground readable from noon to dusk, for the tone curve `tone` (the arb backend has only
-/// clamp; exponential never clips the sun's halo).
+/// Mie g 0.5 standing in for multiple scattering) added when state.fog; the terrain's skylight
+/// from aerial::sky_ambient and the exposure from aerial::auto_exposure (sun and sky on level
+/// ground at 300 m), for the tone curve `tone` (the arb backend has only clamp; exponential
+/// never clips the sun's halo).
 aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& state,
                                                           const std::string& preset,
                                                           aerial::Model model,

@@ -12,6 +12,8 @@
 #include "aerial/gl_api.hpp"
 #include "aerial/gl_state.hpp"
 #include "aerial/scene_renderer.hpp"
+#include "aerial/scene_sky.hpp"
+#include "aerial/sky_gl.hpp"
 #include "gl_test_context.hpp"
 
 namespace {
@@ -328,6 +330,88 @@ TEST_F(SceneRendererTest, DrawsABlueSkyAtNoonAndCallsReplacedDrawers) {
     EXPECT_EQ(sky_calls, 1);
     const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
     EXPECT_EQ(image[p] + image[p + 1] + image[p + 2], 0) << "the replaced sky drew nothing";
+}
+
+TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMust) {
+    auto renderer = SceneRenderer::create(api());
+    ASSERT_TRUE(renderer) << renderer.error().message;
+    auto sky = install_cubemap_sky(renderer.value(), api());
+    TestScene scene;
+    Camera up = test_camera();
+    up.target = up.eye + glm::dvec3(0, 1000, 600);  // 31° up: only sky
+    FrameSettings clear = test_settings();
+    clear.atmosphere = aerial::atmosphere_preset("earth").value();
+    clear.sun_dir = glm::normalize(glm::dvec3(0.2, -0.3, 0.9));
+    clear.display.exposure = 20.0f;
+    if (!aerial::gl::cube_maps_supported(api())) {  // GL 1.1: an error, the dome stays
+        ASSERT_FALSE(sky);
+        EXPECT_EQ(sky.error().field, "cube_map") << sky.error().message;
+        const auto image = draw(renderer.value(), scene, up, clear);
+        const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
+        EXPECT_GT(image[p + 2], 60) << "the dome still draws the sky";
+        return;
+    }
+    ASSERT_TRUE(sky) << sky.error().message;
+    const CubemapSkyStats& stats = **sky;
+    const auto before = aerial::gl::capture_state(api());
+    const auto first = draw(renderer.value(), scene, up, clear);
+    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(api()));
+    EXPECT_TRUE(changed.empty()) << changed.front();
+    EXPECT_TRUE(stats.error.empty()) << stats.error;
+    EXPECT_EQ(stats.recomputes, 1);
+    EXPECT_EQ(stats.sprite_updates, 1);
+
+    // The centre pixel is the CPU cubemap's texel along the view direction (bilinear).
+    aerial::SkyCubemapCache cpu(CubemapSkyOptions{}.cache);
+    aerial::View view;
+    view.eye = up.eye;
+    view.sun_dir = clear.sun_dir;
+    ASSERT_TRUE(cpu.update(clear.atmosphere, view).value());
+    const auto faces =
+        aerial::cubemap_to_rgba8(cpu.cubemap(), clear.display.exposure, clear.display.tone);
+    // Pixel (80, 45) of 160 x 90 is half a pixel off the axis in each direction.
+    const glm::dvec3 forward = glm::normalize(up.target - up.eye);
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, up.up));
+    const glm::dvec3 upward = glm::cross(right, forward);
+    const double half_h = std::tan(up.fov_y_rad / 2);
+    const glm::dvec3 direction = forward + right * (0.5 / (kWidth / 2.0) * half_h * up.aspect) +
+                                 upward * (0.5 / (kHeight / 2.0) * half_h);
+    const glm::dvec3 expected = aerial::sample_cubemap_rgba8(faces, cpu.cubemap().size, direction);
+    const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(first[p + std::size_t(c)], expected[c], 2.0)
+            << "channel " << c << ": " << aerial_test::pixel_text(first, p / 4);
+    }
+    EXPECT_GT(first[p + 2], first[p]) << "blue sky at noon";
+
+    // A static view, and a sun turned by 1e-7 rad, recompute nothing and look the same.
+    const auto second = draw(renderer.value(), scene, up, clear);
+    FrameSettings nudged = clear;
+    nudged.sun_dir = turned(clear.sun_dir, 1e-7);
+    const auto third = draw(renderer.value(), scene, up, nudged);
+    EXPECT_EQ(stats.recomputes, 1);
+    EXPECT_EQ(stats.uploads, 1);
+    EXPECT_EQ(aerial_test::compare_rgb(first, second).max_lsb, 0);
+    EXPECT_EQ(aerial_test::compare_rgb(first, third).max_lsb, 0);
+    // A new exposure re-encodes the texels without recomputing them.
+    FrameSettings brighter = clear;
+    brighter.display.exposure = 30.0f;
+    const auto bright = draw(renderer.value(), scene, up, brighter);
+    EXPECT_EQ(stats.recomputes, 1);
+    EXPECT_EQ(stats.uploads, 2);
+    EXPECT_GT(bright[p + 2], first[p + 2]);
+    // A sun turned by 10 deg recomputes.
+    FrameSettings moved = clear;
+    moved.sun_dir = turned(clear.sun_dir, 10.0 * 3.14159265358979323846 / 180.0);
+    draw(renderer.value(), scene, up, moved);
+    EXPECT_EQ(stats.recomputes, 2);
+    EXPECT_TRUE(stats.error.empty()) << stats.error;
+
+    CubemapSkyOptions bad;
+    bad.cache.size = 0;
+    auto rejected = install_cubemap_sky(renderer.value(), api(), bad);
+    ASSERT_FALSE(rejected);
+    EXPECT_EQ(rejected.error().field, "cache.size") << rejected.error().message;
 }
 
 TEST_F(SceneRendererTest, BadInputIsAnErrorNamingTheField) {

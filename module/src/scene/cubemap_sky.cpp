@@ -1,0 +1,180 @@
+// The CPU sky cubemap and the sun sprite installed as the scene renderer's sky and sun drawers.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <optional>
+#include <utility>
+
+#include "aerial/gl_api.hpp"
+#include "aerial/scene_sky.hpp"
+#include "aerial/sky_gl.hpp"
+
+namespace aerial::scene {
+namespace {
+
+/// What both drawers share: the cache, the textures and the exposure their texels were made for.
+struct CubemapSky {
+    CubemapSkyOptions options;
+    SkyCubemapCache cache;
+    std::optional<gl::SkyCubemapTexture> sky_texture;
+    std::optional<gl::SunSpriteTexture> sun_texture;
+    int sky_made_from = -1;  ///< cache.recomputes() the sky texels were encoded from
+    float sky_exposure = -1.0f;
+    ToneCurve sky_tone = ToneCurve::clamp;
+    int sun_made_from = -1;
+    float sun_exposure = -1.0f;
+    ToneCurve sun_tone = ToneCurve::clamp;
+    std::shared_ptr<CubemapSkyStats> stats = std::make_shared<CubemapSkyStats>();
+
+    explicit CubemapSky(const CubemapSkyOptions& o) : options(o), cache(o.cache) {}
+
+    View view_of(const SkyDrawContext& c) const {
+        View view;
+        view.eye = c.camera->eye;
+        view.sun_dir = c.settings->sun_dir;
+        view.up = c.settings->up;
+        view.meters_per_unit = c.settings->meters_per_unit;
+        return view;
+    }
+
+    /// Brings the cubemap up to date; false (and stats->error set) on failure.
+    bool update_cache(const SkyDrawContext& c) {
+        auto changed = cache.update(c.settings->atmosphere, view_of(c));
+        if (!changed) {
+            stats->error = "sky cubemap: " + changed.error().message;
+            return false;
+        }
+        return true;
+    }
+};
+
+/// Fades the sprite to black towards its edge (from kFadeStart of its half-width to the inscribed
+/// circle): at a low sun the exposure is high and the halo still shows at the sprite's edge,
+/// which would draw the square.
+constexpr double kFadeStart = 0.5;
+
+void fade_edges(SunSprite& sprite) {
+    const double half = 0.5 * sprite.size;
+    for (int y = 0; y < sprite.size; ++y) {
+        for (int x = 0; x < sprite.size; ++x) {
+            const double r = std::hypot(x + 0.5 - half, y + 0.5 - half) / half;
+            const double t = std::clamp((r - kFadeStart) / (1.0 - kFadeStart), 0.0, 1.0);
+            const double w = 1.0 - t * t * (3.0 - 2.0 * t);
+            std::uint8_t* texel = &sprite.rgba[(std::size_t(y) * sprite.size + x) * 4];
+            for (int c = 0; c < 3; ++c) texel[c] = std::uint8_t(std::lround(texel[c] * w));
+        }
+    }
+}
+
+void draw_sky(CubemapSky& sky, const SkyDrawContext& c) {
+    const auto start = std::chrono::steady_clock::now();
+    CubemapSkyStats& stats = *sky.stats;
+    const int before = sky.cache.recomputes();
+    if (!sky.update_cache(c)) return;
+    const bool recomputed = sky.cache.recomputes() != before;
+    stats.recomputed_last_frame = recomputed;
+    if (recomputed) ++stats.recomputes;
+    const Display& display = c.settings->display;
+    if (!sky.sky_texture || sky.sky_made_from != sky.cache.recomputes() ||
+        sky.sky_exposure != display.exposure || sky.sky_tone != display.tone) {
+        const SkyCubemap& cubemap = sky.cache.cubemap();
+        const auto faces = cubemap_to_rgba8(cubemap, display.exposure, display.tone);
+        if (sky.sky_texture) {
+            if (auto e = sky.sky_texture->update(faces, cubemap.size)) {
+                stats.error = "sky cubemap: " + e->message;
+                return;
+            }
+        } else {
+            auto texture = gl::SkyCubemapTexture::create(*c.api, faces, cubemap.size);
+            if (!texture) {
+                stats.error = "sky cubemap: " + texture.error().message;
+                return;
+            }
+            sky.sky_texture.emplace(std::move(texture.value()));
+        }
+        sky.sky_made_from = sky.cache.recomputes();
+        sky.sky_exposure = display.exposure;
+        sky.sky_tone = display.tone;
+        ++stats.uploads;
+    }
+    if (recomputed) {
+        stats.last_recompute_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count();
+        stats.total_recompute_ms += stats.last_recompute_ms;
+    }
+    if (auto e = gl::draw_sky_box(*c.api, *sky.sky_texture,
+                                  gl::sky_box_view_from_current_matrices(*c.api))) {
+        stats.error = "sky box: " + e->message;
+    }
+}
+
+void draw_sun(CubemapSky& sky, const SkyDrawContext& c) {
+    CubemapSkyStats& stats = *sky.stats;
+    if (!sky.update_cache(c)) return;
+    const Display& display = c.settings->display;
+    if (!sky.sun_texture || sky.sun_made_from != sky.cache.recomputes() ||
+        sky.sun_exposure != display.exposure || sky.sun_tone != display.tone) {
+        // The sprite needs the sky at the eye (E_sun there, the Mie optical depth to the sun).
+        auto context = prepare_sky(c.settings->atmosphere, sky.view_of(c), SkyMethod::dome_height);
+        if (!context) {
+            stats.error = "sun sprite: " + context.error().message;
+            return;
+        }
+        auto sprite = make_sun_sprite(*context, display.exposure, display.tone, sky.options.sprite);
+        if (!sprite) {
+            stats.error = "sun sprite: " + sprite.error().message;
+            return;
+        }
+        fade_edges(sprite.value());
+        if (sky.sun_texture) {
+            if (auto e = sky.sun_texture->update(sprite.value())) {
+                stats.error = "sun sprite: " + e->message;
+                return;
+            }
+        } else {
+            auto texture = gl::SunSpriteTexture::create(*c.api, sprite.value());
+            if (!texture) {
+                stats.error = "sun sprite: " + texture.error().message;
+                return;
+            }
+            sky.sun_texture.emplace(std::move(texture.value()));
+        }
+        sky.sun_made_from = sky.cache.recomputes();
+        sky.sun_exposure = display.exposure;
+        sky.sun_tone = display.tone;
+        ++stats.sprite_updates;
+    }
+    if (auto e = gl::draw_sun_sprite(*c.api, *sky.sun_texture,
+                                     gl::sky_box_view_from_current_matrices(*c.api),
+                                     c.settings->sun_dir)) {
+        stats.error = "sun sprite: " + e->message;
+    }
+}
+
+}  // namespace
+
+Result<std::shared_ptr<const CubemapSkyStats>> install_cubemap_sky(
+    SceneRenderer& renderer, const gl::Api& api, const CubemapSkyOptions& options) {
+    if (!gl::cube_maps_supported(api)) {
+        return Error{"cube_map",
+                     "cube_map: the context has no cube map textures (GL 1.3, "
+                     "ARB_texture_cube_map or EXT_texture_cube_map); keep the per-vertex dome"};
+    }
+    if (options.cache.size < 1) {
+        return Error{"cache.size",
+                     "cache.size: expected >= 1 texels, got " + std::to_string(options.cache.size)};
+    }
+    if (options.sprite.size < 8) {
+        return Error{"sprite.size", "sprite.size: expected >= 8 texels, got " +
+                                        std::to_string(options.sprite.size)};
+    }
+    auto sky = std::make_shared<CubemapSky>(options);
+    renderer.set_sky_drawer([sky](const SkyDrawContext& c) { draw_sky(*sky, c); });
+    if (options.draw_sun) {
+        renderer.set_sun_drawer([sky](const SkyDrawContext& c) { draw_sun(*sky, c); });
+    }
+    return std::shared_ptr<const CubemapSkyStats>(sky->stats);
+}
+
+}  // namespace aerial::scene

@@ -22,8 +22,10 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -234,6 +236,26 @@ class AdaptiveMesh {
     OpenMesh::VPropHandleT<int> record_;  ///< index into splits_, -1 for base vertices
     std::vector<Split> splits_;
     std::size_t cursor_ = 0;  ///< where the last time-sliced re-estimation stopped
+
+    // Index of the estimates (used when time_slice_ms is 0) so that the sweep visits only faces
+    // that can be stale. Faces stamped in one update share its eye and sun, so they form a group
+    // sorted by radius: the eye-stale ones are a prefix, and all of them when the sun turned.
+    struct StampGroup {
+        std::uint64_t id = 0;
+        glm::vec3 eye{0.0f}, sun{0.0f};
+        std::vector<std::pair<float, int>> faces;  ///< (radius squared, face), sorted at the end
+        std::size_t head = 0;                      ///< entries before it have been re-estimated
+    };
+    void rebuild_index();
+    void sweep_indexed(UpdateStats& stats);
+    std::vector<StampGroup> groups_;
+    std::vector<std::uint64_t> face_group_;     ///< per face: id of the group of its last stamp
+    std::vector<int> above_;                    ///< faces whose estimate may exceed split_lsb
+    std::vector<char> in_above_;                ///< per face: listed in above_
+    std::vector<std::pair<float, int>> below_;  ///< max-heap of (estimate <= split_lsb, face)
+    std::uint64_t next_group_ = 1;
+    bool index_valid_ = false;
+    bool recording_ = false;  ///< stamp() records into groups_.back()
 };
 
 // ---- Offline decimation -----------------------------------------------------------------------

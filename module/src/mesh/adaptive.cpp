@@ -5,9 +5,12 @@
 // is undone by collapsing its vertex into one end of the split edge, which restores the two
 // parent faces exactly, and only when the vertex's one-ring is still the one it was born with.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <map>
 #include <queue>
 #include <string>
 #include <utility>
@@ -91,6 +94,7 @@ Result<AdaptiveMesh> AdaptiveMesh::create(Mesh base, Surface surface, AdaptiveSe
 }
 
 void AdaptiveMesh::invalidate() {
+    index_valid_ = false;
     for (auto v : mesh_.vertices()) mesh_.property(colour_eye_, v).v = glm::vec3(kNaN);
     for (auto f : mesh_.faces()) {
         mesh_.property(error_eye_, f).v = glm::vec3(kNaN);
@@ -160,6 +164,97 @@ void AdaptiveMesh::stamp(OpenMesh::FaceHandle f, float error) {
     mesh_.property(error_radius_sq_, f) = float(radius * radius);
     for (auto v : mesh_.fv_range(f)) touched_.push_back(v);
     if (error <= settings_.split_lsb) estimated_max_ = std::max(estimated_max_, error);
+    if (recording_) {
+        const std::size_t i = std::size_t(f.idx());
+        if (face_group_.size() <= i) {
+            face_group_.resize(i + 1, 0);
+            in_above_.resize(i + 1, 0);
+        }
+        face_group_[i] = groups_.back().id;
+        groups_.back().faces.push_back({mesh_.property(error_radius_sq_, f), f.idx()});
+        if (error > settings_.split_lsb) {
+            if (!in_above_[i]) {
+                in_above_[i] = 1;
+                above_.push_back(f.idx());
+            }
+        } else {
+            below_.push_back({error, f.idx()});
+            std::push_heap(below_.begin(), below_.end());
+        }
+    }
+}
+
+void AdaptiveMesh::rebuild_index() {
+    // Groups faces by the exact eye and sun of their last estimate.
+    groups_.clear();
+    above_.clear();
+    below_.clear();
+    face_group_.assign(mesh_.n_faces(), 0);
+    in_above_.assign(mesh_.n_faces(), 0);
+    std::map<std::array<std::uint32_t, 6>, std::size_t> by_stamp;
+    for (auto f : mesh_.faces()) {
+        const glm::vec3 eye = mesh_.property(error_eye_, f).v;
+        const glm::vec3 sun = mesh_.property(error_sun_, f).v;
+        if (std::isnan(eye.x)) {  // not estimated yet: the full sweep handles it
+            index_valid_ = false;
+            groups_.clear();
+            return;
+        }
+        std::array<std::uint32_t, 6> key;
+        std::memcpy(key.data(), &eye, sizeof eye);
+        std::memcpy(key.data() + 3, &sun, sizeof sun);
+        auto [it, added] = by_stamp.emplace(key, groups_.size());
+        if (added) {
+            StampGroup g;
+            g.id = next_group_++;
+            g.eye = eye;
+            g.sun = sun;
+            groups_.push_back(std::move(g));
+        }
+        StampGroup& g = groups_[it->second];
+        g.faces.push_back({mesh_.property(error_radius_sq_, f), f.idx()});
+        face_group_[std::size_t(f.idx())] = g.id;
+        const float e = mesh_.property(error_, f);
+        if (e > settings_.split_lsb) {
+            in_above_[std::size_t(f.idx())] = 1;
+            above_.push_back(f.idx());
+        } else {
+            below_.push_back({e, f.idx()});
+        }
+    }
+    std::make_heap(below_.begin(), below_.end());
+    for (StampGroup& g : groups_) std::sort(g.faces.begin(), g.faces.end());
+    index_valid_ = true;
+}
+
+void AdaptiveMesh::sweep_indexed(UpdateStats& stats) {
+    // Exactly the faces face_stale() accepts: in a group every face has the same stamp eye and
+    // sun, so `moved` and the sun's cosine are the same floats face_stale() computes.
+    const glm::vec3 eye(frame_->view.eye), sun(frame_->view.sun_dir);
+    const float cos_turn = float(std::cos(settings_.sun_turn_rad));
+    const std::size_t n_groups = groups_.size() - 1;  // the last one is this update's
+    for (std::size_t g = 0; g < n_groups; ++g) {
+        StampGroup& group = groups_[g];
+        const glm::vec3 moved = eye - group.eye;
+        const float d2 = glm::dot(moved, moved);
+        const bool turned = glm::dot(sun, group.sun) < cos_turn;
+        std::size_t i = group.head;
+        for (; i < group.faces.size() && (turned || d2 > group.faces[i].first); ++i) {
+            const OpenMesh::FaceHandle f(group.faces[i].second);
+            if (face_group_[std::size_t(f.idx())] != group.id || mesh_.status(f).deleted())
+                continue;
+            estimate(f);
+            ++stats.faces_estimated;
+        }
+        group.head = i;
+    }
+    std::size_t kept = 0;
+    for (std::size_t g = 0; g < groups_.size(); ++g)
+        if (g == groups_.size() - 1 || groups_[g].head < groups_[g].faces.size()) {
+            if (kept != g) groups_[kept] = std::move(groups_[g]);
+            ++kept;
+        }
+    groups_.resize(kept);
 }
 
 bool AdaptiveMesh::face_stale(OpenMesh::FaceHandle f) const {
@@ -286,7 +381,40 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
     // 1. Re-estimate what the view change made stale (round robin under a time slice) and queue
     // every face above the target.
     std::priority_queue<HeapEntry> heap;
-    const std::size_t n_faces = mesh_.n_faces();
+    const bool indexed = slice == 0.0 && index_valid_;
+    recording_ = indexed;
+    if (indexed) {
+        StampGroup g;
+        g.id = next_group_++;
+        g.eye = glm::vec3(frame.view.eye);
+        g.sun = glm::vec3(frame.view.sun_dir);
+        groups_.push_back(std::move(g));
+        sweep_indexed(stats);
+        // The same heap and maximum the full sweep builds.
+        std::size_t kept = 0;
+        for (const int i : above_) {
+            const OpenMesh::FaceHandle f(i);
+            const float e = mesh_.property(error_, f);
+            if (!mesh_.status(f).deleted() && e > settings_.split_lsb) {
+                heap.push({e, i});
+                above_[kept++] = i;
+            } else {
+                in_above_[std::size_t(i)] = 0;
+            }
+        }
+        above_.resize(kept);
+        while (!below_.empty()) {
+            const auto [e, i] = below_.front();
+            const OpenMesh::FaceHandle f(i);
+            if (!mesh_.status(f).deleted() && mesh_.property(error_, f) == e) {
+                estimated_max_ = std::max(estimated_max_, e);
+                break;
+            }
+            std::pop_heap(below_.begin(), below_.end());
+            below_.pop_back();
+        }
+    }
+    const std::size_t n_faces = indexed ? 0 : mesh_.n_faces();
     std::size_t visited = 0;
     for (; visited < n_faces; ++visited) {
         if ((visited & 255) == 0 && out_of_time(0.5)) {
@@ -305,7 +433,7 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
         else
             estimated_max_ = std::max(estimated_max_, e);
     }
-    cursor_ = n_faces ? (cursor_ + visited) % n_faces : 0;
+    if (!indexed) cursor_ = n_faces ? (cursor_ + visited) % n_faces : 0;
 
     // 2. Refine: worst face first, LEPP bisection until the target, the budget or the slice.
     float unrefined_max = 0.0f;  // faces above the target left as they are
@@ -387,6 +515,14 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
         }
     }
 
+    if (indexed) {
+        std::sort(groups_.back().faces.begin(), groups_.back().faces.end());
+        if (below_.size() > 4 * live_faces_ + 1024) rebuild_index();
+    } else if (slice == 0.0) {
+        rebuild_index();
+    }
+    recording_ = false;
+
     stats.vertices = live_vertices_;
     stats.faces = live_faces_;
     stats.max_error_lsb = std::max(estimated_max_, unrefined_max);
@@ -409,6 +545,7 @@ void AdaptiveMesh::compact() {
     for (std::size_t i = 0; i < splits_.size(); ++i)
         mesh_.property(record_, splits_[i].vertex) = int(i);
     cursor_ = 0;
+    index_valid_ = false;
 }
 
 }  // namespace aerial::mesh

@@ -336,6 +336,58 @@ TEST(AdaptiveMesh, TerrainKeepsLockedBordersAndUpdatesOnlyWhereTheViewChanged) {
     EXPECT_LT(moved.faces_estimated, aerial::mesh::live_faces(mesh) / 2);
 }
 
+// Without a time slice the sweep visits only the faces its index says can be stale; with a slice
+// too long to run out it visits every face. Both must re-estimate, split and merge the same.
+TEST(AdaptiveMesh, IndexedSweepReEstimatesExactlyTheFacesTheFullSweepDoes) {
+    const TerrainScene scene;
+    auto base = aerial::mesh::terrain_grid(scene.field, 16, 16);
+    ASSERT_TRUE(base.ok());
+    for (const std::size_t budget : {std::size_t(6000), std::size_t(700)}) {
+        AdaptiveSettings settings;
+        settings.colour = scene.colour;
+        settings.lock_boundary = true;  // faces above the target that stay: the heap's other source
+        settings.max_vertices = budget;
+        AdaptiveSettings full_settings = settings;
+        full_settings.time_slice_ms = 1e9;
+        const auto surface = aerial::mesh::Surface::terrain(scene.field);
+        AdaptiveMesh indexed = AdaptiveMesh::create(base.value(), surface, settings).value();
+        AdaptiveMesh full = AdaptiveMesh::create(base.value(), surface, full_settings).value();
+        std::size_t merges = 0, partial = 0;
+        for (int i = 0; i < 40; ++i) {
+            // Out and back along x, with the sun turning in steps both below and above 0.002 rad.
+            const double x = 60.0 * (i < 20 ? i : 40 - i);
+            const glm::dvec3 eye{x, 0.3 * x, scene.field.height_m(x, 0.3 * x) + 2 + (i % 3)};
+            const double azimuth = (i / 5) * 0.3 + (i % 2) * 0.05;
+            const auto frame =
+                make_frame(eye, sun_at(10.0 + 0.05 * (i % 4), azimuth), 0.76, "hazy");
+            if (i == 25) {
+                indexed.compact();
+                full.compact();
+            }
+            if (i == 32) {
+                indexed.invalidate();
+                full.invalidate();
+            }
+            const auto a = indexed.update(frame);
+            const auto b = full.update(frame);
+            ASSERT_EQ(a.faces_estimated, b.faces_estimated) << "update " << i;
+            ASSERT_EQ(a.splits, b.splits) << "update " << i;
+            ASSERT_EQ(a.merges, b.merges) << "update " << i;
+            ASSERT_EQ(a.vertices, b.vertices) << "update " << i;
+            ASSERT_EQ(a.faces, b.faces) << "update " << i;
+            ASSERT_EQ(a.complete, b.complete) << "update " << i;
+            ASSERT_EQ(a.max_error_lsb, b.max_error_lsb) << "update " << i;
+            if (i > 0 && a.faces_estimated < a.faces) ++partial;
+            merges += a.merges;
+        }
+        EXPECT_GT(partial, 10u) << "the sequence never left faces fresh";
+        EXPECT_GT(merges, 0u) << "the sequence never coarsened";
+        ASSERT_TRUE(positions(indexed.mesh()) == positions(full.mesh()));
+        for (auto f : indexed.mesh().faces())
+            ASSERT_EQ(indexed.face_error(f), full.face_error(f)) << "face " << f.idx();
+    }
+}
+
 TEST(AdaptiveMesh, BadInputIsAnErrorNamingIt) {
     auto base = aerial::mesh::geodesic_dome(2);
     ASSERT_TRUE(base.ok());

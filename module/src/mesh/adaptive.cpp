@@ -241,7 +241,10 @@ void AdaptiveMesh::sweep_indexed(UpdateStats& stats) {
         std::size_t i = group.head;
         for (; i < group.faces.size() && (turned || d2 > group.faces[i].first); ++i) {
             const OpenMesh::FaceHandle f(group.faces[i].second);
-            if (face_group_[std::size_t(f.idx())] != group.id || mesh_.status(f).deleted())
+            // Entries of faces stamped again since (later, or later in the same update with
+            // another radius after a split changed them) are dead.
+            if (face_group_[std::size_t(f.idx())] != group.id || mesh_.status(f).deleted() ||
+                mesh_.property(error_radius_sq_, f) != group.faces[i].first)
                 continue;
             estimate(f);
             ++stats.faces_estimated;

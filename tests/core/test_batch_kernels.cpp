@@ -23,14 +23,13 @@
 #include "aerial/aerial.hpp"
 #include "batch_kernels.hpp"
 #include "extreme_sampler.hpp"
+#include "forced_target.hpp"
 
 namespace aerial::detail {
 // Test hooks defined in batch_simd.cpp: the dispatched target's vector building blocks.
 void simd_erfcx(const float* y, float* out, std::size_t n);
 void simd_fast_exp2(const float* x, float* out, std::size_t n);
 void simd_fast_log2(const float* x, float* out, std::size_t n);
-std::vector<std::string> simd_test_targets();
-bool simd_test_use_target(const std::string& name);
 }  // namespace aerial::detail
 
 namespace {
@@ -43,6 +42,7 @@ using aerial::detail::kBlockSize;
 using aerial::detail::KernelBlock;
 using aerial::detail::KernelPrecision;
 using aerial::testing::ExtremeSampler;
+using aerial::testing::ForcedTarget;
 using aerial::testing::Random;
 using glm::dvec3;
 
@@ -622,20 +622,6 @@ TEST(BatchKernelMath, FastExp2IsWithinTheToleranceOfStdExp2) { check_fast_exp2()
 TEST(BatchKernelMath, FastLog2IsWithinTheToleranceOfStdLog2) { check_fast_log2(); }
 
 // ---- Every target this CPU can run ------------------------------------------------------------
-
-/// Forces one SIMD target for its lifetime, then goes back to the best one.
-class ForcedTarget {
-  public:
-    explicit ForcedTarget(const std::string& name)
-        : ok_(aerial::detail::simd_test_use_target(name)) {}
-    ~ForcedTarget() { aerial::detail::simd_test_use_target(""); }
-    ForcedTarget(const ForcedTarget&) = delete;
-    ForcedTarget& operator=(const ForcedTarget&) = delete;
-    bool ok() const { return ok_; }
-
-  private:
-    bool ok_;
-};
 
 TEST(BatchKernelTargets, DispatcherPicksTheBestTargetAndNamesIt) {
     const auto targets = aerial::detail::simd_test_targets();

@@ -23,32 +23,14 @@
 #include "aerial/aerial.hpp"
 #include "aerial/batch.hpp"
 #include "extreme_sampler.hpp"
-
-namespace aerial::detail {
-// Test hooks of batch_simd.cpp.
-std::vector<std::string> simd_test_targets();
-bool simd_test_use_target(const std::string& name);
-}  // namespace aerial::detail
+#include "forced_target.hpp"
 
 namespace {
 
 using aerial::Kernel;
 using aerial::Model;
 using aerial::testing::ExtremeSampler;
-
-/// Forces one SIMD target for its lifetime, then goes back to the best one.
-class ForcedTarget {
-  public:
-    explicit ForcedTarget(const std::string& name)
-        : ok_(aerial::detail::simd_test_use_target(name)) {}
-    ~ForcedTarget() { aerial::detail::simd_test_use_target(""); }
-    ForcedTarget(const ForcedTarget&) = delete;
-    ForcedTarget& operator=(const ForcedTarget&) = delete;
-    bool ok() const { return ok_; }
-
-  private:
-    bool ok_;
-};
+using aerial::testing::ForcedTarget;
 
 const char* kernel_name(Kernel k) { return k == Kernel::simd ? "simd" : "simd_fast"; }
 

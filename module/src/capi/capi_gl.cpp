@@ -1,0 +1,350 @@
+// The C interface (aerial/aerial.h), GL part: the engine's context, the fixed-function paths and
+// the ARB vertex program. Each entry point runs inside capi::guard, so no exception leaves it
+// (nor one thrown by a C++ draw callback: the GL layer restores its state, then the guard turns
+// the exception into AERIAL_ERROR_INTERNAL).
+#include <cstring>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "aerial/aerial.h"
+#include "aerial/arb_program.hpp"
+#include "aerial/gl.hpp"
+#include "aerial/gl_api.hpp"
+#include "capi_internal.hpp"
+
+struct aerial_gl {
+    aerial::gl::Api api;
+    /// The combiner path's 3D texture, created on the first combiner draw.
+    std::optional<aerial::gl::CombinerTexture> combiner;
+    std::string last_error;
+};
+
+struct aerial_arb_program {
+    aerial_gl* gl = nullptr;
+    std::optional<aerial::gl::ArbVertexProgram> program;
+    std::string last_error;
+};
+
+namespace aerial::capi {
+namespace {
+
+bool starts_with(const std::string& s, const char* prefix) {
+    return s.compare(0, std::strlen(prefix), prefix) == 0;
+}
+
+/// A GL layer error: the context lacks something (named by its extension, or the feature the
+/// fixed-function lighting or the combiner texture needs), or the caller passed a bad value.
+[[noreturn]] void fail_gl(const Error& error) {
+    const bool unsupported = starts_with(error.field, "GL_") ||
+                             error.field == "fixed_function_lighting" ||
+                             error.field == "combiner";
+    fail(unsupported ? AERIAL_ERROR_GL_UNSUPPORTED : AERIAL_ERROR_INVALID_ARGUMENT, error);
+}
+
+gl::Path to_cpp_path(int path) {
+    switch (path) {
+        case AERIAL_PATH_AUTOMATIC:
+            return gl::Path::automatic;
+        case AERIAL_PATH_SECONDARY_COLOR:
+            return gl::Path::secondary_color;
+        case AERIAL_PATH_COMBINER:
+            return gl::Path::combiner;
+        case AERIAL_PATH_TWO_PASS:
+            return gl::Path::two_pass;
+        default:
+            break;
+    }
+    fail(AERIAL_ERROR_INVALID_ARGUMENT, "path",
+         "path: expected AERIAL_PATH_AUTOMATIC (0) .. AERIAL_PATH_TWO_PASS (3), got " +
+             std::to_string(path));
+}
+
+aerial_path to_c_path(gl::Path path) {
+    switch (path) {
+        case gl::Path::secondary_color:
+            return AERIAL_PATH_SECONDARY_COLOR;
+        case gl::Path::combiner:
+            return AERIAL_PATH_COMBINER;
+        case gl::Path::two_pass:
+            return AERIAL_PATH_TWO_PASS;
+        case gl::Path::automatic:
+            break;
+    }
+    return AERIAL_PATH_AUTOMATIC;
+}
+
+gl::ApplyOptions to_cpp_draw(const aerial_draw_options* c) {
+    gl::ApplyOptions o;
+    if (c == nullptr) return o;
+    o.path = to_cpp_path(c->path);
+    o.texture_unit = c->texture_unit;
+    o.textured = c->untextured == 0;
+    o.fixed_function_lighting = c->fixed_function_lighting != 0;
+    return o;
+}
+
+ArbProgramOptions to_cpp_arb(const aerial_arb_options* c) {
+    ArbProgramOptions o;
+    if (c == nullptr) return o;
+    o.model = to_cpp_model(c->model, "options.model");
+    switch (c->parameter_space) {
+        case AERIAL_PARAMETERS_LOCAL:
+            o.parameter_space = ParameterSpace::local;
+            break;
+        case AERIAL_PARAMETERS_ENV:
+            o.parameter_space = ParameterSpace::env;
+            break;
+        default:
+            fail(AERIAL_ERROR_INVALID_ARGUMENT, "options.parameter_space",
+                 "options.parameter_space: expected AERIAL_PARAMETERS_LOCAL (0) or _ENV (1), "
+                 "got " + std::to_string(int(c->parameter_space)));
+    }
+    o.parameter_base = c->parameter_base;
+    // 0 keeps the default; AERIAL_NO_TEXCOORDS asks for none; other values are checked by the
+    // generator.
+    if (c->texcoord_units == AERIAL_NO_TEXCOORDS) {
+        o.texcoord_units = 0;
+    } else if (c->texcoord_units != 0) {
+        o.texcoord_units = c->texcoord_units;
+    }
+    o.position_invariant = c->position_invariant != 0;
+    o.guard_coarse_ex2 = c->guard_coarse_ex2 != 0;
+    switch (c->height_fidelity) {
+        case AERIAL_HEIGHT_FIDELITY_AUTOMATIC:
+            o.height_fidelity = ArbHeightFidelity::automatic;
+            break;
+        case AERIAL_HEIGHT_FIDELITY_SPEC_MINIMUM:
+            o.height_fidelity = ArbHeightFidelity::spec_minimum;
+            break;
+        case AERIAL_HEIGHT_FIDELITY_EXACT_OPTICAL_DEPTH:
+            o.height_fidelity = ArbHeightFidelity::exact_optical_depth;
+            break;
+        case AERIAL_HEIGHT_FIDELITY_FULL:
+            o.height_fidelity = ArbHeightFidelity::full;
+            break;
+        default:
+            fail(AERIAL_ERROR_INVALID_ARGUMENT, "options.height_fidelity",
+                 "options.height_fidelity: expected AERIAL_HEIGHT_FIDELITY_AUTOMATIC (0) .. "
+                 "_FULL (3), got " + std::to_string(int(c->height_fidelity)));
+    }
+    return o;
+}
+
+/// Generates the program; option values out of range are AERIAL_ERROR_INVALID_ARGUMENT, a
+/// model without a program or an exceeded limit AERIAL_ERROR_ARB_PROGRAM.
+ArbProgram generate(const ArbProgramOptions& options) {
+    auto program = generate_arb_program(options);
+    if (!program) {
+        const std::string& field = program.error().field;
+        const bool bad_value = field == "parameter_base" || field == "texcoord_units" ||
+                               field == "height_fidelity";
+        fail(bad_value ? AERIAL_ERROR_INVALID_ARGUMENT : AERIAL_ERROR_ARB_PROGRAM,
+             program.error());
+    }
+    return std::move(program.value());
+}
+
+std::vector<std::array<float, 4>> parameters(const aerial_context& context,
+                                             const ArbProgramOptions& options,
+                                             const aerial_display* display) {
+    const Frame<float>& frame = current_frame(context);
+    auto p = arb_program_parameters(frame, to_cpp(display), options);
+    if (!p) {
+        // frame.model, display.exposure, display.tone: the caller's choice; anything else is a
+        // value the program cannot hold.
+        const std::string& field = p.error().field;
+        const bool bad_value = starts_with(field, "frame.model") || starts_with(field, "display");
+        fail(bad_value ? AERIAL_ERROR_INVALID_ARGUMENT : AERIAL_ERROR_ARB_PROGRAM, p.error());
+    }
+    return std::move(p.value());
+}
+
+std::function<void()> callback(aerial_draw_function draw, void* user) {
+    return [draw, user] { draw(user); };
+}
+
+}  // namespace
+}  // namespace aerial::capi
+
+using namespace aerial;  // NOLINT(google-build-using-namespace): this file implements the C API
+using capi::fail;
+using capi::guard;
+using capi::require;
+
+extern "C" {
+
+aerial_status aerial_gl_create(aerial_gl_load_function load, void* user, aerial_gl** out) {
+    return guard("aerial_gl_create", nullptr, [&] {
+        require(out, "out");
+        *out = nullptr;
+        if (load == nullptr) fail(AERIAL_ERROR_NULL_ARGUMENT, "load", "load is NULL");
+        auto api = gl::load_api(load, user);
+        if (!api) fail(AERIAL_ERROR_GL_UNAVAILABLE, api.error());
+        auto created = std::make_unique<aerial_gl>();
+        created->api = std::move(api.value());
+        *out = created.release();
+    });
+}
+
+void aerial_gl_destroy(aerial_gl* gl) { delete gl; }
+
+const char* aerial_gl_last_error(const aerial_gl* gl) { return gl ? gl->last_error.c_str() : ""; }
+const char* aerial_gl_renderer(const aerial_gl* gl) {
+    return gl ? gl->api.caps.renderer.c_str() : "";
+}
+const char* aerial_gl_version(const aerial_gl* gl) { return gl ? gl->api.caps.version.c_str() : ""; }
+
+aerial_status aerial_gl_choose_path(aerial_gl* gl, aerial_path requested,
+                                    int fixed_function_lighting, aerial_path* chosen) {
+    return guard("aerial_gl_choose_path", gl ? &gl->last_error : nullptr, [&] {
+        require(gl, "gl");
+        require(chosen, "chosen");
+        auto path = gl::choose_path(gl->api.caps, capi::to_cpp_path(requested),
+                                    fixed_function_lighting != 0);
+        if (!path) capi::fail_gl(path.error());
+        *chosen = capi::to_c_path(*path);
+    });
+}
+
+aerial_status aerial_gl_draw_colours(aerial_gl* gl, const aerial_draw_options* options,
+                                     const aerial_vertex_colours* colours,
+                                     aerial_draw_function draw, void* user,
+                                     aerial_path* path_used) {
+    return guard("aerial_gl_draw_colours", gl ? &gl->last_error : nullptr, [&] {
+        require(gl, "gl");
+        require(colours, "colours");
+        if (draw == nullptr) fail(AERIAL_ERROR_NULL_ARGUMENT, "draw", "draw is NULL");
+        gl::ApplyOptions o = capi::to_cpp_draw(options);
+        auto path = gl::choose_path(gl->api.caps, o.path, o.fixed_function_lighting);
+        if (!path) capi::fail_gl(path.error());
+        if (*path == gl::Path::combiner) {
+            if (!gl->combiner) {
+                auto texture = gl::CombinerTexture::create(gl->api);
+                if (!texture) capi::fail_gl(texture.error());
+                gl->combiner.emplace(std::move(texture.value()));
+            }
+            o.combiner = &*gl->combiner;
+        }
+        gl::VertexColours v;
+        v.primary = colours->primary;
+        v.secondary = colours->secondary;
+        v.primary_stride_bytes = colours->primary_stride_bytes;
+        v.secondary_stride_bytes = colours->secondary_stride_bytes;
+        v.vertex_count = colours->vertex_count;
+        auto stats = gl::draw_with_colours(gl->api, o, v, capi::callback(draw, user));
+        if (!stats) capi::fail_gl(stats.error());
+        if (path_used != nullptr) *path_used = capi::to_c_path(stats->path);
+    });
+}
+
+// ---- ARB vertex program ----------------------------------------------------------------------
+
+aerial_status aerial_arb_generate(const aerial_arb_options* options, char* text, size_t capacity,
+                                  size_t* length, int* parameter_count) {
+    return guard("aerial_arb_generate", nullptr, [&] {
+        if (capacity > 0) require(text, "text");
+        const ArbProgram program = capi::generate(capi::to_cpp_arb(options));
+        if (length != nullptr) *length = program.text.size();
+        if (parameter_count != nullptr) *parameter_count = arb_parameter_count(program.options);
+        if (capacity == 0 && text == nullptr) return;  // asking the size
+        if (capacity < program.text.size() + 1) {
+            fail(AERIAL_ERROR_BUFFER_TOO_SMALL, "capacity",
+                 "capacity: the program needs " + std::to_string(program.text.size() + 1) +
+                     " bytes with its terminating 0, got " + std::to_string(capacity));
+        }
+        std::memcpy(text, program.text.c_str(), program.text.size() + 1);
+    });
+}
+
+aerial_status aerial_arb_parameters(const aerial_context* context,
+                                    const aerial_arb_options* options,
+                                    const aerial_display* display, float* vectors,
+                                    size_t capacity_vectors, size_t* count) {
+    return guard("aerial_arb_parameters", nullptr, [&] {
+        require(context, "context");
+        if (capacity_vectors > 0) require(vectors, "vectors");
+        ArbProgramOptions o = capi::to_cpp_arb(options);
+        // The parameters of the program generate_arb_program makes (the fidelity it resolves).
+        o = capi::generate(o).options;
+        const auto p = capi::parameters(*context, o, display);
+        if (count != nullptr) *count = p.size();
+        if (capacity_vectors < p.size()) {
+            fail(AERIAL_ERROR_BUFFER_TOO_SMALL, "capacity_vectors",
+                 "capacity_vectors: the program reads " + std::to_string(p.size()) +
+                     " vectors, got room for " + std::to_string(capacity_vectors));
+        }
+        for (size_t i = 0; i < p.size(); ++i) std::memcpy(vectors + 4 * i, p[i].data(), 16);
+    });
+}
+
+aerial_status aerial_arb_program_create(aerial_gl* gl, const aerial_arb_options* options,
+                                        aerial_arb_program** out) {
+    return guard("aerial_arb_program_create", gl ? &gl->last_error : nullptr, [&] {
+        require(out, "out");
+        *out = nullptr;
+        require(gl, "gl");
+        ArbProgramOptions o = capi::to_cpp_arb(options);
+        if (options != nullptr && options->use_native_limits != 0) {
+            o.limits = gl::native_arb_limits(gl->api);
+        }
+        const ArbProgram generated = capi::generate(o);
+        auto program = gl::ArbVertexProgram::create(gl->api, generated);
+        if (!program) {
+            fail(program.error().field == "GL_ARB_vertex_program" ? AERIAL_ERROR_GL_UNSUPPORTED
+                                                                  : AERIAL_ERROR_ARB_PROGRAM,
+                 program.error());
+        }
+        auto created = std::make_unique<aerial_arb_program>();
+        created->gl = gl;
+        created->program.emplace(std::move(program.value()));
+        *out = created.release();
+    });
+}
+
+void aerial_arb_program_destroy(aerial_arb_program* program) { delete program; }
+
+const char* aerial_arb_program_last_error(const aerial_arb_program* program) {
+    return program ? program->last_error.c_str() : "";
+}
+
+const char* aerial_arb_program_text(const aerial_arb_program* program) {
+    return program ? program->program->program().text.c_str() : "";
+}
+
+unsigned int aerial_arb_program_id(const aerial_arb_program* program) {
+    return program ? program->program->id() : 0u;
+}
+
+aerial_status aerial_arb_program_set_frame(aerial_arb_program* program,
+                                           const aerial_context* context,
+                                           const aerial_display* display) {
+    return guard("aerial_arb_program_set_frame", program ? &program->last_error : nullptr, [&] {
+        require(program, "program");
+        require(context, "context");
+        const auto p =
+            capi::parameters(*context, program->program->program().options, display);
+        if (auto error = program->program->set_parameters(p)) {
+            fail(AERIAL_ERROR_ARB_PROGRAM, *error);
+        }
+    });
+}
+
+aerial_status aerial_arb_program_draw(aerial_arb_program* program,
+                                      const aerial_draw_options* options,
+                                      aerial_draw_function draw, void* user) {
+    return guard("aerial_arb_program_draw", program ? &program->last_error : nullptr, [&] {
+        require(program, "program");
+        if (draw == nullptr) fail(AERIAL_ERROR_NULL_ARGUMENT, "draw", "draw is NULL");
+        gl::ApplyOptions o;
+        if (options != nullptr) {
+            o.texture_unit = options->texture_unit;
+            o.textured = options->untextured == 0;
+        }
+        auto stats = program->program->draw(capi::callback(draw, user), o);
+        if (!stats) capi::fail_gl(stats.error());
+    });
+}
+
+}  // extern "C"

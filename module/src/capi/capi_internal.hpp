@@ -1,0 +1,88 @@
+// The C interface's shared machinery: the per-entry-point guard that turns every failure (and
+// every exception) into a status and a message, and the conversions between the C structs and
+// the C++ ones. Used by capi_core.cpp (aerial::core) and capi_gl.cpp (aerial::gl).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "aerial/aerial.h"
+#include "aerial/atmosphere.hpp"
+#include "aerial/batch.hpp"
+#include "aerial/error.hpp"
+#include "aerial/scattering.hpp"
+
+struct aerial_context {
+    aerial::Atmosphere atmosphere;
+    aerial::Model model = aerial::Model::height;
+    std::optional<aerial::View> view;
+    std::optional<aerial::Frame<float>> frame;
+    std::string last_error;
+};
+
+namespace aerial::capi {
+
+/// Thrown inside an entry point to leave it with a status; never leaves the guard.
+struct Failure {
+    aerial_status status;
+    std::string field;
+    std::string message;  ///< without the function's name (the guard adds it)
+};
+
+[[noreturn]] void fail(aerial_status status, std::string field, std::string message);
+/// A C++ Error as a failure with `status`.
+[[noreturn]] void fail(aerial_status status, const Error& error);
+/// Fails with AERIAL_ERROR_NULL_ARGUMENT naming `name` when `pointer` is null.
+void require(const void* pointer, const char* name);
+
+/// Records the outcome of one call for aerial_last_error_*() (and for the object, if any).
+void record(aerial_status status, const char* function, const std::string& field,
+            const std::string& message, std::string* object_error);
+
+/// Test hook (capi_testing.hpp): throws the armed exception inside the next guarded call.
+void throw_if_armed();
+
+/// Runs `body` (which returns nothing, or fails) and turns the outcome into a status. No
+/// exception leaves it.
+template <class Body>
+aerial_status guard(const char* function, std::string* object_error, Body&& body) noexcept {
+    try {
+        try {
+            throw_if_armed();
+            std::forward<Body>(body)();
+            record(AERIAL_OK, function, {}, {}, object_error);
+            return AERIAL_OK;
+        } catch (const Failure& failure) {
+            record(failure.status, function, failure.field, failure.message, object_error);
+            return failure.status;
+        } catch (const std::bad_alloc&) {
+            record(AERIAL_ERROR_OUT_OF_MEMORY, function, {}, "out of memory", object_error);
+            return AERIAL_ERROR_OUT_OF_MEMORY;
+        } catch (const std::exception& e) {
+            record(AERIAL_ERROR_INTERNAL, function, {},
+                   std::string("internal error (exception: ") + e.what() + ")", object_error);
+            return AERIAL_ERROR_INTERNAL;
+        } catch (...) {
+            record(AERIAL_ERROR_INTERNAL, function, {}, "internal error (unknown exception)",
+                   object_error);
+            return AERIAL_ERROR_INTERNAL;
+        }
+    } catch (...) {  // recording itself failed (allocating the message)
+        return AERIAL_ERROR_OUT_OF_MEMORY;
+    }
+}
+
+/// The C atmosphere with its defaults applied (null: all defaults).
+Atmosphere to_cpp(const aerial_atmosphere* atmosphere);
+/// The C form of a C++ atmosphere: every field explicit, zero_fields where a field is 0.
+aerial_atmosphere to_c(const Atmosphere& atmosphere);
+View to_cpp(const aerial_view& view);
+Display to_cpp(const aerial_display* display);
+/// The model, or AERIAL_ERROR_INVALID_ARGUMENT naming `field`.
+Model to_cpp_model(int model, const char* field);
+
+/// The context's current frame, or AERIAL_ERROR_NO_VIEW.
+const Frame<float>& current_frame(const aerial_context& context);
+
+}  // namespace aerial::capi

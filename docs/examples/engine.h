@@ -13,8 +13,8 @@ typedef struct engine_camera {
 } engine_camera;
 
 typedef struct engine_mesh {
-    const float* xyz;         /* world positions, engine units, x y z tightly packed */
-    const float* normals;     /* unit normals, tightly packed (for the lit example) */
+    const float* xyz;     /* world positions, engine units, x y z tightly packed */
+    const float* normals; /* unit normals, tightly packed (for the lit example) */
     size_t vertex_count;
     unsigned char* primary;   /* RGBA8 per vertex: F_ex (or F_ex with the lighting baked in) */
     unsigned char* secondary; /* RGBA8 per vertex: L_in */

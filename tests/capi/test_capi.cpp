@@ -171,23 +171,23 @@ TEST(CApiResults, ScatterAndShadeEqualTheCppApiBitForBit) {
         const char* name = aerial_atmosphere_preset_name(i);
         auto atmosphere = zeroed<aerial_atmosphere>();
         ASSERT_EQ(aerial_atmosphere_preset(name, &atmosphere), AERIAL_OK);
-        for (aerial_model model : {AERIAL_MODEL_HOFFMAN_PREETHAM, AERIAL_MODEL_HEIGHT,
-                                   AERIAL_MODEL_REFERENCE}) {
+        for (aerial_model model :
+             {AERIAL_MODEL_HOFFMAN_PREETHAM, AERIAL_MODEL_HEIGHT, AERIAL_MODEL_REFERENCE}) {
             SCOPED_TRACE(std::string(name) + " model " + std::to_string(model));
             const std::size_t count = model == AERIAL_MODEL_REFERENCE ? 16 : n;
             ContextHandle ctx;
             ASSERT_EQ(aerial_context_create(&atmosphere, model, &ctx.p), AERIAL_OK);
             const aerial_view v = test_view(20000.0);
             ASSERT_EQ(aerial_context_set_view(ctx.p, &v), AERIAL_OK);
-            const auto frame = aerial::prepare_frame<float>(
-                *aerial::atmosphere_preset(name), cpp_view(v), aerial::Model(model));
+            const auto frame = aerial::prepare_frame<float>(*aerial::atmosphere_preset(name),
+                                                            cpp_view(v), aerial::Model(model));
             ASSERT_TRUE(frame.ok());
 
             for (std::size_t k = 0; k < count; k += 7) {
                 aerial_scattering s;
                 ASSERT_EQ(aerial_scatter(ctx.p, &xyz[3 * k], &s), AERIAL_OK);
-                const auto r = aerial::scatter(*frame, glm::vec3(xyz[3 * k], xyz[3 * k + 1],
-                                                                 xyz[3 * k + 2]));
+                const auto r =
+                    aerial::scatter(*frame, glm::vec3(xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]));
                 for (int c = 0; c < 3; ++c) {
                     EXPECT_TRUE(same_bits(s.extinction[c], r.extinction[c])) << k;
                     EXPECT_TRUE(same_bits(s.in_scattering[c], r.in_scattering[c])) << k;
@@ -287,8 +287,8 @@ TEST(CApiResults, SeparateArraysShadeAsInterleavedOnes) {
 
 TEST(CApiResults, EvaluateEqualsTheCppEvaluateBitForBit) {
     const aerial_view v = test_view(1.0);
-    for (aerial_model model : {AERIAL_MODEL_HOFFMAN_PREETHAM, AERIAL_MODEL_HEIGHT,
-                               AERIAL_MODEL_REFERENCE}) {
+    for (aerial_model model :
+         {AERIAL_MODEL_HOFFMAN_PREETHAM, AERIAL_MODEL_HEIGHT, AERIAL_MODEL_REFERENCE}) {
         const double vertex[3] = {3000.0, 12000.0, 150.0};
         aerial_scattering_d s;
         ASSERT_EQ(aerial_evaluate(nullptr, &v, model, vertex, &s), AERIAL_OK);
@@ -335,8 +335,8 @@ TEST(CApiResults, ArbTextAndParametersEqualTheCppGenerator) {
         ASSERT_EQ(aerial_arb_parameters(ctx.p, &options, &display, vectors.data(),
                                         std::size_t(count), &written),
                   AERIAL_OK);
-        const auto frame = aerial::prepare_frame<float>(aerial::Atmosphere{}, cpp_view(v),
-                                                        aerial::Model(model));
+        const auto frame =
+            aerial::prepare_frame<float>(aerial::Atmosphere{}, cpp_view(v), aerial::Model(model));
         const auto p = aerial::arb_program_parameters(*frame, {2.0f, aerial::ToneCurve::clamp},
                                                       program->options);
         ASSERT_TRUE(p.ok());
@@ -362,8 +362,8 @@ TEST(CApiStatus, EveryStatusComesFromSomeBadInputWithItsText) {
     ASSERT_EQ(aerial_context_create(nullptr, AERIAL_MODEL_HEIGHT, &viewless), AERIAL_OK);
     ASSERT_EQ(aerial_context_set_view(ctx, &good_view), AERIAL_OK);
 
-    auto ctx_holder = std::unique_ptr<aerial_context, void (*)(aerial_context*)>(
-        ctx, aerial_context_destroy);
+    auto ctx_holder =
+        std::unique_ptr<aerial_context, void (*)(aerial_context*)>(ctx, aerial_context_destroy);
     auto viewless_holder = std::unique_ptr<aerial_context, void (*)(aerial_context*)>(
         viewless, aerial_context_destroy);
 
@@ -421,8 +421,7 @@ TEST(CApiStatus, EveryStatusComesFromSomeBadInputWithItsText) {
          [&] {
              return aerial_check_version(AERIAL_VERSION, sizeof(aerial_atmosphere),
                                          sizeof(aerial_view) - 8, sizeof(aerial_outputs),
-                                         sizeof(aerial_batch_settings),
-                                         sizeof(aerial_arb_options));
+                                         sizeof(aerial_batch_settings), sizeof(aerial_arb_options));
          }},
         {AERIAL_ERROR_BUFFER_TOO_SMALL, "buffer too small", "capacity",
          [&] {
@@ -432,8 +431,8 @@ TEST(CApiStatus, EveryStatusComesFromSomeBadInputWithItsText) {
         {AERIAL_ERROR_GL_UNAVAILABLE, "GL unavailable", "glGetString",
          [&] {
              aerial_gl* none = nullptr;
-             return aerial_gl_create([](void*, const char*) -> void* { return nullptr; },
-                                     nullptr, &none);
+             return aerial_gl_create([](void*, const char*) -> void* { return nullptr; }, nullptr,
+                                     &none);
          }},
         {AERIAL_ERROR_GL_UNSUPPORTED, "GL feature unsupported", "fixed_function_lighting",
          [&] {
@@ -526,9 +525,9 @@ TEST(CApiExceptions, NoExceptionCrossesTheInterface) {
     using aerial::capi::InjectedException;
     ContextHandle ctx;
     ASSERT_EQ(aerial_context_create(nullptr, AERIAL_MODEL_HEIGHT, &ctx.p), AERIAL_OK);
-    for (InjectedException kind : {InjectedException::bad_alloc,
-                                   InjectedException::standard_exception,
-                                   InjectedException::unknown}) {
+    for (InjectedException kind :
+         {InjectedException::bad_alloc, InjectedException::standard_exception,
+          InjectedException::unknown}) {
         const aerial_status expected = kind == InjectedException::bad_alloc
                                            ? AERIAL_ERROR_OUT_OF_MEMORY
                                            : AERIAL_ERROR_INTERNAL;
@@ -607,16 +606,15 @@ void draw_mesh(void* user) {
     const Mesh& m = *static_cast<const Mesh*>(user);
     m.api->EnableClientState(GL_VERTEX_ARRAY);
     m.api->VertexPointer(3, GL_FLOAT, 0, m.xyz.data());
-    m.api->DrawElements(GL_TRIANGLES, GLsizei(m.indices.size()), GL_UNSIGNED_INT,
-                        m.indices.data());
+    m.api->DrawElements(GL_TRIANGLES, GLsizei(m.indices.size()), GL_UNSIGNED_INT, m.indices.data());
     m.api->DisableClientState(GL_VERTEX_ARRAY);
 }
 
 class CApiGl : public ::testing::Test {
   protected:
     void SetUp() override {
-        auto ctx = aerial::headless::Context::create(
-            {aerial::headless::Backend::osmesa, kSize, kSize});
+        auto ctx =
+            aerial::headless::Context::create({aerial::headless::Backend::osmesa, kSize, kSize});
         ASSERT_TRUE(ctx.ok()) << ctx.error().message;
         ctx_.emplace(std::move(ctx).value());
         ASSERT_EQ(aerial_gl_create(ctx_->loader(), ctx_->loader_user(), &gl_), AERIAL_OK)
@@ -663,8 +661,8 @@ TEST_F(CApiGl, DrawColoursDrawsWhatTheCppPathDraws) {
     colours.primary = fex.data();
     colours.secondary = lin.data();
     colours.vertex_count = n;
-    for (aerial_path path : {AERIAL_PATH_SECONDARY_COLOR, AERIAL_PATH_COMBINER,
-                             AERIAL_PATH_TWO_PASS}) {
+    for (aerial_path path :
+         {AERIAL_PATH_SECONDARY_COLOR, AERIAL_PATH_COMBINER, AERIAL_PATH_TWO_PASS}) {
         aerial_path chosen;
         if (aerial_gl_choose_path(gl_, path, 0, &chosen) != AERIAL_OK) {
             EXPECT_EQ(aerial_gl_choose_path(gl_, path, 0, &chosen), AERIAL_ERROR_GL_UNSUPPORTED);
@@ -740,7 +738,8 @@ TEST_F(CApiGl, ArbProgramDrawsWhatTheCppProgramDraws) {
                      .has_value());
     aerial::gl::ApplyOptions o;
     o.textured = false;
-    const auto cpp_image = clear_and([&] { ASSERT_TRUE(cpp->draw([&] { draw_mesh(&mesh_); }, o).ok()); });
+    const auto cpp_image =
+        clear_and([&] { ASSERT_TRUE(cpp->draw([&] { draw_mesh(&mesh_); }, o).ok()); });
     EXPECT_EQ(c_image, cpp_image);
 }
 
@@ -753,8 +752,7 @@ TEST_F(CApiGl, AThrowingDrawCallbackBecomesAStatus) {
     aerial_draw_function thrower = [](void*) { throw std::runtime_error("engine draw failed"); };
     EXPECT_EQ(aerial_gl_draw_colours(gl_, nullptr, &colours, thrower, nullptr, nullptr),
               AERIAL_ERROR_INTERNAL);
-    EXPECT_NE(std::string(aerial_gl_last_error(gl_)).find("engine draw failed"),
-              std::string::npos)
+    EXPECT_NE(std::string(aerial_gl_last_error(gl_)).find("engine draw failed"), std::string::npos)
         << aerial_gl_last_error(gl_);
     // GL is usable and unchanged afterwards: the colour array is off again.
     EXPECT_FALSE(api().IsEnabled(GL_COLOR_ARRAY));

@@ -37,11 +37,11 @@ int main(void) {
 
     check(AERIAL_CHECK_VERSION() == AERIAL_OK, "AERIAL_CHECK_VERSION() accepts this header");
     check(aerial_library_version() == AERIAL_VERSION, "the library version is the header's");
-    check(aerial_check_version(AERIAL_VERSION + 10000, sizeof(aerial_atmosphere),
-                               sizeof(aerial_view), sizeof(aerial_outputs),
-                               sizeof(aerial_batch_settings),
-                               sizeof(aerial_arb_options)) == AERIAL_ERROR_VERSION_MISMATCH,
-          "another major version is a mismatch");
+    check(
+        aerial_check_version(AERIAL_VERSION + 10000, sizeof(aerial_atmosphere), sizeof(aerial_view),
+                             sizeof(aerial_outputs), sizeof(aerial_batch_settings),
+                             sizeof(aerial_arb_options)) == AERIAL_ERROR_VERSION_MISMATCH,
+        "another major version is a mismatch");
     check(strcmp(aerial_last_error_field(), "header_version") == 0,
           "the mismatch names header_version");
 

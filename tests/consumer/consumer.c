@@ -36,8 +36,8 @@ int main(void) {
         return 1;
     }
     printf("consumer_c: aerial %d, F_ex %d %d %d -> %d %d %d, L_in %d %d %d -> %d %d %d\n",
-           aerial_library_version(), fex[0], fex[1], fex[2], fex[4], fex[5], fex[6], lin[0],
-           lin[1], lin[2], lin[4], lin[5], lin[6]);
+           aerial_library_version(), fex[0], fex[1], fex[2], fex[4], fex[5], fex[6], lin[0], lin[1],
+           lin[2], lin[4], lin[5], lin[6]);
     aerial_context_destroy(context);
     /* Farther vertices are hazier: less F_ex, more L_in in blue. */
     return fex[6] < fex[2] && lin[6] > lin[2] ? 0 : 1;

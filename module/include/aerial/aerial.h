@@ -67,7 +67,7 @@ typedef enum aerial_status {
     AERIAL_ERROR_ARB_PROGRAM = 13,       /* no program for the model, a limit exceeded, or the
                                             driver rejected the text (with its error position) */
     AERIAL_ERROR_OUT_OF_MEMORY = 14,
-    AERIAL_ERROR_INTERNAL = 15           /* a bug: the message says where */
+    AERIAL_ERROR_INTERNAL = 15 /* a bug: the message says where */
 } aerial_status;
 
 /* A fixed text for each status ("invalid atmosphere", ...); "unknown status" for other values. */
@@ -153,11 +153,12 @@ typedef struct aerial_scattering_d {
  * atmosphere (NULL: defaults), view and vertex; AERIAL_ERROR_INVALID_VERTEX for a vertex with a
  * NaN or infinite coordinate or farther than 1e12 m from the eye. */
 aerial_status aerial_evaluate(const aerial_atmosphere* atmosphere, const aerial_view* view,
-                              aerial_model model, const double vertex[3],
-                              aerial_scattering_d* out);
+                              aerial_model model, const double vertex[3], aerial_scattering_d* out);
 
 /* ---- Context: atmosphere + model + the current frame -------------------------------------- */
 
+/* A context, an aerial_gl and an aerial_arb_program are each used by one thread at a time (each
+ * call records its message in the object); use one context per thread to shade in parallel. */
 typedef struct aerial_context aerial_context;
 
 /* atmosphere NULL means defaults. The context has no frame until aerial_context_set_view. */
@@ -238,9 +239,9 @@ typedef struct aerial_lighting {
 
 typedef struct aerial_batch_settings {
     aerial_display display;
-    aerial_kernel kernel;           /* default AERIAL_KERNEL_SIMD */
-    unsigned int threads;           /* worker threads including the caller; default (0) all */
-    size_t min_vertices_per_thread; /* smaller batches are not split; default (0) 32768 */
+    aerial_kernel kernel;            /* default AERIAL_KERNEL_SIMD */
+    unsigned int threads;            /* worker threads including the caller; default (0) all */
+    size_t min_vertices_per_thread;  /* smaller batches are not split; default (0) 32768 */
     const aerial_lighting* lighting; /* required by lit_rgba8; default NULL */
 } aerial_batch_settings;
 
@@ -310,8 +311,7 @@ aerial_status aerial_gl_choose_path(aerial_gl* gl, aerial_path requested,
  * every piece of GL state it changed. path_used may be NULL. */
 aerial_status aerial_gl_draw_colours(aerial_gl* gl, const aerial_draw_options* options,
                                      const aerial_vertex_colours* colours,
-                                     aerial_draw_function draw, void* user,
-                                     aerial_path* path_used);
+                                     aerial_draw_function draw, void* user, aerial_path* path_used);
 
 /* ---- OpenGL: the ARB vertex program ------------------------------------------------------- */
 
@@ -379,21 +379,21 @@ aerial_status aerial_arb_program_set_frame(aerial_arb_program* program,
  * unbinds it and restores every piece of GL state it changed. Only options->texture_unit and
  * options->untextured are read (NULL: defaults). */
 aerial_status aerial_arb_program_draw(aerial_arb_program* program,
-                                      const aerial_draw_options* options,
-                                      aerial_draw_function draw, void* user);
+                                      const aerial_draw_options* options, aerial_draw_function draw,
+                                      void* user);
 
 /* ---- Version check ------------------------------------------------------------------------ */
 
 /* AERIAL_ERROR_VERSION_MISMATCH when the library was built from a different major version (or,
  * before 1.0, a different minor version) than the header the caller was compiled with, or when
  * one of the struct sizes differs (a different compiler, packing or header). */
-aerial_status aerial_check_version(int header_version, size_t sizeof_atmosphere,
-                                   size_t sizeof_view, size_t sizeof_outputs,
-                                   size_t sizeof_batch_settings, size_t sizeof_arb_options);
+aerial_status aerial_check_version(int header_version, size_t sizeof_atmosphere, size_t sizeof_view,
+                                   size_t sizeof_outputs, size_t sizeof_batch_settings,
+                                   size_t sizeof_arb_options);
 
-#define AERIAL_CHECK_VERSION()                                                                 \
-    aerial_check_version(AERIAL_VERSION, sizeof(aerial_atmosphere), sizeof(aerial_view),       \
-                         sizeof(aerial_outputs), sizeof(aerial_batch_settings),               \
+#define AERIAL_CHECK_VERSION()                                                           \
+    aerial_check_version(AERIAL_VERSION, sizeof(aerial_atmosphere), sizeof(aerial_view), \
+                         sizeof(aerial_outputs), sizeof(aerial_batch_settings),          \
                          sizeof(aerial_arb_options))
 
 /* The library's AERIAL_VERSION. */

@@ -102,8 +102,8 @@ Atmosphere to_cpp(const aerial_atmosphere* c) {
     if (c == nullptr) return d;
     Atmosphere a;
     const unsigned z = c->zero_fields;
-    a.rayleigh_scattering = vector_field(c->rayleigh_scattering, z,
-                                         AERIAL_ZERO_RAYLEIGH_SCATTERING, d.rayleigh_scattering);
+    a.rayleigh_scattering = vector_field(c->rayleigh_scattering, z, AERIAL_ZERO_RAYLEIGH_SCATTERING,
+                                         d.rayleigh_scattering);
     a.mie_scattering =
         vector_field(c->mie_scattering, z, AERIAL_ZERO_MIE_SCATTERING, d.mie_scattering);
     a.mie_absorption = vec3(c->mie_absorption);  // its default is 0
@@ -160,7 +160,8 @@ Display to_cpp(const aerial_display* c) {
         default:
             fail(AERIAL_ERROR_INVALID_ARGUMENT, "display.tone",
                  "display.tone: expected AERIAL_TONE_CLAMP (0) or AERIAL_TONE_EXPONENTIAL (1), "
-                 "got " + std::to_string(int(c->tone)));
+                 "got " +
+                     std::to_string(int(c->tone)));
     }
     return d;
 }
@@ -271,9 +272,9 @@ const char* aerial_last_error_field(void) { return capi::thread_error().field.c_
 
 int aerial_library_version(void) { return AERIAL_VERSION; }
 
-aerial_status aerial_check_version(int header_version, size_t sizeof_atmosphere,
-                                   size_t sizeof_view, size_t sizeof_outputs,
-                                   size_t sizeof_batch_settings, size_t sizeof_arb_options) {
+aerial_status aerial_check_version(int header_version, size_t sizeof_atmosphere, size_t sizeof_view,
+                                   size_t sizeof_outputs, size_t sizeof_batch_settings,
+                                   size_t sizeof_arb_options) {
     return guard("aerial_check_version", nullptr, [&] {
         const int major = header_version / 10000;
         const int minor = header_version / 100 % 100;
@@ -282,22 +283,21 @@ aerial_status aerial_check_version(int header_version, size_t sizeof_atmosphere,
             (major == 0 ? minor == AERIAL_VERSION_MINOR : minor <= AERIAL_VERSION_MINOR);
         if (!compatible) {
             fail(AERIAL_ERROR_VERSION_MISMATCH, "header_version",
-                 "header_version: the caller was compiled with aerial.h " +
-                     std::to_string(major) + "." + std::to_string(minor) +
-                     ", the library is " + std::to_string(AERIAL_VERSION_MAJOR) + "." +
+                 "header_version: the caller was compiled with aerial.h " + std::to_string(major) +
+                     "." + std::to_string(minor) + ", the library is " +
+                     std::to_string(AERIAL_VERSION_MAJOR) + "." +
                      std::to_string(AERIAL_VERSION_MINOR));
         }
         const struct {
             const char* name;
             size_t caller;
             size_t library;
-        } sizes[] = {{"sizeof(aerial_atmosphere)", sizeof_atmosphere, sizeof(aerial_atmosphere)},
-                     {"sizeof(aerial_view)", sizeof_view, sizeof(aerial_view)},
-                     {"sizeof(aerial_outputs)", sizeof_outputs, sizeof(aerial_outputs)},
-                     {"sizeof(aerial_batch_settings)", sizeof_batch_settings,
-                      sizeof(aerial_batch_settings)},
-                     {"sizeof(aerial_arb_options)", sizeof_arb_options,
-                      sizeof(aerial_arb_options)}};
+        } sizes[] = {
+            {"sizeof(aerial_atmosphere)", sizeof_atmosphere, sizeof(aerial_atmosphere)},
+            {"sizeof(aerial_view)", sizeof_view, sizeof(aerial_view)},
+            {"sizeof(aerial_outputs)", sizeof_outputs, sizeof(aerial_outputs)},
+            {"sizeof(aerial_batch_settings)", sizeof_batch_settings, sizeof(aerial_batch_settings)},
+            {"sizeof(aerial_arb_options)", sizeof_arb_options, sizeof(aerial_arb_options)}};
         for (const auto& s : sizes) {
             if (s.caller != s.library) {
                 fail(AERIAL_ERROR_VERSION_MISMATCH, s.name,
@@ -461,7 +461,8 @@ aerial_status aerial_shade(const aerial_context* context, const aerial_positions
             if (positions->stride_bytes != 0 && positions->stride_bytes < 3 * sizeof(float)) {
                 fail(AERIAL_ERROR_INVALID_BATCH, "positions.stride_bytes",
                      "positions.stride_bytes: interleaved x, y, z records need >= 12 (or 0), "
-                     "got " + std::to_string(positions->stride_bytes));
+                     "got " +
+                         std::to_string(positions->stride_bytes));
             }
             p = Positions::aos(positions->x, positions->count, positions->stride_bytes);
         } else {
@@ -500,7 +501,8 @@ aerial_status aerial_shade(const aerial_context* context, const aerial_positions
                 default:
                     fail(AERIAL_ERROR_INVALID_ARGUMENT, "settings.kernel",
                          "settings.kernel: expected AERIAL_KERNEL_SIMD (0), _SIMD_FAST (1) or "
-                         "_SCALAR (2), got " + std::to_string(int(settings->kernel)));
+                         "_SCALAR (2), got " +
+                             std::to_string(int(settings->kernel)));
             }
             s.threads = settings->threads;
             if (settings->min_vertices_per_thread != 0) {
@@ -510,9 +512,10 @@ aerial_status aerial_shade(const aerial_context* context, const aerial_positions
                 lighting.normals = l->normals;
                 lighting.normal_stride_bytes = l->normal_stride_bytes;
                 lighting.ambient = glm::vec3(l->ambient[0], l->ambient[1], l->ambient[2]);
-                const bool no_albedo = l->albedo[0] == 0.0f && l->albedo[1] == 0.0f &&
-                                       l->albedo[2] == 0.0f;
-                if (!no_albedo) lighting.albedo = glm::vec3(l->albedo[0], l->albedo[1], l->albedo[2]);
+                const bool no_albedo =
+                    l->albedo[0] == 0.0f && l->albedo[1] == 0.0f && l->albedo[2] == 0.0f;
+                if (!no_albedo)
+                    lighting.albedo = glm::vec3(l->albedo[0], l->albedo[1], l->albedo[2]);
                 s.lighting = &lighting;
             }
         }

@@ -38,8 +38,7 @@ bool starts_with(const std::string& s, const char* prefix) {
 /// fixed-function lighting or the combiner texture needs), or the caller passed a bad value.
 [[noreturn]] void fail_gl(const Error& error) {
     const bool unsupported = starts_with(error.field, "GL_") ||
-                             error.field == "fixed_function_lighting" ||
-                             error.field == "combiner";
+                             error.field == "fixed_function_lighting" || error.field == "combiner";
     fail(unsupported ? AERIAL_ERROR_GL_UNSUPPORTED : AERIAL_ERROR_INVALID_ARGUMENT, error);
 }
 
@@ -99,7 +98,8 @@ ArbProgramOptions to_cpp_arb(const aerial_arb_options* c) {
         default:
             fail(AERIAL_ERROR_INVALID_ARGUMENT, "options.parameter_space",
                  "options.parameter_space: expected AERIAL_PARAMETERS_LOCAL (0) or _ENV (1), "
-                 "got " + std::to_string(int(c->parameter_space)));
+                 "got " +
+                     std::to_string(int(c->parameter_space)));
     }
     o.parameter_base = c->parameter_base;
     // 0 keeps the default; AERIAL_NO_TEXCOORDS asks for none; other values are checked by the
@@ -127,7 +127,8 @@ ArbProgramOptions to_cpp_arb(const aerial_arb_options* c) {
         default:
             fail(AERIAL_ERROR_INVALID_ARGUMENT, "options.height_fidelity",
                  "options.height_fidelity: expected AERIAL_HEIGHT_FIDELITY_AUTOMATIC (0) .. "
-                 "_FULL (3), got " + std::to_string(int(c->height_fidelity)));
+                 "_FULL (3), got " +
+                     std::to_string(int(c->height_fidelity)));
     }
     return o;
 }
@@ -138,10 +139,9 @@ ArbProgram generate(const ArbProgramOptions& options) {
     auto program = generate_arb_program(options);
     if (!program) {
         const std::string& field = program.error().field;
-        const bool bad_value = field == "parameter_base" || field == "texcoord_units" ||
-                               field == "height_fidelity";
-        fail(bad_value ? AERIAL_ERROR_INVALID_ARGUMENT : AERIAL_ERROR_ARB_PROGRAM,
-             program.error());
+        const bool bad_value =
+            field == "parameter_base" || field == "texcoord_units" || field == "height_fidelity";
+        fail(bad_value ? AERIAL_ERROR_INVALID_ARGUMENT : AERIAL_ERROR_ARB_PROGRAM, program.error());
     }
     return std::move(program.value());
 }
@@ -194,7 +194,9 @@ const char* aerial_gl_last_error(const aerial_gl* gl) { return gl ? gl->last_err
 const char* aerial_gl_renderer(const aerial_gl* gl) {
     return gl ? gl->api.caps.renderer.c_str() : "";
 }
-const char* aerial_gl_version(const aerial_gl* gl) { return gl ? gl->api.caps.version.c_str() : ""; }
+const char* aerial_gl_version(const aerial_gl* gl) {
+    return gl ? gl->api.caps.version.c_str() : "";
+}
 
 aerial_status aerial_gl_choose_path(aerial_gl* gl, aerial_path requested,
                                     int fixed_function_lighting, aerial_path* chosen) {
@@ -323,8 +325,7 @@ aerial_status aerial_arb_program_set_frame(aerial_arb_program* program,
     return guard("aerial_arb_program_set_frame", program ? &program->last_error : nullptr, [&] {
         require(program, "program");
         require(context, "context");
-        const auto p =
-            capi::parameters(*context, program->program->program().options, display);
+        const auto p = capi::parameters(*context, program->program->program().options, display);
         if (auto error = program->program->set_parameters(p)) {
             fail(AERIAL_ERROR_ARB_PROGRAM, *error);
         }
@@ -332,8 +333,8 @@ aerial_status aerial_arb_program_set_frame(aerial_arb_program* program,
 }
 
 aerial_status aerial_arb_program_draw(aerial_arb_program* program,
-                                      const aerial_draw_options* options,
-                                      aerial_draw_function draw, void* user) {
+                                      const aerial_draw_options* options, aerial_draw_function draw,
+                                      void* user) {
     return guard("aerial_arb_program_draw", program ? &program->last_error : nullptr, [&] {
         require(program, "program");
         if (draw == nullptr) fail(AERIAL_ERROR_NULL_ARGUMENT, "draw", "draw is NULL");

@@ -7,9 +7,9 @@ namespace aerial::capi {
 
 enum class InjectedException {
     none,
-    bad_alloc,          ///< std::bad_alloc: AERIAL_ERROR_OUT_OF_MEMORY
-    standard_exception, ///< std::runtime_error: AERIAL_ERROR_INTERNAL
-    unknown,            ///< a thrown int: AERIAL_ERROR_INTERNAL
+    bad_alloc,           ///< std::bad_alloc: AERIAL_ERROR_OUT_OF_MEMORY
+    standard_exception,  ///< std::runtime_error: AERIAL_ERROR_INTERNAL
+    unknown,             ///< a thrown int: AERIAL_ERROR_INTERNAL
 };
 
 /// Arms the hook for the next guarded call on this thread (it disarms itself when it fires).

@@ -27,8 +27,6 @@ namespace aerial::osg_adapter {
 
 namespace {
 
-constexpr const char* kCreate = "aerial::osg_adapter::ScatteringCallback::create(): ";
-
 /// Every Geometry below a node, with the matrix from its local frame to the node's parent frame.
 class CollectGeometry : public ::osg::NodeVisitor {
   public:
@@ -106,7 +104,7 @@ Result<::osg::ref_ptr<ScatteringCallback>> ScatteringCallback::create(const Sett
                                                                       ::osg::Camera* camera) {
     ::osg::ref_ptr<ScatteringCallback> cb = new ScatteringCallback();
     if (auto e = cb->set_settings(settings)) {
-        return Error{e->field, std::string(kCreate) + e->message};
+        return *e;  // the message starts with the field, as every aerial error
     }
     cb->camera_ = camera;
     return cb;

@@ -260,7 +260,7 @@ int main(int argc, char** argv) {
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     std::string out, size_text = "320x180", renderer_text = "osg", backend_text = "cpu",
                      model_text = "hoffman-preetham";
-    double exposure = 1.5;
+    double exposure = 4.0;
     app.add_option("--out", out, "PNG to write")->required();
     app.add_option("--size", size_text, "Image size WxH, 16..4096")->capture_default_str();
     app.add_option("--renderer", renderer_text, "osg (the adapter) or module (aerial::scene)")

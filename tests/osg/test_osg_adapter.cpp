@@ -91,8 +91,7 @@ Expected shade(const Settings& s, const glm::dvec3& eye, const std::vector<float
     return ex;
 }
 
-TEST(OsgAdapter, CpuBackendWritesTheModulesColoursForWorldPositionsBelowATransform) {
-    const Settings s = test_settings(Backend::cpu);
+void check_cpu_backend(const Settings& s) {
     auto cb = ScatteringCallback::create(s, nullptr);
     ASSERT_TRUE(cb.ok()) << cb.error().message;
     ::osg::ref_ptr<::osg::Group> root = new ::osg::Group;
@@ -109,6 +108,7 @@ TEST(OsgAdapter, CpuBackendWritesTheModulesColoursForWorldPositionsBelowATransfo
     ASSERT_FALSE(error) << error->message;
     EXPECT_EQ(cb.value()->last_report().geometries, 1u);
     EXPECT_EQ(cb.value()->last_report().vertices, 81u);
+    EXPECT_EQ(cb.value()->last_report().invalid_vertices, 0u);
 
     const auto* v = static_cast<const ::osg::Vec3Array*>(grid->getVertexArray());
     std::vector<float> world;
@@ -153,6 +153,19 @@ TEST(OsgAdapter, CpuBackendWritesTheModulesColoursForWorldPositionsBelowATransfo
     ASSERT_FALSE(cb.value()->update_now(*root, eye + glm::dvec3(0.0, 4000.0, 0.0)));
     EXPECT_GT(primary->getModifiedCount(), modified);
     EXPECT_EQ(shade(s, eye + glm::dvec3(0.0, 4000.0, 0.0), world).primary[0], (*primary)[0][0]);
+}
+
+TEST(OsgAdapter, CpuBackendWritesTheModulesColoursForWorldPositionsBelowATransform) {
+    // OSG's Z-up in metres, and a Y-up scene in kilometres: the adapter passes both on.
+    Settings y_up_km = test_settings(Backend::cpu);
+    y_up_km.up = {0.0, 1.0, 0.0};
+    y_up_km.sun_dir = glm::normalize(glm::dvec3(0.3, 0.4, -0.8));
+    y_up_km.meters_per_unit = 1000.0;
+    y_up_km.model = aerial::Model::height;
+    for (const Settings& s : {test_settings(Backend::cpu), y_up_km}) {
+        SCOPED_TRACE(s.meters_per_unit == 1.0 ? "Z up, metres" : "Y up, kilometres");
+        check_cpu_backend(s);
+    }
 }
 
 TEST(OsgAdapter, ArbBackendSetsTheGeneratedProgramAndItsParameters) {

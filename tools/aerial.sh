@@ -27,6 +27,7 @@ PACKAGES=(
     liblcms2-dev
     libopenmesh-dev
     libglfw3-dev
+    libopenscenegraph-dev
     xvfb
     xauth
     python3-matplotlib

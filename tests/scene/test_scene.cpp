@@ -1,6 +1,7 @@
 // The scene graph without GL: validation, traversal, heightfield tiles, procedural terrain and
 // mesh files read through OpenMesh.
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -73,6 +74,28 @@ TEST(SceneGraph, ValidateNamesTheNodePathAndField) {
     ASSERT_TRUE(error);
     EXPECT_NE(error->message.find("width: expected a power of two"), std::string::npos)
         << error->message;
+}
+
+TEST(Texture, MipmapLevelsAreBoxAveragesRoundedHalfUpDownToOnePixel) {
+    Texture t;
+    t.width = 4;
+    t.height = 2;
+    // Red: 2 x 2 blocks summing to 7 (7 / 4 = 1.75 -> 2) and 2 (0.5 -> 1); green 255, blue 0.
+    const int red[2][4] = {{1, 2, 0, 1}, {2, 2, 0, 1}};
+    for (int y = 0; y < 2; ++y) {
+        for (int x = 0; x < 4; ++x) t.rgb.insert(t.rgb.end(), {std::uint8_t(red[y][x]), 255, 0});
+    }
+    const auto levels = mipmap_levels(t);
+    ASSERT_EQ(levels.size(), 3u) << "4x2, 2x1, 1x1";
+    EXPECT_EQ(levels[0], t.rgb);
+    ASSERT_EQ(levels[1].size(), 2u * 3u);
+    EXPECT_EQ(levels[1][0], 2);
+    EXPECT_EQ(levels[1][3], 1);
+    EXPECT_EQ(levels[1][1], 255);
+    ASSERT_EQ(levels[2].size(), 3u);
+    EXPECT_EQ(levels[2][0], 2) << "(2 + 1) / 2 = 1.5 rounds up";
+    EXPECT_EQ(levels[2][1], 255);
+    EXPECT_EQ(levels[2][2], 0);
 }
 
 TEST(Heightfield, GridMatchesTheFunctionWithUnitNormals) {

@@ -42,6 +42,12 @@ struct Texture {
 /// The first bad field of a texture: a side not a power of two in 1..4096, a wrong byte count.
 std::optional<Error> validate(const Texture& texture);
 
+/// The texture's mipmap chain as the renderer uploads it, largest (the texture itself) first down
+/// to 1 × 1: each level the 2 × 2 (or 2 × 1 at a side of 1) box average of the one above,
+/// rounded half up, RGB8, top row first. For engines that upload the texture themselves and
+/// want the renderer's exact texels (the OpenSceneGraph adapter's comparison, aerial/osg.hpp).
+std::vector<std::vector<std::uint8_t>> mipmap_levels(const Texture& texture);
+
 /// Triangles with per-vertex attributes, tightly packed floats.
 struct MeshData {
     std::vector<float> positions;        ///< x, y, z per vertex, local engine units

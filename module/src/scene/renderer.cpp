@@ -67,36 +67,6 @@ void load_matrix(const gl::Api& api, GLenum mode, const glm::dmat4& m) {
     api.LoadMatrixf(glm::value_ptr(f));
 }
 
-/// Box-filtered mipmaps of an RGB8 texture, largest first.
-std::vector<std::vector<std::uint8_t>> mipmaps(const Texture& t) {
-    std::vector<std::vector<std::uint8_t>> levels{t.rgb};
-    int w = t.width, h = t.height;
-    while (w > 1 || h > 1) {
-        const int nw = std::max(1, w / 2), nh = std::max(1, h / 2);
-        const auto& src = levels.back();
-        std::vector<std::uint8_t> dst(std::size_t(nw) * nh * 3);
-        for (int y = 0; y < nh; ++y) {
-            for (int x = 0; x < nw; ++x) {
-                for (int c = 0; c < 3; ++c) {
-                    int sum = 0, n = 0;
-                    for (int dy = 0; dy < (h > 1 ? 2 : 1); ++dy) {
-                        for (int dx = 0; dx < (w > 1 ? 2 : 1); ++dx) {
-                            sum += src[(std::size_t(2 * y + dy) * w + std::size_t(2 * x + dx)) * 3 +
-                                       c];
-                            ++n;
-                        }
-                    }
-                    dst[(std::size_t(y) * nw + x) * 3 + c] = std::uint8_t((sum + n / 2) / n);
-                }
-            }
-        }
-        levels.push_back(std::move(dst));
-        w = nw;
-        h = nh;
-    }
-    return levels;
-}
-
 /// Saves the client vertex array (enable, pointer, buffer) and puts it back.
 class VertexArraySaver {
   public:
@@ -191,7 +161,7 @@ struct SceneRenderer::Impl {
         GLuint id = 0;
         api->GenTextures(1, &id);
         api->BindTexture(GL_TEXTURE_2D, id);
-        const auto levels = mipmaps(*texture);
+        const auto levels = mipmap_levels(*texture);
         int w = texture->width, h = texture->height;
         for (std::size_t l = 0; l < levels.size(); ++l) {
             api->TexImage2D(GL_TEXTURE_2D, GLint(l), GL_RGB8, w, h, 0, GL_RGB, GL_UNSIGNED_BYTE,

@@ -101,6 +101,35 @@ std::optional<Error> validate(const Texture& texture) {
     return std::nullopt;
 }
 
+std::vector<std::vector<std::uint8_t>> mipmap_levels(const Texture& t) {
+    std::vector<std::vector<std::uint8_t>> levels{t.rgb};
+    int w = t.width, h = t.height;
+    while (w > 1 || h > 1) {
+        const int nw = std::max(1, w / 2), nh = std::max(1, h / 2);
+        const auto& src = levels.back();
+        std::vector<std::uint8_t> dst(std::size_t(nw) * nh * 3);
+        for (int y = 0; y < nh; ++y) {
+            for (int x = 0; x < nw; ++x) {
+                for (int c = 0; c < 3; ++c) {
+                    int sum = 0, n = 0;
+                    for (int dy = 0; dy < (h > 1 ? 2 : 1); ++dy) {
+                        for (int dx = 0; dx < (w > 1 ? 2 : 1); ++dx) {
+                            sum += src[(std::size_t(2 * y + dy) * w + std::size_t(2 * x + dx)) * 3 +
+                                       c];
+                            ++n;
+                        }
+                    }
+                    dst[(std::size_t(y) * nw + x) * 3 + c] = std::uint8_t((sum + n / 2) / n);
+                }
+            }
+        }
+        levels.push_back(std::move(dst));
+        w = nw;
+        h = nh;
+    }
+    return levels;
+}
+
 std::optional<Error> validate(const MeshData& mesh) {
     if (mesh.positions.size() % 3 != 0) {
         return Error{"positions", "positions: expected 3 floats a vertex, got " +

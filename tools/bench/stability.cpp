@@ -205,17 +205,21 @@ Values arb_values(const ArbResults& r) {
             r.color_secondary.value[0], r.color_secondary.value[1], r.color_secondary.value[2]};
 }
 
-/// The farthest from `reference` (in displayed codes) of each value over the sign patterns.
+/// The farthest from `reference` (in displayed codes) of each value over the sign patterns; each
+/// pattern's values are appended to per_pattern[pattern].
 Values arb_worst(const ArbCpuProgram& program, const ArbMachine& machine, const ArbVertex& vertex,
-                 const std::vector<std::uint32_t>& patterns, const Values& reference) {
+                 const std::vector<std::uint32_t>& patterns, const Values& reference,
+                 std::vector<std::vector<Values>>& per_pattern) {
+    per_pattern.resize(patterns.size());
     Values worst{};
     std::array<int, 6> worst_lsb{};
     worst_lsb.fill(-1);
-    for (std::uint32_t pattern : patterns) {
+    for (std::size_t p = 0; p < patterns.size(); ++p) {
         ArbInterpreterOptions o;
         o.relative_error = kOldHardwareError;
-        o.sign_pattern = pattern;
+        o.sign_pattern = patterns[p];
         const Values v = arb_values(run_arb_program(program, machine, vertex, o));
+        per_pattern[p].push_back(v);
         for (std::size_t k = 0; k < 6; ++k) {
             const int lsb = std::isfinite(v[k]) ? std::abs(code(v[k]) - code(reference[k])) : 256;
             if (lsb > worst_lsb[k]) {
@@ -235,7 +239,19 @@ Values fog_values(double f, const std::array<double, 3>& colour) {
 /// Every method's values at every probe of one case; [method][probe].
 struct CaseResult {
     std::vector<std::vector<Values>> values;
+    /// The 10-bit methods' values under each sign pattern, [method][pattern][probe] (empty for
+    /// the other methods): each pattern is one consistent piece of hardware, so banding and
+    /// popping are counted per pattern, while `values` keeps the worst error of each value.
+    std::vector<std::vector<std::vector<Values>>> patterns;
     std::vector<std::string> where;
+
+    /// The value sets whose steps are compared: the patterns, or `values` itself.
+    std::vector<const std::vector<Values>*> variants(int method) const {
+        std::vector<const std::vector<Values>*> out;
+        for (const auto& p : patterns[std::size_t(method)]) out.push_back(&p);
+        if (out.empty()) out.push_back(&values[std::size_t(method)]);
+        return out;
+    }
 };
 
 Result<CaseResult> evaluate_case(const Case& c, const Programs& programs) {
@@ -297,6 +313,7 @@ Result<CaseResult> evaluate_case(const Case& c, const Programs& programs) {
 
     CaseResult result;
     result.values.assign(kMethodCount, {});
+    result.patterns.assign(kMethodCount, {});
     const glm::dvec3 eye = view.eye;
     for (const Probe& probe : probes(c)) {
         const glm::dvec3 p = probe.position;
@@ -316,12 +333,13 @@ Result<CaseResult> evaluate_case(const Case& c, const Programs& programs) {
         v[kCpuHp].push_back(cpu(*hp));
         v[kCpuHeight].push_back(cpu(*height));
         v[kArbHp].push_back(arb_values(run_arb_program(programs.hp, hp_machine, vertex)));
-        v[kArbHp10bit].push_back(
-            arb_worst(programs.hp, hp_machine, vertex, programs.hp_patterns, ref));
+        v[kArbHp10bit].push_back(arb_worst(programs.hp, hp_machine, vertex, programs.hp_patterns,
+                                           ref, result.patterns[kArbHp10bit]));
         v[kArbHeight].push_back(
             arb_values(run_arb_program(programs.height, height_machine, vertex)));
-        v[kArbHeight10bit].push_back(
-            arb_worst(programs.height, height_machine, vertex, programs.height_patterns, ref));
+        v[kArbHeight10bit].push_back(arb_worst(programs.height, height_machine, vertex,
+                                               programs.height_patterns, ref,
+                                               result.patterns[kArbHeight10bit]));
         v[kGlFog].push_back(fog_values(std::exp(-double(fog.density) * distance), fog_colour));
         v[kFgFog].push_back(fog_values(std::exp(-x - x * x * x * x), haze_colour));
         const double half_screen = distance * std::tan(0.5 * kScreenEdgeDeg * kDegree);
@@ -376,45 +394,56 @@ Row measure(const CaseResult& r, int method) {
 /// Banding at sample `now` of a sweep, counted over every value: the truth is monotonic through
 /// `before`, `now` and `after` (steps of at least half a code, the same way), the method's
 /// displayed code turns back (steps of at least one code each, opposite ways) - a visible band
-/// edge on a smooth gradient.
+/// edge on a smooth gradient. The most of any sign pattern for the 10-bit methods.
 int count_banding(const CaseResult& before, const CaseResult& now, const CaseResult& after,
                   int method) {
     const auto& r0 = before.values[kReference];
     const auto& r1 = now.values[kReference];
     const auto& r2 = after.values[kReference];
-    const auto& m0 = before.values[std::size_t(method)];
-    const auto& m1 = now.values[std::size_t(method)];
-    const auto& m2 = after.values[std::size_t(method)];
-    int count = 0;
-    for (std::size_t i = 0; i < m1.size() && i < m0.size() && i < m2.size(); ++i) {
-        for (std::size_t k = 0; k < 6; ++k) {
-            const double t1 = (clamp01(r1[i][k]) - clamp01(r0[i][k])) * 255.0;
-            const double t2 = (clamp01(r2[i][k]) - clamp01(r1[i][k])) * 255.0;
-            const int s1 = code(m1[i][k]) - code(m0[i][k]);
-            const int s2 = code(m2[i][k]) - code(m1[i][k]);
-            const bool monotonic = (t1 >= 0.5 && t2 >= 0.5) || (t1 <= -0.5 && t2 <= -0.5);
-            if (monotonic && ((s1 >= 1 && s2 <= -1) || (s1 <= -1 && s2 >= 1))) ++count;
+    const auto v0 = before.variants(method), v1 = now.variants(method), v2 = after.variants(method);
+    int most = 0;
+    for (std::size_t p = 0; p < v1.size() && p < v0.size() && p < v2.size(); ++p) {
+        const auto& m0 = *v0[p];
+        const auto& m1 = *v1[p];
+        const auto& m2 = *v2[p];
+        int count = 0;
+        for (std::size_t i = 0; i < m1.size() && i < m0.size() && i < m2.size(); ++i) {
+            for (std::size_t k = 0; k < 6; ++k) {
+                const double t1 = (clamp01(r1[i][k]) - clamp01(r0[i][k])) * 255.0;
+                const double t2 = (clamp01(r2[i][k]) - clamp01(r1[i][k])) * 255.0;
+                const int s1 = code(m1[i][k]) - code(m0[i][k]);
+                const int s2 = code(m2[i][k]) - code(m1[i][k]);
+                const bool monotonic = (t1 >= 0.5 && t2 >= 0.5) || (t1 <= -0.5 && t2 <= -0.5);
+                if (monotonic && ((s1 >= 1 && s2 <= -1) || (s1 <= -1 && s2 >= 1))) ++count;
+            }
         }
+        most = std::max(most, count);
     }
-    return count;
+    return most;
 }
 
 /// Popping between a sample and the next frame of a slow motion (`moved`): the method's
-/// displayed code jumps by more than kFailLsb beyond the truth's jump.
+/// displayed code jumps by more than kFailLsb beyond the truth's jump. Counted over every value,
+/// the most of any sign pattern for the 10-bit methods.
 int count_popping(const CaseResult& now, const CaseResult& moved, int method) {
     const auto& r0 = now.values[kReference];
     const auto& r1 = moved.values[kReference];
-    const auto& m0 = now.values[std::size_t(method)];
-    const auto& m1 = moved.values[std::size_t(method)];
-    int count = 0;
-    for (std::size_t i = 0; i < m1.size() && i < m0.size(); ++i) {
-        for (std::size_t k = 0; k < 6; ++k) {
-            const int step = code(m1[i][k]) - code(m0[i][k]);
-            const int truth = code(r1[i][k]) - code(r0[i][k]);
-            if (std::abs(step - truth) > kFailLsb) ++count;
+    const auto v0 = now.variants(method), v1 = moved.variants(method);
+    int most = 0;
+    for (std::size_t p = 0; p < v1.size() && p < v0.size(); ++p) {
+        const auto& m0 = *v0[p];
+        const auto& m1 = *v1[p];
+        int count = 0;
+        for (std::size_t i = 0; i < m1.size() && i < m0.size(); ++i) {
+            for (std::size_t k = 0; k < 6; ++k) {
+                const int step = code(m1[i][k]) - code(m0[i][k]);
+                const int truth = code(r1[i][k]) - code(r0[i][k]);
+                if (std::abs(step - truth) > kFailLsb) ++count;
+            }
         }
+        most = std::max(most, count);
     }
-    return count;
+    return most;
 }
 
 Result<Case> with_atmosphere(Result<Atmosphere> atmosphere) {

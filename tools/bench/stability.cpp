@@ -124,7 +124,12 @@ std::vector<Probe> probes(const Case& c) {
     std::vector<Probe> out;
     const auto add = [&](const glm::dvec3& p, const std::string& where) {
         const glm::dvec3 ray = glm::normalize(p - eye);
-        out.push_back({p, glm::normalize(glm::cross(ray, up)), where});
+        // Across the view, horizontal; for a ray straight up (the sun at the zenith) any
+        // horizontal direction is.
+        const glm::dvec3 across = glm::cross(ray, up);
+        const glm::dvec3 side =
+            glm::length(across) > 1e-6 ? glm::normalize(across) : glm::dvec3(0.0, 1.0, 0.0);
+        out.push_back({p, side, where});
     };
     for (double d : c.distances_m) {
         const std::string at = "d=" + format(d);

@@ -17,6 +17,7 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/batch.hpp"
+#include "bench/stability.hpp"
 #include "common/cli.hpp"
 
 namespace {
@@ -79,7 +80,16 @@ int main(int argc, char** argv) {
                    "least disturbed on a shared machine)");
     app.add_option("--model", model_text, "hoffman-preetham (default) or height");
     app.add_option("--preset", preset, "Atmosphere preset (default earth)");
+    bool stability = false, quick = false;
+    std::string out_dir;
+    app.add_flag("--stability", stability,
+                 "Stability map: every method against the reference model over sweeps of sun "
+                 "elevation, altitude, distance, g, turbidity and visibility; writes "
+                 "DIR/stability.csv and DIR/stability.png");
+    app.add_option("--out", out_dir, "Output directory");
+    app.add_flag("--quick", quick, "A coarse sweep (seconds)");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
+    if (stability) return aerial::bench::run_stability(out_dir, quick);
     if (!cpu_throughput) return aerial::tools::fail(kTool, "nothing to do: give --cpu-throughput");
     if (vertices < 1 || vertices > 200'000'000) {
         return aerial::tools::fail(

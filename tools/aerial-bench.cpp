@@ -122,8 +122,8 @@ int main(int argc, char** argv) {
         "OSMesa; ms per frame is the best of --repetitions interleaved rounds, the error is\n"
         "against the per-pixel image of the reference model of the same mesh. Writes\n"
         "DIR/bench.csv, DIR/summary.txt, DIR/images/, and DIR/pareto.png with\n"
-        "DIR/pareto-SCENE.png (tools/plot_bench.py). --quick: the scenes marked quick, 96x72,\n"
-        "two sizes per tessellation, 3 rounds.",
+        "DIR/pareto-SCENE.png (tools/plot_bench.py); default 160x120, 21 rounds. --quick: the\n"
+        "scenes marked quick, 96x72, two sizes per tessellation, 3 rounds.",
         kTool};
     bool cpu_throughput = false;
     std::size_t vertices = 2'000'000;
@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
     app.add_flag("--quick", quick, "With --out: a small setting (well under a minute)");
     app.add_option("--scenes", scenes_dir,
                    "With --out: directory of bench scene files (default tools/bench/scenes)");
-    app.add_option("--size", size, "With --out: image size WxH (default 320x240, quick 96x72)");
+    app.add_option("--size", size, "With --out: image size WxH (default 160x120, quick 96x72)");
     app.add_flag("--no-chart", no_chart, "With --out: write the CSV only");
     app.add_option("--vertices", vertices,
                    "Vertices per batch (default 2000000, at least 1000000 "
@@ -162,7 +162,7 @@ int main(int argc, char** argv) {
             kTool, "--repetitions must be in [1, 1000], got " + std::to_string(repetitions));
     }
     if (!out_dir.empty()) {
-        const int rounds = app.count("--repetitions") ? repetitions : (quick ? 3 : 5);
+        const int rounds = app.count("--repetitions") ? repetitions : (quick ? 3 : 21);
         return pareto(out_dir, quick, scenes_dir, size, rounds, !no_chart);
     }
     const auto model = aerial::parse_model(model_text);

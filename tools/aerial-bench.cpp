@@ -1,6 +1,8 @@
 // aerial-bench: benchmarks of the module. --cpu-throughput measures the CPU batch path against a
 // plain std::exp loop and against the memory limit, all in one run (ratios, not absolute times,
-// are what a shared machine reproduces).
+// are what a shared machine reproduces). --out DIR charts speed against accuracy of every method
+// on the bench scenes (bench/pareto.hpp): DIR/bench.csv and the Pareto charts drawn by
+// tools/plot_bench.py.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,6 +19,7 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/batch.hpp"
+#include "bench/pareto.hpp"
 #include "bench/stability.hpp"
 #include "common/cli.hpp"
 
@@ -57,6 +60,54 @@ std::vector<double> best_of_interleaved(int repetitions,
     return best;
 }
 
+/// --out: the Pareto bench; returns the exit status.
+int pareto(const std::string& out, bool quick, const std::string& scenes_dir,
+           const std::string& size, int repetitions, bool chart) {
+    aerial::bench::BenchOptions options;
+    options.quick = quick;
+    options.repetitions = repetitions;
+    if (quick) options.width = 96, options.height = 72;
+    if (!size.empty()) {
+        int w = 0, h = 0;
+        char tail = 0;
+        if (std::sscanf(size.c_str(), "%dx%d%c", &w, &h, &tail) != 2 || w < 8 || h < 8 ||
+            w > 4096 || h > 4096) {
+            return aerial::tools::fail(kTool,
+                                       "--size: expected WxH with each in 8 .. 4096, got " + size);
+        }
+        options.width = w;
+        options.height = h;
+    }
+    options.images_dir = out + "/images";
+    auto scenes = aerial::bench::load_bench_scenes(scenes_dir, quick);
+    if (!scenes) return aerial::tools::fail(kTool, scenes.error().message);
+    const auto start = std::chrono::steady_clock::now();
+    auto rows = aerial::bench::run_bench(*scenes, options, stderr);
+    if (!rows) return aerial::tools::fail(kTool, rows.error().message);
+    const std::string csv = out + "/bench.csv";
+    if (auto e = aerial::bench::write_bench_csv(csv, *rows))
+        return aerial::tools::fail(kTool, "--out: " + *e);
+    const std::vector<std::string> summary = aerial::bench::summarise(*rows);
+    std::FILE* file = std::fopen((out + "/summary.txt").c_str(), "w");
+    if (!file) return aerial::tools::fail(kTool, "--out: cannot write " + out + "/summary.txt");
+    for (const auto& line : summary) {
+        std::printf("%s\n", line.c_str());
+        std::fprintf(file, "%s\n", line.c_str());
+    }
+    std::fclose(file);
+    std::printf("total %.1f s; wrote %s\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                csv.c_str());
+    if (chart) {
+        const std::string command = std::string("'") + AERIAL_BENCH_PYTHON + "' '" +
+                                    AERIAL_BENCH_PLOT_SCRIPT + "' '" + csv + "' '" + out + "'";
+        if (std::system(command.c_str()) != 0)
+            return aerial::tools::fail(kTool, "the chart failed: " + command);
+        std::printf("wrote %s/pareto.png and %s/pareto-SCENE.png\n", out.c_str(), out.c_str());
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -65,13 +116,33 @@ int main(int argc, char** argv) {
         "path (F_ex and L_in as RGBA8) with a plain std::exp loop (scalar), the SIMD\n"
         "kernels on one thread and on all, against a loop that only reads the same\n"
         "positions and writes the same bytes (stream, the memory limit); best of\n"
-        "several repetitions, the variants interleaved, all in one run.",
+        "several repetitions, the variants interleaved, all in one run.\n"
+        "--out DIR: speed against accuracy. Every method (gl-fog, fg-fog, cpu-hp, arb-hp,\n"
+        "cpu-height, arb-height, lut-texture, perpixel-reference; the per-vertex ones on\n"
+        "uniform and adaptive meshes of several sizes) renders each scene of --scenes on\n"
+        "OSMesa; ms per frame is the best of --repetitions interleaved rounds, the error is\n"
+        "against the per-pixel image of the reference model of the same mesh. Writes\n"
+        "DIR/bench.csv, DIR/summary.txt, DIR/images/, and DIR/pareto.png with\n"
+        "DIR/pareto-SCENE.png (tools/plot_bench.py); default 160x120, 21 rounds. --quick: the\n"
+        "scenes marked quick, 96x72, two sizes per tessellation, 3 rounds.",
         kTool};
     bool cpu_throughput = false;
     std::size_t vertices = 2'000'000;
     int repetitions = 15;
     std::string model_text = "hoffman-preetham", preset = "earth";
     app.add_flag("--cpu-throughput", cpu_throughput, "Measure the CPU batch path");
+    std::string out_dir, scenes_dir = AERIAL_BENCH_SCENES, size;
+    bool quick = false, no_chart = false;
+    app.add_option("--out", out_dir,
+                   "Speed against accuracy (or, with --stability, the stability map): write the "
+                   "CSV and charts here");
+    app.add_flag("--quick", quick,
+                 "With --out: a small setting (well under a minute); with --stability a coarse "
+                 "sweep (seconds)");
+    app.add_option("--scenes", scenes_dir,
+                   "With --out: directory of bench scene files (default tools/bench/scenes)");
+    app.add_option("--size", size, "With --out: image size WxH (default 160x120, quick 96x72)");
+    app.add_flag("--no-chart", no_chart, "With --out: write the CSV only");
     app.add_option("--vertices", vertices,
                    "Vertices per batch (default 2000000, at least 1000000 "
                    "for the figures the docs quote)");
@@ -80,17 +151,19 @@ int main(int argc, char** argv) {
                    "least disturbed on a shared machine)");
     app.add_option("--model", model_text, "hoffman-preetham (default) or height");
     app.add_option("--preset", preset, "Atmosphere preset (default earth)");
-    bool stability = false, quick = false;
-    std::string out_dir;
+    bool stability = false;
     app.add_flag("--stability", stability,
                  "Stability map: every method against the reference model over sweeps of sun "
                  "elevation, altitude, distance, g, turbidity and visibility; writes "
                  "DIR/stability.csv and DIR/stability.png");
-    app.add_option("--out", out_dir, "Output directory");
-    app.add_flag("--quick", quick, "A coarse sweep (seconds)");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
     if (stability) return aerial::bench::run_stability(out_dir, quick);
-    if (!cpu_throughput) return aerial::tools::fail(kTool, "nothing to do: give --cpu-throughput");
+    if (cpu_throughput && !out_dir.empty()) {
+        return aerial::tools::fail(kTool, "--out: not together with --cpu-throughput");
+    }
+    if (!cpu_throughput && out_dir.empty()) {
+        return aerial::tools::fail(kTool, "nothing to do: give --cpu-throughput or --out DIR");
+    }
     if (vertices < 1 || vertices > 200'000'000) {
         return aerial::tools::fail(
             kTool, "--vertices must be in [1, 200000000], got " + std::to_string(vertices));
@@ -98,6 +171,10 @@ int main(int argc, char** argv) {
     if (repetitions < 1 || repetitions > 1000) {
         return aerial::tools::fail(
             kTool, "--repetitions must be in [1, 1000], got " + std::to_string(repetitions));
+    }
+    if (!out_dir.empty()) {
+        const int rounds = app.count("--repetitions") ? repetitions : (quick ? 3 : 21);
+        return pareto(out_dir, quick, scenes_dir, size, rounds, !no_chart);
     }
     const auto model = aerial::parse_model(model_text);
     if (!model) return aerial::tools::fail(kTool, "--model: " + model.error().message);

@@ -16,43 +16,30 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// The scene's texture in a GL texture object on unit 0, deleted with this object.
-class BoundTexture {
-  public:
-    BoundTexture(const gl::Api& api, const Texture& texture) : api_(api) {
-        api_.GenTextures(1, &id_);
-        api_.BindTexture(GL_TEXTURE_2D, id_);
-        api_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-        for (std::size_t level = 0; level < texture.levels.size(); ++level) {
-            const Texture::Level& l = texture.levels[level];
-            api_.TexImage2D(GL_TEXTURE_2D, GLint(level), GL_RGB8, l.size, l.size, 0, GL_RGB,
-                            GL_UNSIGNED_BYTE, l.rgb.data());
-        }
-        api_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-        api_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        api_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-        api_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-        api_.TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
-        api_.Enable(GL_TEXTURE_2D);
-    }
-    BoundTexture(const BoundTexture&) = delete;
-    BoundTexture& operator=(const BoundTexture&) = delete;
-    ~BoundTexture() {
-        api_.Disable(GL_TEXTURE_2D);
-        api_.BindTexture(GL_TEXTURE_2D, 0);
-        api_.DeleteTextures(1, &id_);
-    }
+}  // namespace
 
-  private:
-    const gl::Api& api_;
-    GLuint id_ = 0;
-};
+BoundTexture::BoundTexture(const gl::Api& api, const Texture& texture) : api_(api) {
+    api_.GenTextures(1, &id_);
+    api_.BindTexture(GL_TEXTURE_2D, id_);
+    api_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (std::size_t level = 0; level < texture.levels.size(); ++level) {
+        const Texture::Level& l = texture.levels[level];
+        api_.TexImage2D(GL_TEXTURE_2D, GLint(level), GL_RGB8, l.size, l.size, 0, GL_RGB,
+                        GL_UNSIGNED_BYTE, l.rgb.data());
+    }
+    api_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    api_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    api_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    api_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    api_.TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+    api_.Enable(GL_TEXTURE_2D);
+}
 
-/// Projection and view of the scene's camera at this aspect ratio.
-struct Matrices {
-    glm::dmat4 projection;
-    glm::dmat4 view;
-};
+BoundTexture::~BoundTexture() {
+    api_.Disable(GL_TEXTURE_2D);
+    api_.BindTexture(GL_TEXTURE_2D, 0);
+    api_.DeleteTextures(1, &id_);
+}
 
 Matrices camera_matrices(const Camera& camera, int width, int height) {
     Matrices m;
@@ -62,14 +49,12 @@ Matrices camera_matrices(const Camera& camera, int width, int height) {
     return m;
 }
 
-void load_matrix(const gl::Api& api, GLenum mode, const glm::dmat4& m) {
+void load_matrix(const gl::Api& api, unsigned mode, const glm::dmat4& m) {
     const glm::mat4 f(m);
     api.MatrixMode(mode);
     api.LoadMatrixf(glm::value_ptr(f));
 }
 
-/// The perpixel backend after the textured frame is drawn: positions from depth, shading in
-/// float, texture × F_ex + display(L_in) with the 8-bit rule.
 std::optional<Error> shade_per_pixel(const headless::Context& context, const Frame<float>& frame,
                                      const Display& display, const Matrices& matrices,
                                      std::vector<std::uint8_t>& rgba) {
@@ -114,8 +99,6 @@ std::optional<Error> shade_per_pixel(const headless::Context& context, const Fra
     }
     return std::nullopt;
 }
-
-}  // namespace
 
 const char* backend_name(Backend backend) {
     switch (backend) {

@@ -27,6 +27,8 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
+
 #include "aerial/error.hpp"
 #include "aerial/gl.hpp"
 #include "aerial/headless.hpp"
@@ -73,5 +75,38 @@ struct FogParameters {
     float colour[4] = {0, 0, 0, 1};
 };
 FogParameters fog_parameters(const Frame<float>& frame, const Display& display);
+
+// ---- Pieces of render_scene, for tools that draw their own meshes with the same rules -------
+
+/// The scene's texture (build_texture) in a GL texture object bound on the active unit, mipmapped,
+/// GL_MODULATE, GL_TEXTURE_2D enabled; the destructor disables, unbinds and deletes it.
+class BoundTexture {
+  public:
+    BoundTexture(const gl::Api& api, const Texture& texture);
+    BoundTexture(const BoundTexture&) = delete;
+    BoundTexture& operator=(const BoundTexture&) = delete;
+    ~BoundTexture();
+
+  private:
+    const gl::Api& api_;
+    unsigned id_ = 0;
+};
+
+/// Projection and view of the scene's camera at this aspect ratio.
+struct Matrices {
+    glm::dmat4 projection;
+    glm::dmat4 view;
+};
+Matrices camera_matrices(const Camera& camera, int width, int height);
+
+/// Loads `m` (as float) into the matrix stack `mode` (GL_PROJECTION, GL_MODELVIEW).
+void load_matrix(const gl::Api& api, unsigned mode, const glm::dmat4& m);
+
+/// The perpixel backend after the textured frame is drawn and read back into `rgba`: positions
+/// from the depth buffer, shading with `frame`'s model (shade_into, float), texture × F_ex +
+/// display(L_in) with the 8-bit rule; background pixels are left as they are.
+std::optional<Error> shade_per_pixel(const headless::Context& context, const Frame<float>& frame,
+                                     const Display& display, const Matrices& matrices,
+                                     std::vector<std::uint8_t>& rgba);
 
 }  // namespace aerial::render

@@ -429,6 +429,18 @@ double fractal_noise(double x, double y, std::uint32_t seed) {
     return sum / total;
 }
 
+}  // namespace
+
+double terrain_height(const TerrainSpec& t, double x, double y) {
+    // Fractal noise mostly lies in [0.25, 0.75]: stretch it to [0, 1] and square it, for flat
+    // valley floors between steeper hills.
+    const double noise = fractal_noise(x / t.feature_size, y / t.feature_size, t.seed);
+    const double u = std::clamp((noise - 0.25) / 0.5, 0.0, 1.0);
+    return t.height_amplitude * u * u;
+}
+
+namespace {
+
 void add_terrain(const TerrainSpec& t, Mesh& mesh) {
     const int n = t.resolution;
     const auto base = std::uint32_t(mesh.vertex_count());
@@ -436,11 +448,7 @@ void add_terrain(const TerrainSpec& t, Mesh& mesh) {
         for (int i = 0; i <= n; ++i) {
             const double x = t.center.x + t.size * (double(i) / n - 0.5);
             const double y = t.center.y + t.size * (double(j) / n - 0.5);
-            // Fractal noise mostly lies in [0.25, 0.75]: stretch it to [0, 1] and square it,
-            // for flat valley floors between steeper hills.
-            const double noise = fractal_noise(x / t.feature_size, y / t.feature_size, t.seed);
-            const double u = std::clamp((noise - 0.25) / 0.5, 0.0, 1.0);
-            const double z = t.height_amplitude * u * u;
+            const double z = terrain_height(t, x, y);
             mesh.positions.insert(mesh.positions.end(), {float(x), float(y), float(z)});
             mesh.texcoords.insert(mesh.texcoords.end(),
                                   {float(x / t.texture_repeat), float(y / t.texture_repeat)});

@@ -132,6 +132,10 @@ struct Mesh {
     std::size_t vertex_count() const { return positions.size() / 3; }
 };
 
+/// Height of the terrain at (x, y), engine units: the surface build_geometry samples at its
+/// grid vertices (fractal value noise, flat valley floors at z = 0).
+double terrain_height(const TerrainSpec& terrain, double x, double y);
+
 /// The terrain and the boxes of the scene as one mesh.
 Mesh build_geometry(const Scene& scene);
 

@@ -1,0 +1,95 @@
+#include "common/image_metrics.hpp"
+
+#include <lcms2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <vector>
+
+namespace aerial::tools {
+namespace {
+
+int pixel_lsb(const std::uint8_t* a, const std::uint8_t* b) {
+    int d = 0;
+    for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a[c]) - int(b[c])));
+    return d;
+}
+
+/// Mean CIEDE2000 of the pixels, both images taken as sRGB.
+double mean_de2000(const Rgb8Image& a, const Rgb8Image& b) {
+    using ProfilePtr = std::unique_ptr<void, cmsBool (*)(cmsHPROFILE)>;
+    const ProfilePtr srgb(cmsCreate_sRGBProfile(), &cmsCloseProfile);
+    const ProfilePtr lab(cmsCreateLab4Profile(nullptr), &cmsCloseProfile);
+    const std::unique_ptr<void, void (*)(cmsHTRANSFORM)> transform(
+        cmsCreateTransform(srgb.get(), TYPE_RGB_8, lab.get(), TYPE_Lab_DBL,
+                           INTENT_RELATIVE_COLORIMETRIC, cmsFLAGS_NOCACHE),
+        &cmsDeleteTransform);
+    const std::size_t pixels = a.rgb.size() / 3;
+    std::vector<cmsCIELab> lab_a(pixels), lab_b(pixels);
+    cmsDoTransform(transform.get(), a.rgb.data(), lab_a.data(), cmsUInt32Number(pixels));
+    cmsDoTransform(transform.get(), b.rgb.data(), lab_b.data(), cmsUInt32Number(pixels));
+    double sum = 0.0;
+    for (std::size_t i = 0; i < pixels; ++i) {
+        sum += cmsCIE2000DeltaE(&lab_a[i], &lab_b[i], 1.0, 1.0, 1.0);
+    }
+    return pixels ? sum / double(pixels) : 0.0;
+}
+
+}  // namespace
+
+std::array<std::uint8_t, 3> diff_colour(int lsb, const std::uint8_t* a) {
+    if (lsb == 0) {
+        const auto grey = std::uint8_t((int(a[0]) * 54 + int(a[1]) * 183 + int(a[2]) * 19) / 1024);
+        return {grey, grey, grey};
+    }
+    if (lsb == 1) return {0, 90, 255};
+    if (lsb == 2) return {0, 200, 0};
+    if (lsb <= 4) return {255, 230, 0};
+    if (lsb <= 8) return {255, 128, 0};
+    return {255, 0, 0};
+}
+
+ImageDifferences compare_images(const Rgb8Image& a, const Rgb8Image& b, Rgb8Image* diff) {
+    const std::size_t pixels = a.rgb.size() / 3;
+    std::array<std::size_t, 256> histogram{};
+    double sum_squares = 0.0;
+    if (diff) *diff = {a.width, a.height, std::vector<std::uint8_t>(a.rgb.size())};
+    for (std::size_t i = 0; i < pixels; ++i) {
+        const std::uint8_t* pa = &a.rgb[3 * i];
+        const std::uint8_t* pb = &b.rgb[3 * i];
+        const int lsb = pixel_lsb(pa, pb);
+        ++histogram[std::size_t(lsb)];
+        for (int c = 0; c < 3; ++c) {
+            const double d = double(pa[c]) - double(pb[c]);
+            sum_squares += d * d;
+        }
+        if (diff) {
+            const auto colour = diff_colour(lsb, pa);
+            std::copy(colour.begin(), colour.end(), &diff->rgb[3 * i]);
+        }
+    }
+    ImageDifferences d;
+    std::size_t below = 0, over1 = 0, over2 = 0;
+    bool p99_found = false;
+    for (int v = 0; v < 256; ++v) {
+        const std::size_t n = histogram[std::size_t(v)];
+        if (n > 0) d.max_lsb = v;
+        below += n;
+        if (!p99_found && double(below) >= 0.99 * double(pixels)) {
+            d.p99_lsb = v;
+            p99_found = true;
+        }
+        if (v > 1) over1 += n;
+        if (v > 2) over2 += n;
+    }
+    const double n = double(std::max<std::size_t>(pixels, 1));
+    d.rmse_lsb = std::sqrt(sum_squares / (3.0 * n));
+    d.over1 = double(over1) / n;
+    d.over2 = double(over2) / n;
+    d.de2000_mean = mean_de2000(a, b);
+    return d;
+}
+
+}  // namespace aerial::tools

@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include "common/cli.hpp"
+#include "common/compare.hpp"
 #include "common/png.hpp"
 
 namespace {
@@ -35,19 +36,9 @@ constexpr const char* kDescription =
 
 /// What two images differ by (see kDescription).
 struct Differences {
-    int max_lsb = 0;
-    int p99_lsb = 0;
-    double rmse_lsb = 0.0;
-    double over1 = 0.0;
-    double over2 = 0.0;
+    aerial::tools::LsbDifferences lsb;
     double de2000_mean = 0.0;
 };
-
-int pixel_lsb(const std::uint8_t* a, const std::uint8_t* b) {
-    int d = 0;
-    for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a[c]) - int(b[c])));
-    return d;
-}
 
 /// Colour of one pixel of the diff image.
 std::array<std::uint8_t, 3> diff_colour(int lsb, const std::uint8_t* a) {
@@ -85,41 +76,18 @@ double mean_de2000(const aerial::tools::Rgb8Image& a, const aerial::tools::Rgb8I
 Differences compare(const aerial::tools::Rgb8Image& a, const aerial::tools::Rgb8Image& b,
                     aerial::tools::Rgb8Image* diff) {
     const std::size_t pixels = a.rgb.size() / 3;
-    std::array<std::size_t, 256> histogram{};
-    double sum_squares = 0.0;
+    aerial::tools::LsbHistogram histogram;
     if (diff) *diff = {a.width, a.height, std::vector<std::uint8_t>(a.rgb.size())};
     for (std::size_t i = 0; i < pixels; ++i) {
         const std::uint8_t* pa = &a.rgb[3 * i];
-        const std::uint8_t* pb = &b.rgb[3 * i];
-        const int lsb = pixel_lsb(pa, pb);
-        ++histogram[std::size_t(lsb)];
-        for (int c = 0; c < 3; ++c) {
-            const double d = double(pa[c]) - double(pb[c]);
-            sum_squares += d * d;
-        }
+        const int lsb = histogram.add(pa, &b.rgb[3 * i]);
         if (diff) {
             const auto colour = diff_colour(lsb, pa);
             std::copy(colour.begin(), colour.end(), &diff->rgb[3 * i]);
         }
     }
     Differences d;
-    std::size_t below = 0, over1 = 0, over2 = 0;
-    bool p99_found = false;
-    for (int v = 0; v < 256; ++v) {
-        const std::size_t n = histogram[std::size_t(v)];
-        if (n > 0) d.max_lsb = v;
-        below += n;
-        if (!p99_found && double(below) >= 0.99 * double(pixels)) {
-            d.p99_lsb = v;
-            p99_found = true;
-        }
-        if (v > 1) over1 += n;
-        if (v > 2) over2 += n;
-    }
-    const double n = double(std::max<std::size_t>(pixels, 1));
-    d.rmse_lsb = std::sqrt(sum_squares / (3.0 * n));
-    d.over1 = double(over1) / n;
-    d.over2 = double(over2) / n;
+    d.lsb = histogram.differences();
     d.de2000_mean = mean_de2000(a, b);
     return d;
 }
@@ -152,7 +120,8 @@ int main(int argc, char** argv) {
             return tools::fail(kTool, "--diff " + *error);
     }
     std::printf("max_lsb=%d p99_lsb=%d rmse_lsb=%.4f over1=%.6f over2=%.6f de2000_mean=%.4f\n",
-                d.max_lsb, d.p99_lsb, d.rmse_lsb, d.over1, d.over2, d.de2000_mean);
+                d.lsb.max_lsb, d.lsb.p99_lsb, d.lsb.rmse_lsb, d.lsb.over1, d.lsb.over2,
+                d.de2000_mean);
     if (std::fflush(stdout) != 0) return tools::fail(kTool, "cannot write output");
     return 0;
 }

@@ -27,6 +27,8 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
+
 #include "aerial/error.hpp"
 #include "aerial/gl.hpp"
 #include "aerial/headless.hpp"
@@ -73,5 +75,13 @@ struct FogParameters {
     float colour[4] = {0, 0, 0, 1};
 };
 FogParameters fog_parameters(const Frame<float>& frame, const Display& display);
+
+/// The world positions of the covered pixels of a depth buffer (bottom row first, as
+/// glReadPixels gives it; depth 1 is background), through the inverse of the float matrices GL
+/// was given. `positions` gets x, y, z per covered pixel, `pixels` its index in a top-row-first
+/// image (y flipped). The perpixel backend and aerial-tess's GL grading use it.
+void positions_from_depth(const std::vector<float>& depth, int width, int height,
+                          const glm::dmat4& projection, const glm::dmat4& view,
+                          std::vector<float>& positions, std::vector<std::size_t>& pixels);
 
 }  // namespace aerial::render

@@ -63,7 +63,7 @@ struct Row {
 
 struct Settings {
     bool quick = false;
-    int face_pixels = 256;  ///< per cube face: 90 deg / 256 = 0.0061 rad per pixel
+    int face_pixels = 128;  ///< per cube face: 90 deg / 128 = 0.012 rad per pixel
     double lod_exponent = 2.0;
     aerial::tess::GlGrader* grader = nullptr;
 };
@@ -316,6 +316,10 @@ int main(int argc, char** argv) {
                  "Print the median time of an adaptive update of a 100k-triangle terrain");
     app.add_option("--frames", frames, "Frames for --bench-update (default 120)");
     app.add_flag("--no-chart", no_chart, "Do not write tess.png");
+    int face_pixels = 0;
+    app.add_option("--face-pixels", face_pixels,
+                   "Pixels a side of each of the six cube faces the GL grading renders "
+                   "(default 128, --quick 64), 16 .. 2048");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
     if (frames < 1 || frames > 100000)
         return aerial::tools::fail(kTool,
@@ -325,7 +329,13 @@ int main(int argc, char** argv) {
 
     Settings settings;
     settings.quick = quick;
-    if (quick) settings.face_pixels = 96;
+    if (quick) settings.face_pixels = 64;
+    if (app.count("--face-pixels")) {
+        if (face_pixels < 16 || face_pixels > 2048)
+            return aerial::tools::fail(
+                kTool, "--face-pixels: expected 16 .. 2048, got " + std::to_string(face_pixels));
+        settings.face_pixels = face_pixels;
+    }
     auto grader = aerial::tess::GlGrader::create(settings.face_pixels);
     if (!grader) return aerial::tools::fail(kTool, "GL grading: " + grader.error().message);
     settings.grader = &grader.value();

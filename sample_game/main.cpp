@@ -8,10 +8,12 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "adaptive_sky.hpp"
 #include "aerial/aerial.hpp"
 #include "aerial/headless.hpp"
 #include "aerial/scene_renderer.hpp"
@@ -110,7 +112,7 @@ int main(int argc, char** argv) {
     app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
     std::string out = "build/out/flythrough", size = "480x270", preset = "earth",
                 model_text = "height", backend_text = "cpu", path_text = "automatic",
-                gl_text = "osmesa", sky_text = "cubemap";
+                gl_text = "osmesa", sky_text = "cubemap", tessellation_text = "uniform";
     int frames = 24;
     unsigned seed = 7;
     double error_target = 2.0, latitude_deg = sample::kDefaultLatitudeDeg,
@@ -154,6 +156,10 @@ int main(int argc, char** argv) {
     app.add_option("--sky", sky_text,
                    "cubemap (CPU sky cubemap and sun sprite; the dome where cube maps are "
                    "missing) or dome (per-vertex dome and flat sun)")
+        ->capture_default_str();
+    app.add_option("--tessellation", tessellation_text,
+                   "uniform (the sky as --sky says) or adaptive (a per-vertex sky dome refined "
+                   "where its colour needs vertices, aerial::mesh; implies the dome)")
         ->capture_default_str();
     app.add_flag("--no-policy", no_policy, "Shade every visible vertex every frame with --model");
     app.add_flag("--no-readout", no_readout, "Leave out the on-screen readout (for goldens)");
@@ -204,6 +210,12 @@ int main(int argc, char** argv) {
     if (sky_text != "cubemap" && sky_text != "dome") {
         return fail("--sky: '" + sky_text + "' is unknown (expected cubemap or dome)");
     }
+    if (tessellation_text != "uniform" && tessellation_text != "adaptive") {
+        return fail("--tessellation: '" + tessellation_text +
+                    "' is unknown (expected uniform or adaptive)");
+    }
+    const bool adaptive_sky = tessellation_text == "adaptive";
+    if (adaptive_sky) sky_text = "dome";
     int year = 0, month = 0, day = 0;
     if (!parse_date(date, year, month, day)) {
         return fail("--date: expected YYYY-MM-DD, got '" + date + "'");
@@ -268,6 +280,8 @@ int main(int argc, char** argv) {
     auto sky = sample::install_sky(renderer.value(), api, config);
     if (!sky) return fail("--sky: " + sky.error().message, 1);
     config.sky = sky->used;
+    auto sky_stats = std::make_shared<sample::AdaptiveSkyStats>();
+    if (adaptive_sky) renderer.value().set_sky_drawer(sample::adaptive_sky_drawer(sky_stats));
 
     if (auto e = aerial::tools::make_parent_directories(out + "/frames.csv"))
         return fail("--out " + *e);
@@ -275,7 +289,8 @@ int main(int argc, char** argv) {
     if (!csv) return fail("--out: cannot write " + out + "/frames.csv");
     csv << "frame,t,utc,solar_time,sun_elevation_deg,sun_azimuth_deg,fog,exposure,"
            "vertices_shaded,vertices_drawn,cache_hits,culled,skipped,nodes_hoffman_preetham,"
-           "nodes_height,nodes_reference,method,shading_ms,ms,sky,sky_refreshes,sky_refresh_ms\n";
+           "nodes_height,nodes_reference,method,shading_ms,ms,sky,sky_refreshes,sky_refresh_ms,"
+           "tessellation,sky_vertices\n";
 
     std::vector<aerial::tools::Rgb8Image> thumbnails;
     const int factor = std::max(1, width / kThumbnailWidth);
@@ -303,18 +318,21 @@ int main(int argc, char** argv) {
         const int refreshes = stats ? stats->recomputes : 0;
         const double refresh_ms =
             stats && stats->recomputed_last_frame ? stats->last_recompute_ms : 0.0;
-        char row[640];
+        if (!sky_stats->error.empty())
+            return fail("frame " + std::to_string(i) + ": adaptive sky: " + sky_stats->error, 1);
+        char row[704];
         std::snprintf(
             row, sizeof row,
             "%d,%.4f,%s,%s,%.2f,%.2f,%d,%.3f,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%s,%.3f,%.3f,%s,%d,"
-            "%.2f\n",
+            "%.2f,%s,%zu\n",
             i, t, sample::clock_text(std::fmod(state.utc_min / 60.0 + 24.0, 24.0)).c_str(),
             sample::clock_text(state.clock_hours).c_str(), sun_deg, state.sun_azimuth_rad / kDegree,
             state.fog ? 1 : 0, double(outcome->settings.display.exposure), report.vertices_shaded,
             report.vertices_drawn, report.cache_hits, report.culled, report.skipped,
             report.shaded_hoffman_preetham, report.shaded_height, report.shaded_reference,
             report.main_method().c_str(), report.shading_milliseconds, ms,
-            sample::sky_name(config.sky), refreshes, refresh_ms);
+            sample::sky_name(config.sky), refreshes, refresh_ms, tessellation_text.c_str(),
+            adaptive_sky ? sky_stats->vertices : std::size_t(0));
         csv << row;
     }
     if (auto e = aerial::tools::write_png(out + "/contact_sheet.png", contact_sheet(thumbnails))) {
@@ -322,14 +340,16 @@ int main(int argc, char** argv) {
     }
     const int refreshes = sky->stats ? sky->stats->recomputes : 0;
     std::printf(
-        "%s: %d frames %dx%d preset=%s model=%s backend=%s policy=%s sky=%s date=%s "
+        "%s: %d frames %dx%d preset=%s model=%s backend=%s policy=%s sky=%s tessellation=%s "
+        "date=%s "
         "latitude=%.4f longitude=%.4f tiles=%zu vertices=%zu mean_ms=%.2f "
         "mean_vertices_shaded=%.0f sky_refreshes=%d mean_sky_refresh_ms=%.1f renderer=\"%s\" "
         "-> %s/\n",
         kTool, frames, width, height, preset.c_str(), model_text.c_str(), backend_text.c_str(),
-        no_policy ? "off" : "on", sample::sky_name(config.sky), date.c_str(), latitude_deg,
-        longitude_deg, world.tiles, world.vertices, total_ms / frames, total_shaded / frames,
-        refreshes, refreshes > 0 ? sky->stats->total_recompute_ms / refreshes : 0.0,
-        api.caps.renderer.c_str(), out.c_str());
+        no_policy ? "off" : "on", sample::sky_name(config.sky), tessellation_text.c_str(),
+        date.c_str(), latitude_deg, longitude_deg, world.tiles, world.vertices, total_ms / frames,
+        total_shaded / frames, refreshes,
+        refreshes > 0 ? sky->stats->total_recompute_ms / refreshes : 0.0, api.caps.renderer.c_str(),
+        out.c_str());
     return 0;
 }

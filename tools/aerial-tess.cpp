@@ -1,10 +1,11 @@
 // aerial-tess: how many vertices each tessellation needs for the per-vertex colour to be within
 // one 8-bit step of the exact per-pixel colour, on sky domes and terrain (issue 6).
 //
-// Every mesh is graded by the same dense measure (aerial::mesh::dense_error: a barycentric grid
-// of fixed angular spacing seen from the eye on every face), never by the refinement's own
-// estimate. Writes DIR/tess.csv and DIR/tess.png (through tools/plot_tess.py), prints per scene
-// the vertices each method needs for max <= 1 LSB.
+// Every mesh is graded by the same independent dense measure, never by the refinement's own
+// estimate: the image its per-vertex colours give through the module's fixed-function GL path
+// (OSMesa) against the per-pixel reference, on the six faces of a cube around the eye
+// (tess/gl_grade.hpp), with aerial-compare's metrics. Writes DIR/tess.csv and DIR/tess.png (through
+// tools/plot_tess.py), prints per scene the vertices each method needs for max <= 1 LSB.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -23,6 +24,7 @@
 #include "aerial/aerial.hpp"
 #include "aerial/mesh.hpp"
 #include "common/cli.hpp"
+#include "tess/gl_grade.hpp"
 
 namespace {
 
@@ -49,19 +51,21 @@ struct Scene {
     aerial::mesh::ColourOptions colour;
     aerial::mesh::DomeOptions dome_options;
     aerial::mesh::Heightfield field;
+    aerial::tess::GlGradeOptions grading;
 };
 
 struct Row {
     std::string scene, method;
     std::size_t vertices = 0, triangles = 0;
-    aerial::mesh::DenseError error;
+    aerial::tools::LsbDifferences error;
     double build_ms = 0.0;
 };
 
 struct Settings {
     bool quick = false;
-    double spacing_rad = 0.006;
-    int max_per_edge = 48;
+    int face_pixels = 128;  ///< per cube face: 90 deg / 128 = 0.012 rad per pixel
+    double lod_exponent = 2.0;
+    aerial::tess::GlGrader* grader = nullptr;
 };
 
 aerial::Frame<float> make_frame(const char* preset, double mie_g, const glm::dvec3& eye,
@@ -90,6 +94,9 @@ Scene dome_scene(double sun_deg, double g) {
     s.colour.display.tone = aerial::ToneCurve::exponential;
     s.colour.display.exposure =
         float(std::log(2.0)) / brightest(aerial::scatter(s.frame, glm::vec3(probe)).in_scattering);
+    s.grading.dome = s.dome_options;
+    s.grading.near_m = 100.0;
+    s.grading.far_m = 4.0 * s.dome_options.radius_m;
     return s;
 }
 
@@ -110,6 +117,9 @@ Scene terrain_scene(double eye_m, double sun_deg) {
     s.colour.display.tone = aerial::ToneCurve::exponential;
     s.colour.display.exposure = float(-std::log(1.0 - 0.4)) /
                                 brightest(aerial::scatter(s.frame, glm::vec3(probe)).in_scattering);
+    // Depth precision: the near plane at 0.4 times the eye's height above the ground.
+    s.grading.near_m = 0.4 * eye_m;
+    s.grading.far_m = 40000.0;
     return s;
 }
 
@@ -121,10 +131,14 @@ Row grade(const Scene& scene, const std::string& method, const Mesh& mesh, doubl
     row.vertices = aerial::mesh::live_vertices(mesh);
     row.triangles = aerial::mesh::live_faces(mesh);
     row.build_ms = build_ms;
-    row.error = aerial::mesh::dense_error(mesh, scene.frame, scene.colour, settings.spacing_rad,
-                                          settings.max_per_edge)
-                    .value();
-    std::fprintf(stderr, "  %-24s %-18s %7zu vertices  max %.2f LSB\n", scene.name.c_str(),
+    auto graded = settings.grader->grade(mesh, scene.frame, scene.colour, scene.grading);
+    if (!graded) {
+        std::fprintf(stderr, "%s: grading %s %s: %s\n", kTool, scene.name.c_str(), method.c_str(),
+                     graded.error().message.c_str());
+        std::exit(1);
+    }
+    row.error = *graded;
+    std::fprintf(stderr, "  %-24s %-20s %7zu vertices  max %d LSB\n", scene.name.c_str(),
                  method.c_str(), row.vertices, row.error.max_lsb);
     return row;
 }
@@ -137,7 +151,7 @@ void sweep(const Scene& scene, const std::string& method, const std::vector<doub
         double build_ms = 0.0;
         const Mesh mesh = build(level, build_ms);
         rows.push_back(grade(scene, method, mesh, build_ms, settings));
-        if (rows.back().error.max_lsb <= 1.0) break;
+        if (rows.back().error.max_lsb <= 1) break;
     }
 }
 
@@ -229,6 +243,18 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                 return m;
             },
             settings, rows);
+        const glm::dvec2 eye{scene.frame.view.eye.x, scene.frame.view.eye.y};
+        sweep(
+            scene, "uniform-distance-lod", capped({8, 16, 32, 64, 128, 256}, 128),
+            [&](double cells, double& ms) {
+                const auto start = Clock::now();
+                Mesh m = aerial::mesh::terrain_distance_lod(scene.field, int(cells), eye,
+                                                            settings.lod_exponent)
+                             .value();
+                ms = ms_since(start);
+                return m;
+            },
+            settings, rows);
     }
 }
 
@@ -290,6 +316,10 @@ int main(int argc, char** argv) {
                  "Print the median time of an adaptive update of a 100k-triangle terrain");
     app.add_option("--frames", frames, "Frames for --bench-update (default 120)");
     app.add_flag("--no-chart", no_chart, "Do not write tess.png");
+    int face_pixels = 0;
+    app.add_option("--face-pixels", face_pixels,
+                   "Pixels a side of each of the six cube faces the GL grading renders "
+                   "(default 128, --quick 64), 16 .. 2048");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
     if (frames < 1 || frames > 100000)
         return aerial::tools::fail(kTool,
@@ -299,10 +329,16 @@ int main(int argc, char** argv) {
 
     Settings settings;
     settings.quick = quick;
-    if (quick) {
-        settings.spacing_rad = 0.02;
-        settings.max_per_edge = 16;
+    if (quick) settings.face_pixels = 64;
+    if (app.count("--face-pixels")) {
+        if (face_pixels < 16 || face_pixels > 2048)
+            return aerial::tools::fail(
+                kTool, "--face-pixels: expected 16 .. 2048, got " + std::to_string(face_pixels));
+        settings.face_pixels = face_pixels;
     }
+    auto grader = aerial::tess::GlGrader::create(settings.face_pixels);
+    if (!grader) return aerial::tools::fail(kTool, "GL grading: " + grader.error().message);
+    settings.grader = &grader.value();
     std::vector<Scene> scenes;
     if (quick) {
         scenes = {dome_scene(10, 0.76), dome_scene(10, 0.90), terrain_scene(300, 10)};
@@ -324,7 +360,7 @@ int main(int argc, char** argv) {
     csv << "scene,method,vertices,triangles,max_lsb,p99_lsb,rmse_lsb,over1,over2,build_ms\n";
     for (const Row& r : rows) {
         char line[512];
-        std::snprintf(line, sizeof line, "%s,%s,%zu,%zu,%.4f,%.4f,%.4f,%.6f,%.6f,%.2f\n",
+        std::snprintf(line, sizeof line, "%s,%s,%zu,%zu,%d,%d,%.4f,%.6f,%.6f,%.2f\n",
                       r.scene.c_str(), r.method.c_str(), r.vertices, r.triangles, r.error.max_lsb,
                       r.error.p99_lsb, r.error.rmse_lsb, r.error.over1, r.error.over2, r.build_ms);
         csv << line;
@@ -336,9 +372,11 @@ int main(int argc, char** argv) {
     for (const Row& r : rows)
         if (std::find(methods.begin(), methods.end(), r.method) == methods.end())
             methods.push_back(r.method);
-    std::printf("vertices for max <= 1 LSB (dense grading, spacing %.3f rad)\n%-24s",
-                settings.spacing_rad, "scene");
-    for (const auto& m : methods) std::printf(" %18s", m.c_str());
+    std::printf(
+        "vertices for max <= 1 LSB (GL images against the per-pixel reference, cube faces "
+        "of %d pixels)\n%-24s",
+        settings.face_pixels, "scene");
+    for (const auto& m : methods) std::printf(" %20s", m.c_str());
     std::printf("\n");
     for (const Scene& s : scenes) {
         std::printf("%-24s", s.name.c_str());
@@ -350,10 +388,10 @@ int main(int argc, char** argv) {
                 if (r.scene != s.name || r.method != m) continue;
                 seen = true;
                 most = std::max(most, r.vertices);
-                if (r.error.max_lsb <= 1.0) cell = std::to_string(r.vertices);
+                if (r.error.max_lsb <= 1) cell = std::to_string(r.vertices);
             }
             if (seen && cell == "-") cell = ">" + std::to_string(most);
-            std::printf(" %18s", cell.c_str());
+            std::printf(" %20s", cell.c_str());
         }
         std::printf("\n");
     }

@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
 """Draws aerial-tess's CSV: max error (8-bit steps) against vertices, log-log, one panel per
-scene, a line at 1 LSB.  Usage: plot_tess.py tess.csv tess.png"""
+scene, a line at 1 LSB.  The maxima are whole steps (GL images against the per-pixel
+reference); 0 is drawn at 0.5 so that it stays on the log scale.
+Usage: plot_tess.py tess.csv tess.png"""
 import csv
 import math
 import sys
@@ -24,7 +26,7 @@ def main():
     lines = math.ceil(len(scenes) / cols)
     fig, axes = plt.subplots(lines, cols, figsize=(4 * cols, 3.2 * lines), squeeze=False)
     styles = {"adaptive": "o-", "uniform-geodesic": "s--", "uniform-latlong": "^:",
-              "uniform-grid": "s--", "decimated": "d-."}
+              "uniform-grid": "s--", "uniform-distance-lod": "v:", "decimated": "d-."}
     for i, scene in enumerate(scenes):
         ax = axes[i // cols][i % cols]
         methods = []
@@ -32,7 +34,7 @@ def main():
             if r["scene"] == scene and r["method"] not in methods:
                 methods.append(r["method"])
         for m in methods:
-            pts = [(int(r["vertices"]), max(float(r["max_lsb"]), 1e-3)) for r in rows
+            pts = [(int(r["vertices"]), max(float(r["max_lsb"]), 0.5)) for r in rows
                    if r["scene"] == scene and r["method"] == m]
             ax.plot([p[0] for p in pts], [p[1] for p in pts], styles.get(m, "x-"), label=m,
                     markersize=3)

@@ -1,6 +1,7 @@
 // aerial::mesh: the shapes, the colour error, adaptive bisection and coarsening, decimation.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <vector>
 
@@ -348,10 +349,14 @@ TEST(AdaptiveMesh, IndexedSweepReEstimatesExactlyTheFacesTheFullSweepDoes) {
         settings.lock_boundary = true;  // faces above the target that stay: the heap's other source
         settings.max_vertices = budget;
         AdaptiveSettings full_settings = settings;
-        full_settings.time_slice_ms = 1e9;
+        full_settings.indexed_sweep = false;
         const auto surface = aerial::mesh::Surface::terrain(scene.field);
         AdaptiveMesh indexed = AdaptiveMesh::create(base.value(), surface, settings).value();
         AdaptiveMesh full = AdaptiveMesh::create(base.value(), surface, full_settings).value();
+        // The index under a time slice it never runs out of: the same as without one.
+        AdaptiveSettings sliced_settings = settings;
+        sliced_settings.time_slice_ms = 1e9;
+        AdaptiveMesh sliced = AdaptiveMesh::create(base.value(), surface, sliced_settings).value();
         std::size_t merges = 0, partial = 0;
         for (int i = 0; i < 40; ++i) {
             // Out and back along x, with the sun turning in steps both below and above 0.002 rad.
@@ -363,13 +368,19 @@ TEST(AdaptiveMesh, IndexedSweepReEstimatesExactlyTheFacesTheFullSweepDoes) {
             if (i == 25) {
                 indexed.compact();
                 full.compact();
+                sliced.compact();
             }
             if (i == 32) {
                 indexed.invalidate();
                 full.invalidate();
+                sliced.invalidate();
             }
             const auto a = indexed.update(frame);
             const auto b = full.update(frame);
+            const auto c = sliced.update(frame);
+            ASSERT_EQ(c.faces_estimated, b.faces_estimated) << "sliced, update " << i;
+            ASSERT_EQ(c.splits + c.merges, b.splits + b.merges) << "sliced, update " << i;
+            ASSERT_EQ(c.max_error_lsb, b.max_error_lsb) << "sliced, update " << i;
             ASSERT_EQ(a.faces_estimated, b.faces_estimated) << "update " << i;
             ASSERT_EQ(a.splits, b.splits) << "update " << i;
             ASSERT_EQ(a.merges, b.merges) << "update " << i;
@@ -444,3 +455,181 @@ TEST(Decimate, RemovesVerticesKeepsTheBorderAndStaysUnderTheBound) {
 }
 
 }  // namespace
+
+// ---- Morphing, distance level of detail --------------------------------
+
+namespace {
+
+// What the screen shows at each vertex (8-bit steps, any vertex handle), morphed.
+std::vector<float> shown_lsb(const AdaptiveMesh& m, const aerial::Frame<float>& frame,
+                             const aerial::mesh::ColourOptions& colour) {
+    const Mesh& mesh = m.mesh();
+    std::vector<float> out(3 * mesh.n_vertices(), 0.0f);
+    for (auto v : mesh.vertices()) {
+        if (mesh.status(v).deleted()) continue;
+        const glm::vec3 c = aerial::mesh::display_colour(frame, colour, to_glm(mesh.point(v)));
+        for (int k = 0; k < 3; ++k) out[3 * std::size_t(v.idx()) + std::size_t(k)] = 255.0f * c[k];
+    }
+    m.morph_into(out.data(), 3, 3);
+    return out;
+}
+
+float distance3(const float* a, const float* b) {
+    float d = 0.0f;
+    for (int k = 0; k < 3; ++k) d = std::max(d, std::abs(a[k] - b[k]));
+    return d;
+}
+
+// The largest jump of the colour shown at a vertex's place from one update to the next, while
+// the sun stands still after one big move: when a vertex is born (against the mean of its parent
+// edge, what the screen showed there), while it morphs, and when coarsening removes it (its last
+// colour against its parents' mean).
+struct Pops {
+    float largest = 0.0f;
+    float birth_gap = 0.0f;  ///< largest |own colour - what the screen showed there| at a birth
+    std::size_t births = 0, removals = 0;
+    std::size_t vertices_after_move = 0, vertices_at_end = 0;
+    float settled_error = 0.0f;  ///< at the end: |shown - exact| over live vertices
+};
+
+Pops sun_move_pops(int morph_updates) {
+    const DomeScene low(5.0, 0.9);
+    AdaptiveSettings settings = dome_settings(low);
+    settings.morph_updates = morph_updates;
+    AdaptiveMesh m = refined_dome(low, settings);
+    for (int i = 0; i <= morph_updates; ++i) m.update(low.frame);
+    DomeScene high(60.0, 0.9, 180.0);
+    high.colour = low.colour;
+    Pops pops;
+    std::vector<float> previous = shown_lsb(m, low.frame, low.colour);
+    int quiet = 0;  // updates in a row without splits or merges
+    for (int t = 1; t <= 400 && quiet <= morph_updates + 1; ++t) {
+        const Mesh& mesh = m.mesh();
+        std::vector<char> alive(mesh.n_vertices());
+        for (auto v : mesh.vertices()) alive[std::size_t(v.idx())] = !mesh.status(v).deleted();
+        const auto stats = m.update(high.frame);
+        quiet = stats.splits + stats.merges == 0 ? quiet + 1 : 0;
+        if (t == 1) pops.vertices_after_move = aerial::mesh::live_vertices(mesh);
+        const std::vector<float> now = shown_lsb(m, high.frame, high.colour);
+        auto at = [](const std::vector<float>& c, OpenMesh::VertexHandle v) {
+            return &c[3 * std::size_t(v.idx())];
+        };
+        // What the screen showed at each new vertex before its split in this frame: the mean of
+        // its parents' such values (new vertices come in the order of the splits, parents first).
+        std::vector<float> before = now;
+        for (auto v : mesh.vertices()) {
+            const bool new_vertex = std::size_t(v.idx()) >= alive.size();
+            if (!new_vertex || mesh.status(v).deleted()) continue;
+            const auto [a, b] = m.parents(v);
+            for (int k = 0; k < 3; ++k) {
+                before[3 * std::size_t(v.idx()) + std::size_t(k)] =
+                    0.5f * (at(before, a)[k] + at(before, b)[k]);
+            }
+            const glm::vec3 own = 255.0f * aerial::mesh::display_colour(high.frame, high.colour,
+                                                                        to_glm(mesh.point(v)));
+            pops.birth_gap = std::max(pops.birth_gap, distance3(&own[0], at(before, v)));
+        }
+        for (std::size_t i = 0; i < mesh.n_vertices(); ++i) {  // vertices() skips deleted ones
+            const auto v = OpenMesh::VertexHandle(int(i));
+            const bool was = std::size_t(v.idx()) < alive.size() && alive[std::size_t(v.idx())];
+            const bool is = !mesh.status(v).deleted();
+            const auto [a, b] = m.parents(v);
+            auto parents_mean = [&](const std::vector<float>& c, float* mean) {
+                for (int k = 0; k < 3; ++k) mean[k] = 0.5f * (at(c, a)[k] + at(c, b)[k]);
+            };
+            float mean[3];
+            if (is && !was) {
+                pops.largest = std::max(pops.largest, distance3(at(now, v), at(before, v)));
+                ++pops.births;
+            } else if (was && !is && t >= 2 && !mesh.status(a).deleted() &&
+                       !mesh.status(b).deleted()) {
+                parents_mean(now, mean);
+                pops.largest = std::max(pops.largest, distance3(at(previous, v), mean));
+                ++pops.removals;
+            } else if (was && is && t >= 2) {
+                pops.largest = std::max(pops.largest, distance3(at(now, v), at(previous, v)));
+            }
+        }
+        previous = now;
+    }
+    pops.vertices_at_end = aerial::mesh::live_vertices(m.mesh());
+    for (auto v : m.mesh().vertices()) {
+        if (m.mesh().status(v).deleted()) continue;
+        const glm::vec3 c = 255.0f * aerial::mesh::display_colour(high.frame, high.colour,
+                                                                  to_glm(m.mesh().point(v)));
+        pops.settled_error =
+            std::max(pops.settled_error, distance3(&previous[3 * std::size_t(v.idx())], &c[0]));
+    }
+    return pops;
+}
+
+}  // namespace
+
+TEST(AdaptiveMesh, MorphingBlendsNewVerticesInAndFadesRemovedOnesOutWithoutPops) {
+    const Pops instant = sun_move_pops(0);
+    ASSERT_GT(instant.births, 0u) << "the sun move refined nothing";
+    ASSERT_GT(instant.largest, 2.0f) << "without morphing nothing popped: the test shows nothing";
+    constexpr int kUpdates = 8;
+    const Pops morphed = sun_move_pops(kUpdates);
+    EXPECT_GT(morphed.births, 0u);
+    EXPECT_GT(morphed.removals, 0u) << "no faded vertex was removed";
+    // A new vertex starts where its parent edge was and moves 1/8 of the way per update; a chain
+    // of new vertices moves with its parents, so allow a quarter of the pop without morphing.
+    EXPECT_LE(morphed.largest, instant.largest / 4.0f)
+        << "largest change at a vertex per update: " << morphed.largest << " LSB morphed, "
+        << instant.largest << " LSB at once";
+    // Births move 1 / kUpdates of their gap per update.
+    EXPECT_LE(morphed.largest, 1.01f * morphed.birth_gap / kUpdates + 0.01f)
+        << "birth gap " << morphed.birth_gap;
+    std::printf(
+        "morph: largest change per update %.2f LSB (at once %.2f), birth gap %.2f, "
+        "vertices after the move %zu / %zu, at the end %zu / %zu\n",
+        morphed.largest, instant.largest, morphed.birth_gap, morphed.vertices_after_move,
+        instant.vertices_after_move, morphed.vertices_at_end, instant.vertices_at_end);
+    EXPECT_LT(morphed.vertices_at_end, morphed.vertices_after_move) << "coarsening never ended";
+    EXPECT_LE(morphed.settled_error, 1e-3f) << "morphs did not finish";
+    EXPECT_LE(instant.settled_error, 1e-3f);
+}
+
+TEST(MeshShapes, DistanceLodIsAConformingGridDenserNearTheEye) {
+    const auto field = aerial::mesh::rolling_hills(-10000, -10000, 20000, 100, 3000);
+    const glm::dvec2 eye{2500.0, -4000.0};
+    auto lod = aerial::mesh::terrain_distance_lod(field, 32, eye, 2.0);
+    ASSERT_TRUE(lod.ok()) << lod.error().message;
+    EXPECT_EQ(lod->n_vertices(), std::size_t(33 * 33));
+    EXPECT_EQ(lod->n_faces(), std::size_t(2 * 32 * 32));
+    auto on_border = [](const glm::dvec3& p) {
+        return std::abs(std::abs(p.x) - 10000.0) < 1e-6 || std::abs(std::abs(p.y) - 10000.0) < 1e-6;
+    };
+    expect_conforming(lod.value(), on_border);
+    expect_not_flipped(lod.value(), [](const glm::dvec3&) { return glm::dvec3(0, 0, 1); });
+    // Edge lengths (in the plane) against distance from the eye: short near, long far.
+    double near_longest = 0.0, far_shortest = 1e30;
+    for (auto e : lod->edges()) {
+        const auto h = lod->halfedge_handle(e, 0);
+        const glm::dvec3 a = to_glm(lod->point(lod->from_vertex_handle(h)));
+        const glm::dvec3 b = to_glm(lod->point(lod->to_vertex_handle(h)));
+        const double length = glm::length(glm::dvec2(a - b));
+        const double distance = glm::length(glm::dvec2(0.5 * (a + b)) - eye);
+        if (distance < 200.0) near_longest = std::max(near_longest, length);
+        if (distance > 9000.0) far_shortest = std::min(far_shortest, length);
+        EXPECT_GE(a.x, -10000.0 - 1e-6);
+        EXPECT_LE(a.x, 10000.0 + 1e-6);
+    }
+    const double uniform = 20000.0 / 32.0;
+    EXPECT_LT(near_longest, 0.4 * uniform);
+    EXPECT_GT(far_shortest, 0.5 * uniform);
+    EXPECT_GT(far_shortest, 2.0 * near_longest);
+    // Exponent 1 is the uniform grid; bad input is named.
+    auto grid = aerial::mesh::terrain_grid(field, 8, 8);
+    auto flat = aerial::mesh::terrain_distance_lod(field, 8, eye, 1.0);
+    ASSERT_TRUE(flat.ok());
+    for (auto v : grid->vertices())
+        EXPECT_LT(glm::length(to_glm(grid->point(v)) - to_glm(flat->point(v))), 1e-6);
+    auto bad = aerial::mesh::terrain_distance_lod(field, 8, eye, 0.5);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_EQ(bad.error().field, "exponent");
+    auto nan_eye = aerial::mesh::terrain_distance_lod(field, 8, {std::nan(""), 0.0}, 2.0);
+    ASSERT_FALSE(nan_eye.ok());
+    EXPECT_EQ(nan_eye.error().field, "eye_xy");
+}

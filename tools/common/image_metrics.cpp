@@ -11,12 +11,6 @@
 namespace aerial::tools {
 namespace {
 
-int pixel_lsb(const std::uint8_t* a, const std::uint8_t* b) {
-    int d = 0;
-    for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a[c]) - int(b[c])));
-    return d;
-}
-
 /// Mean CIEDE2000 of the pixels, both images taken as sRGB.
 double mean_de2000(const Rgb8Image& a, const Rgb8Image& b) {
     using ProfilePtr = std::unique_ptr<void, cmsBool (*)(cmsHPROFILE)>;
@@ -39,6 +33,52 @@ double mean_de2000(const Rgb8Image& a, const Rgb8Image& b) {
 
 }  // namespace
 
+int pixel_lsb(const std::uint8_t* a, const std::uint8_t* b) {
+    int d = 0;
+    for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a[c]) - int(b[c])));
+    return d;
+}
+
+int LsbHistogram::add(const std::uint8_t* a, const std::uint8_t* b) {
+    const int lsb = pixel_lsb(a, b);
+    ++histogram_[std::size_t(lsb)];
+    for (int c = 0; c < 3; ++c) {
+        const double d = double(a[c]) - double(b[c]);
+        sum_squares_ += d * d;
+    }
+    ++pixels_;
+    return lsb;
+}
+
+void LsbHistogram::merge(const LsbHistogram& other) {
+    for (std::size_t v = 0; v < histogram_.size(); ++v) histogram_[v] += other.histogram_[v];
+    sum_squares_ += other.sum_squares_;
+    pixels_ += other.pixels_;
+}
+
+LsbDifferences LsbHistogram::differences() const {
+    LsbDifferences d;
+    d.pixels = pixels_;
+    std::size_t below = 0, over1 = 0, over2 = 0;
+    bool p99_found = false;
+    for (int v = 0; v < 256; ++v) {
+        const std::size_t n = histogram_[std::size_t(v)];
+        if (n > 0) d.max_lsb = v;
+        below += n;
+        if (!p99_found && double(below) >= 0.99 * double(pixels_)) {
+            d.p99_lsb = v;
+            p99_found = true;
+        }
+        if (v > 1) over1 += n;
+        if (v > 2) over2 += n;
+    }
+    const double n = double(std::max<std::size_t>(pixels_, 1));
+    d.rmse_lsb = std::sqrt(sum_squares_ / (3.0 * n));
+    d.over1 = double(over1) / n;
+    d.over2 = double(over2) / n;
+    return d;
+}
+
 std::array<std::uint8_t, 3> diff_colour(int lsb, const std::uint8_t* a) {
     if (lsb == 0) {
         const auto grey = std::uint8_t((int(a[0]) * 54 + int(a[1]) * 183 + int(a[2]) * 19) / 1024);
@@ -53,41 +93,23 @@ std::array<std::uint8_t, 3> diff_colour(int lsb, const std::uint8_t* a) {
 
 ImageDifferences compare_images(const Rgb8Image& a, const Rgb8Image& b, Rgb8Image* diff) {
     const std::size_t pixels = a.rgb.size() / 3;
-    std::array<std::size_t, 256> histogram{};
-    double sum_squares = 0.0;
+    LsbHistogram histogram;
     if (diff) *diff = {a.width, a.height, std::vector<std::uint8_t>(a.rgb.size())};
     for (std::size_t i = 0; i < pixels; ++i) {
         const std::uint8_t* pa = &a.rgb[3 * i];
-        const std::uint8_t* pb = &b.rgb[3 * i];
-        const int lsb = pixel_lsb(pa, pb);
-        ++histogram[std::size_t(lsb)];
-        for (int c = 0; c < 3; ++c) {
-            const double d = double(pa[c]) - double(pb[c]);
-            sum_squares += d * d;
-        }
+        const int lsb = histogram.add(pa, &b.rgb[3 * i]);
         if (diff) {
             const auto colour = diff_colour(lsb, pa);
             std::copy(colour.begin(), colour.end(), &diff->rgb[3 * i]);
         }
     }
+    const LsbDifferences lsb = histogram.differences();
     ImageDifferences d;
-    std::size_t below = 0, over1 = 0, over2 = 0;
-    bool p99_found = false;
-    for (int v = 0; v < 256; ++v) {
-        const std::size_t n = histogram[std::size_t(v)];
-        if (n > 0) d.max_lsb = v;
-        below += n;
-        if (!p99_found && double(below) >= 0.99 * double(pixels)) {
-            d.p99_lsb = v;
-            p99_found = true;
-        }
-        if (v > 1) over1 += n;
-        if (v > 2) over2 += n;
-    }
-    const double n = double(std::max<std::size_t>(pixels, 1));
-    d.rmse_lsb = std::sqrt(sum_squares / (3.0 * n));
-    d.over1 = double(over1) / n;
-    d.over2 = double(over2) / n;
+    d.max_lsb = lsb.max_lsb;
+    d.p99_lsb = lsb.p99_lsb;
+    d.rmse_lsb = lsb.rmse_lsb;
+    d.over1 = lsb.over1;
+    d.over2 = lsb.over2;
     d.de2000_mean = mean_de2000(a, b);
     return d;
 }

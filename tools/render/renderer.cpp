@@ -63,24 +63,9 @@ std::optional<Error> shade_per_pixel(const headless::Context& context, const Fra
     std::vector<float> depth(std::size_t(w) * std::size_t(h));
     api.PixelStorei(GL_PACK_ALIGNMENT, 1);
     api.ReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-    // GL's own matrices are the float ones it was given: invert exactly those.
-    const glm::dmat4 clip_from_world =
-        glm::dmat4(glm::mat4(matrices.projection)) * glm::dmat4(glm::mat4(matrices.view));
-    const glm::dmat4 world_from_clip = glm::inverse(clip_from_world);
     std::vector<float> positions;
     std::vector<std::size_t> pixels;  // index into rgba / 4 (top row first)
-    for (int y = 0; y < h; ++y) {
-        for (int x = 0; x < w; ++x) {
-            const float d = depth[std::size_t(y) * std::size_t(w) + std::size_t(x)];
-            if (!(d < 1.0f)) continue;  // background
-            const glm::dvec4 ndc{2.0 * (x + 0.5) / w - 1.0, 2.0 * (y + 0.5) / h - 1.0,
-                                 2.0 * double(d) - 1.0, 1.0};
-            const glm::dvec4 p = world_from_clip * ndc;
-            positions.insert(positions.end(),
-                             {float(p.x / p.w), float(p.y / p.w), float(p.z / p.w)});
-            pixels.push_back(std::size_t(h - 1 - y) * std::size_t(w) + std::size_t(x));
-        }
-    }
+    positions_from_depth(depth, w, h, matrices.projection, matrices.view, positions, pixels);
     std::vector<float> extinction(positions.size()), in_scattering(positions.size());
     BatchOutputs out;
     out.extinction_rgb = extinction.data();
@@ -98,6 +83,29 @@ std::optional<Error> shade_per_pixel(const headless::Context& context, const Fra
         }
     }
     return std::nullopt;
+}
+
+void positions_from_depth(const std::vector<float>& depth, int w, int h,
+                          const glm::dmat4& projection, const glm::dmat4& view,
+                          std::vector<float>& positions, std::vector<std::size_t>& pixels) {
+    // GL's own matrices are the float ones it was given: invert exactly those.
+    const glm::dmat4 clip_from_world =
+        glm::dmat4(glm::mat4(projection)) * glm::dmat4(glm::mat4(view));
+    const glm::dmat4 world_from_clip = glm::inverse(clip_from_world);
+    positions.clear();
+    pixels.clear();
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const float d = depth[std::size_t(y) * std::size_t(w) + std::size_t(x)];
+            if (!(d < 1.0f)) continue;  // background
+            const glm::dvec4 ndc{2.0 * (x + 0.5) / w - 1.0, 2.0 * (y + 0.5) / h - 1.0,
+                                 2.0 * double(d) - 1.0, 1.0};
+            const glm::dvec4 p = world_from_clip * ndc;
+            positions.insert(positions.end(),
+                             {float(p.x / p.w), float(p.y / p.w), float(p.z / p.w)});
+            pixels.push_back(std::size_t(h - 1 - y) * std::size_t(w) + std::size_t(x));
+        }
+    }
 }
 
 const char* backend_name(Backend backend) {

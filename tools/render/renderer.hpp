@@ -109,4 +109,12 @@ std::optional<Error> shade_per_pixel(const headless::Context& context, const Fra
                                      const Display& display, const Matrices& matrices,
                                      std::vector<std::uint8_t>& rgba);
 
+/// The world positions of the covered pixels of a depth buffer (bottom row first, as
+/// glReadPixels gives it; depth 1 is background), through the inverse of the float matrices GL
+/// was given. `positions` gets x, y, z per covered pixel, `pixels` its index in a top-row-first
+/// image (y flipped). The perpixel backend and aerial-tess's GL grading use it.
+void positions_from_depth(const std::vector<float>& depth, int width, int height,
+                          const glm::dmat4& projection, const glm::dmat4& view,
+                          std::vector<float>& positions, std::vector<std::size_t>& pixels);
+
 }  // namespace aerial::render

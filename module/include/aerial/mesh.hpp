@@ -29,6 +29,7 @@
 #include <vector>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "aerial/batch.hpp"
@@ -83,6 +84,17 @@ Heightfield rolling_hills(double x0, double y0, double size_m, double amplitude_
 /// Regular grid of cells_x by cells_y squares, each cut along the same diagonal; vertices on the
 /// heightfield. cells in 1 .. 4096. The heightfield must give finite heights.
 Result<Mesh> terrain_grid(const Heightfield& field, int cells_x, int cells_y);
+
+/// Distance level of detail: the cells x cells grid of terrain_grid with its square rings pushed
+/// away from the eye. A grid point at L-infinity radius t in [0, 1] around the eye (t = 1 on the
+/// field's border, measured per side of the eye) moves to radius t^exponent, so near the eye the
+/// cells are t^(exponent - 1) times the uniform grid's and far away up to `exponent` times
+/// (side length about proportional to distance^((exponent - 1) / exponent)). Same vertex count,
+/// topology and diagonals as terrain_grid: conforming, no T-junctions, nothing to stitch.
+/// `eye_xy` is clamped into the field; cells in 1 .. 4096, exponent in [1, 8] (1 is
+/// terrain_grid).
+Result<Mesh> terrain_distance_lod(const Heightfield& field, int cells, const glm::dvec2& eye_xy,
+                                  double exponent);
 
 /// Where new vertices go: onto the sphere, onto the heightfield, or left at the edge midpoint.
 struct Surface {
@@ -155,12 +167,20 @@ struct AdaptiveSettings {
                                 ///< >= 1 (hysteresis: 1.5 to 2 keeps the mesh from oscillating)
     std::size_t max_vertices = 1u << 20;  ///< vertex budget (live vertices)
     double time_slice_ms = 0.0;           ///< per update; 0 means no limit
+    /// Re-estimate through the index of estimates (only faces that can be stale are visited);
+    /// false: the round-robin sweep over every face, the reference the index is tested against.
+    bool indexed_sweep = true;
     bool lock_boundary = true;  ///< boundary edges (horizon ring, tile borders) are never split
     bool coarsen = true;        ///< undo splits where the error allows
     /// A face is re-estimated when the eye has moved by more than this fraction of its distance
     /// since its last estimate, or the sun has turned by more than sun_turn_rad.
     double eye_move_fraction = 0.02;
     double sun_turn_rad = 0.002;
+    /// Morphing, in updates (0: off). A new vertex blends in from the colour its parent edge
+    /// showed at its place to its own over this many updates, and a bisection that coarsening
+    /// undoes first fades its vertex out over as many (see AdaptiveMesh::morph_into), so that
+    /// nothing pops. In 0 .. 1000.
+    int morph_updates = 0;
 };
 
 std::optional<Error> validate(const AdaptiveSettings& settings);
@@ -196,11 +216,39 @@ class AdaptiveMesh {
     /// changed (atmosphere, model, display).
     void invalidate();
 
+    /// How much of its own colour vertex v shows, in [0, 1]: 1 for base vertices and for new ones
+    /// that have blended in; (updates since it was born) / morph_updates while it blends in; going
+    /// down to 0 while coarsening fades it out (it is removed at 0).
+    float morph_weight(OpenMesh::VertexHandle v) const;
+    /// The ends of the edge whose bisection made vertex v (also after v was removed again);
+    /// invalid handles for base vertices.
+    std::pair<OpenMesh::VertexHandle, OpenMesh::VertexHandle> parents(
+        OpenMesh::VertexHandle v) const;
+    /// Morphs per-vertex values the engine computed for this update, in place: `values` holds
+    /// `components` values per vertex, `stride` values apart, for every vertex handle
+    /// (mesh().n_vertices() records; deleted ones are left alone). A vertex of weight w < 1 gets
+    /// the mean of its parent edge's morphed values plus w × its detail (its value minus the
+    /// mean of its parents' values): at w = 0 what the screen showed there before the split, and
+    /// vertices born in one update move on straight lines to their values, 1 / morph_updates of
+    /// the way per update. Parents are morphed before their children. Works for any attribute the
+    /// engine interpolates linearly: F_ex and L_in floats, or RGBA8 (rounded). Coarsening undoes
+    /// one level of bisections per morph_updates updates (a vertex fades out before its parent
+    /// can).
+    void morph_into(float* values, std::size_t components, std::size_t stride) const;
+    void morph_into(std::uint8_t* values, std::size_t components, std::size_t stride) const;
+
   private:
     AdaptiveMesh() = default;
     struct Split {
         OpenMesh::VertexHandle vertex, a, b, c, d;  ///< new vertex; edge a-b; opposites c, d
+        double born = 0.0;         ///< update its weight counts from (weight 0 then)
+        double fade_start = -1.0;  ///< update its fade-out began; < 0: not fading
+        float fade_weight = 1.0f;  ///< its weight when the fade-out began
     };
+    float record_weight(const Split& s) const;
+    bool undo_allowed(std::size_t index, UpdateStats& stats, float& error_c, float& error_d);
+    template <typename T>
+    void morph_values(T* values, std::size_t components, std::size_t stride) const;
     glm::vec3 vertex_colour(OpenMesh::VertexHandle v);
     float estimate(OpenMesh::FaceHandle f);
     bool splittable(OpenMesh::FaceHandle f) const;
@@ -235,9 +283,11 @@ class AdaptiveMesh {
     float estimated_max_ = 0.0f;  ///< largest estimate at or below split_lsb made this update
     OpenMesh::VPropHandleT<int> record_;  ///< index into splits_, -1 for base vertices
     std::vector<Split> splits_;
-    std::size_t cursor_ = 0;  ///< where the last time-sliced re-estimation stopped
+    std::size_t cursor_ = 0;   ///< where the last time-sliced re-estimation stopped
+    double updates_ = 0.0;     ///< updates so far (the morph clock)
+    std::vector<int> fading_;  ///< records whose vertex fades out before its bisection is undone
 
-    // Index of the estimates (used when time_slice_ms is 0) so that the sweep visits only faces
+    // Index of the estimates (settings.indexed_sweep) so that the sweep visits only faces
     // that can be stale. Faces stamped in one update share its eye and sun, so they form a group
     // sorted by radius: the eye-stale ones are a prefix, and all of them when the sun turned.
     struct StampGroup {
@@ -247,7 +297,8 @@ class AdaptiveMesh {
         std::size_t head = 0;                      ///< entries before it have been re-estimated
     };
     void rebuild_index();
-    void sweep_indexed(UpdateStats& stats);
+    /// Returns false when `out_of_time` stopped it (the rest is visited by the next update).
+    bool sweep_indexed(UpdateStats& stats, const std::function<bool()>& out_of_time);
     std::vector<StampGroup> groups_;
     std::vector<std::uint64_t> face_group_;     ///< per face: id of the group of its last stamp
     std::vector<int> above_;                    ///< faces whose estimate may exceed split_lsb

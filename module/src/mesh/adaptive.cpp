@@ -9,10 +9,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <map>
 #include <queue>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -58,6 +60,9 @@ std::optional<Error> validate(const AdaptiveSettings& settings) {
                                           std::to_string(settings.time_slice_ms)};
     if (!(settings.eye_move_fraction >= 0.0) || !(settings.sun_turn_rad >= 0.0))
         return Error{"eye_move_fraction", "eye_move_fraction, sun_turn_rad: expected >= 0"};
+    if (settings.morph_updates < 0 || settings.morph_updates > 1000)
+        return Error{"morph_updates", "morph_updates: expected 0 .. 1000, got " +
+                                          std::to_string(settings.morph_updates)};
     return std::nullopt;
 }
 
@@ -227,19 +232,26 @@ void AdaptiveMesh::rebuild_index() {
     index_valid_ = true;
 }
 
-void AdaptiveMesh::sweep_indexed(UpdateStats& stats) {
+bool AdaptiveMesh::sweep_indexed(UpdateStats& stats, const std::function<bool()>& out_of_time) {
     // Exactly the faces face_stale() accepts: in a group every face has the same stamp eye and
     // sun, so `moved` and the sun's cosine are the same floats face_stale() computes.
     const glm::vec3 eye(frame_->view.eye), sun(frame_->view.sun_dir);
     const float cos_turn = float(std::cos(settings_.sun_turn_rad));
     const std::size_t n_groups = groups_.size() - 1;  // the last one is this update's
-    for (std::size_t g = 0; g < n_groups; ++g) {
+    bool finished = true;
+    std::size_t visited = 0;
+    for (std::size_t g = 0; g < n_groups && finished; ++g) {
         StampGroup& group = groups_[g];
         const glm::vec3 moved = eye - group.eye;
         const float d2 = glm::dot(moved, moved);
         const bool turned = glm::dot(sun, group.sun) < cos_turn;
         std::size_t i = group.head;
         for (; i < group.faces.size() && (turned || d2 > group.faces[i].first); ++i) {
+            // Under a time slice: stop between entries; the group's head keeps the place.
+            if ((++visited & 255) == 0 && out_of_time()) {
+                finished = false;
+                break;
+            }
             const OpenMesh::FaceHandle f(group.faces[i].second);
             // Entries of faces stamped again since (later, or later in the same update with
             // another radius after a split changed them) are dead.
@@ -258,6 +270,7 @@ void AdaptiveMesh::sweep_indexed(UpdateStats& stats) {
             ++kept;
         }
     groups_.resize(kept);
+    return finished;
 }
 
 bool AdaptiveMesh::face_stale(OpenMesh::FaceHandle f) const {
@@ -305,6 +318,7 @@ void AdaptiveMesh::bisect(OpenMesh::EdgeHandle e, UpdateStats& stats) {
     record.vertex = mesh_.add_vertex(to_point(surface_.project(mid)));
     mesh_.property(colour_eye_, record.vertex).v = glm::vec3(kNaN);
     mesh_.property(record_, record.vertex) = int(splits_.size());
+    record.born = updates_;
     splits_.push_back(record);
     mesh_.split(e, record.vertex);
     ++stats.splits;
@@ -316,7 +330,8 @@ void AdaptiveMesh::bisect(OpenMesh::EdgeHandle e, UpdateStats& stats) {
     }
 }
 
-bool AdaptiveMesh::try_undo(std::size_t index, UpdateStats& stats) {
+bool AdaptiveMesh::undo_allowed(std::size_t index, UpdateStats& stats, float& error_c,
+                                float& error_d) {
     const Split s = splits_[index];
     if (!s.vertex.is_valid() || mesh_.status(s.vertex).deleted()) return false;
     const float merge_lsb = settings_.split_lsb / settings_.merge_ratio;
@@ -350,12 +365,47 @@ bool AdaptiveMesh::try_undo(std::size_t index, UpdateStats& stats) {
         ++stats.faces_estimated;
         return colour_error_skipping(*frame_, settings_.colour, p, c, skip);
     };
-    const float error_c = s.c.is_valid() ? parent_error(s.c) : 0.0f;
-    const float error_d = s.d.is_valid() ? parent_error(s.d) : 0.0f;
+    error_c = s.c.is_valid() ? parent_error(s.c) : 0.0f;
+    error_d = s.d.is_valid() ? parent_error(s.d) : 0.0f;
     if (error_c > merge_lsb || error_d > merge_lsb) return false;
     const auto h = mesh_.find_halfedge(s.vertex, s.a);
-    if (!h.is_valid() || !mesh_.is_collapse_ok(h)) return false;
-    mesh_.collapse(h);
+    return h.is_valid() && mesh_.is_collapse_ok(h);
+}
+
+float AdaptiveMesh::record_weight(const Split& s) const {
+    const double n = settings_.morph_updates;
+    if (n <= 0.0) return 1.0f;
+    const double w = s.fade_start >= 0.0 ? s.fade_weight - (updates_ - s.fade_start) / n
+                                         : (updates_ - s.born) / n;
+    return float(std::clamp(w, 0.0, 1.0));
+}
+
+bool AdaptiveMesh::try_undo(std::size_t index, UpdateStats& stats) {
+    Split& record = splits_[index];
+    if (!record.vertex.is_valid() || mesh_.status(record.vertex).deleted()) return false;
+    float error_c = 0.0f, error_d = 0.0f;
+    const bool allowed = undo_allowed(index, stats, error_c, error_d);
+    if (settings_.morph_updates > 0) {
+        const float w = record_weight(record);
+        if (!allowed) {
+            // Needed again: blend back in from where the fade-out got to.
+            if (record.fade_start >= 0.0) {
+                record.fade_start = -1.0;
+                record.born = updates_ - double(w) * settings_.morph_updates;
+            }
+            return false;
+        }
+        if (record.fade_start < 0.0) {
+            record.fade_start = updates_;
+            record.fade_weight = w;
+            fading_.push_back(int(index));
+        }
+        if (record_weight(record) > 0.0f) return false;
+    } else if (!allowed) {
+        return false;
+    }
+    const Split s = record;
+    mesh_.collapse(mesh_.find_halfedge(s.vertex, s.a));
     const auto ab = mesh_.find_halfedge(s.a, s.b);
     for (auto hh : {ab, mesh_.opposite_halfedge_handle(ab)}) {
         const auto f = mesh_.face_handle(hh);
@@ -377,6 +427,7 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
         return slice > 0.0 && elapsed_ms(start) > fraction * slice;
     };
     frame_ = &frame;
+    updates_ += 1.0;
     touched_.clear();
     estimated_max_ = 0.0f;
     UpdateStats stats;
@@ -384,7 +435,7 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
     // 1. Re-estimate what the view change made stale (round robin under a time slice) and queue
     // every face above the target.
     std::priority_queue<HeapEntry> heap;
-    const bool indexed = slice == 0.0 && index_valid_;
+    const bool indexed = settings_.indexed_sweep && index_valid_;
     recording_ = indexed;
     if (indexed) {
         StampGroup g;
@@ -392,11 +443,19 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
         g.eye = glm::vec3(frame.view.eye);
         g.sun = glm::vec3(frame.view.sun_dir);
         groups_.push_back(std::move(g));
-        sweep_indexed(stats);
-        // The same heap and maximum the full sweep builds.
+        const bool swept = sweep_indexed(stats, [&] { return out_of_time(0.5); });
+        if (!swept) stats.complete = false;
+        // The same heap and maximum the full sweep builds. When the time slice cut the sweep,
+        // faces above the target may still be stale: those are re-estimated first, so that
+        // nothing is refined on an old estimate (above_ may grow while we walk it).
         std::size_t kept = 0;
-        for (const int i : above_) {
+        for (std::size_t n = 0; n < above_.size(); ++n) {
+            const int i = above_[n];
             const OpenMesh::FaceHandle f(i);
+            if (!swept && !mesh_.status(f).deleted() && face_stale(f)) {
+                estimate(f);
+                ++stats.faces_estimated;
+            }
             const float e = mesh_.property(error_, f);
             if (!mesh_.status(f).deleted() && e > settings_.split_lsb) {
                 heap.push({e, i});
@@ -500,6 +559,20 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
                     candidates.push(mesh_.property(record_, v));
             }
         };
+        // Fading vertices go on fading (or come back) whether or not their faces were
+        // re-estimated; the last step of a fade removes the vertex (and, like any undo, makes
+        // the parents' vertices candidates below).
+        std::vector<int> fading;
+        fading.swap(fading_);
+        std::sort(fading.begin(), fading.end(), std::greater<int>());
+        fading.erase(std::unique(fading.begin(), fading.end()), fading.end());
+        for (const int r : fading) {
+            const Split& s = splits_[std::size_t(r)];
+            if (!s.vertex.is_valid() || mesh_.status(s.vertex).deleted() || s.fade_start < 0.0)
+                continue;
+            if (!try_undo(std::size_t(r), stats) && splits_[std::size_t(r)].fade_start >= 0.0)
+                fading_.push_back(r);
+        }
         collect();
         int last = -1;
         while (!candidates.empty()) {
@@ -521,8 +594,8 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
     if (indexed) {
         std::sort(groups_.back().faces.begin(), groups_.back().faces.end());
         if (below_.size() > 4 * live_faces_ + 1024) rebuild_index();
-    } else if (slice == 0.0) {
-        rebuild_index();
+    } else if (settings_.indexed_sweep) {
+        rebuild_index();  // once every face has an estimate (after a complete first sweep)
     }
     recording_ = false;
 
@@ -533,11 +606,71 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
     return stats;
 }
 
+float AdaptiveMesh::morph_weight(OpenMesh::VertexHandle v) const {
+    const int r = mesh_.property(record_, v);
+    return r < 0 ? 1.0f : record_weight(splits_[std::size_t(r)]);
+}
+
+std::pair<OpenMesh::VertexHandle, OpenMesh::VertexHandle> AdaptiveMesh::parents(
+    OpenMesh::VertexHandle v) const {
+    const int r = mesh_.property(record_, v);
+    if (r < 0) return {OpenMesh::VertexHandle(), OpenMesh::VertexHandle()};
+    return {splits_[std::size_t(r)].a, splits_[std::size_t(r)].b};
+}
+
+template <typename T>
+void AdaptiveMesh::morph_values(T* values, std::size_t components, std::size_t stride) const {
+    if (settings_.morph_updates <= 0) return;
+    // Geomorphing of the detail: a vertex shows its parents' shown mean plus w times its own
+    // detail (its value minus its parents' mean). Vertices born together then move on straight
+    // lines from the coarse interpolation to their values, 1/morph_updates of the way per update,
+    // however deep the chain of bisections. Records are in the order of the splits, so parents
+    // come before their children.
+    std::vector<float> exact;
+    for (const Split& s : splits_) {
+        if (!s.vertex.is_valid() || mesh_.status(s.vertex).deleted()) continue;
+        const float w = record_weight(s);
+        if (w >= 1.0f) continue;
+        if (exact.empty()) {
+            exact.resize(mesh_.n_vertices() * components);
+            for (std::size_t v = 0; v < mesh_.n_vertices(); ++v)
+                for (std::size_t k = 0; k < components; ++k)
+                    exact[v * components + k] = float(values[v * stride + k]);
+        }
+        const std::size_t i = std::size_t(s.vertex.idx()), a = std::size_t(s.a.idx()),
+                          b = std::size_t(s.b.idx());
+        T* out = values + i * stride;
+        for (std::size_t k = 0; k < components; ++k) {
+            const float shown_parents =
+                0.5f * (float(values[a * stride + k]) + float(values[b * stride + k]));
+            const float detail = exact[i * components + k] -
+                                 0.5f * (exact[a * components + k] + exact[b * components + k]);
+            const float v = shown_parents + w * detail;
+            if constexpr (std::is_same_v<T, std::uint8_t>)
+                out[k] = T(std::clamp(std::lround(v), 0L, 255L));
+            else
+                out[k] = T(v);
+        }
+    }
+}
+
+void AdaptiveMesh::morph_into(float* values, std::size_t components, std::size_t stride) const {
+    morph_values(values, components, stride);
+}
+
+void AdaptiveMesh::morph_into(std::uint8_t* values, std::size_t components,
+                              std::size_t stride) const {
+    morph_values(values, components, stride);
+}
+
 void AdaptiveMesh::compact() {
     std::vector<Split> live;
     for (const Split& s : splits_)
         if (s.vertex.is_valid() && !mesh_.status(s.vertex).deleted()) live.push_back(s);
     splits_ = std::move(live);
+    fading_.clear();
+    for (std::size_t i = 0; i < splits_.size(); ++i)
+        if (splits_[i].fade_start >= 0.0) fading_.push_back(int(i));
     std::vector<OpenMesh::VertexHandle*> vertex_handles;
     for (Split& s : splits_)
         for (OpenMesh::VertexHandle* h : {&s.vertex, &s.a, &s.b, &s.c, &s.d})

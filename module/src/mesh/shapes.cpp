@@ -1,6 +1,8 @@
 // The base meshes: geodesic and latitude-longitude domes, heightfield grids, and the surfaces
 // new vertices are projected onto.
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -143,8 +145,11 @@ Heightfield rolling_hills(double x0, double y0, double size_m, double amplitude_
     return field;
 }
 
-Result<Mesh> terrain_grid(const Heightfield& field, int cells_x, int cells_y) {
-    const char* f = "aerial::mesh::terrain_grid()";
+namespace {
+
+/// The grid of terrain_grid with the point of grid coordinates (s, t) in [0, 1]^2 at place(s, t).
+Result<Mesh> grid_mesh(const Heightfield& field, int cells_x, int cells_y, const char* f,
+                       const std::function<glm::dvec2(double, double)>& place) {
     if (!field.height_m)
         return Error{"height_m", std::string("height_m: ") + f + ": empty function"};
     if (!(field.size_x_m > 0.0) || !(field.size_y_m > 0.0) || !std::isfinite(field.size_x_m) ||
@@ -157,13 +162,13 @@ Result<Mesh> terrain_grid(const Heightfield& field, int cells_x, int cells_y) {
     std::vector<Mesh::VertexHandle> v;
     for (int j = 0; j <= cells_y; ++j) {
         for (int i = 0; i <= cells_x; ++i) {
-            const double x = field.x0 + field.size_x_m * i / cells_x;
-            const double y = field.y0 + field.size_y_m * j / cells_y;
-            const double z = field.height_m(x, y);
+            const glm::dvec2 xy = place(double(i) / cells_x, double(j) / cells_y);
+            const double z = field.height_m(xy.x, xy.y);
             if (!std::isfinite(z))
                 return Error{"height_m", std::string("height_m: ") + f + ": not finite at (" +
-                                             std::to_string(x) + ", " + std::to_string(y) + ")"};
-            v.push_back(mesh.add_vertex(Mesh::Point(x, y, z)));
+                                             std::to_string(xy.x) + ", " + std::to_string(xy.y) +
+                                             ")"};
+            v.push_back(mesh.add_vertex(Mesh::Point(xy.x, xy.y, z)));
         }
     }
     auto at = [&](int i, int j) { return v[std::size_t(j * (cells_x + 1) + i)]; };
@@ -174,6 +179,40 @@ Result<Mesh> terrain_grid(const Heightfield& field, int cells_x, int cells_y) {
         }
     }
     return mesh;
+}
+
+}  // namespace
+
+Result<Mesh> terrain_grid(const Heightfield& field, int cells_x, int cells_y) {
+    return grid_mesh(
+        field, cells_x, cells_y, "aerial::mesh::terrain_grid()", [&](double s, double t) {
+            return glm::dvec2(field.x0 + field.size_x_m * s, field.y0 + field.size_y_m * t);
+        });
+}
+
+Result<Mesh> terrain_distance_lod(const Heightfield& field, int cells, const glm::dvec2& eye_xy,
+                                  double exponent) {
+    const char* f = "aerial::mesh::terrain_distance_lod()";
+    if (!(exponent >= 1.0 && exponent <= 8.0))
+        return Error{"exponent", std::string("exponent: ") + f + ": expected 1 .. 8, got " +
+                                     std::to_string(exponent)};
+    if (!std::isfinite(eye_xy.x) || !std::isfinite(eye_xy.y))
+        return Error{"eye_xy", std::string("eye_xy: ") + f + ": not finite"};
+    // The eye in grid coordinates, and each side's signed coordinate in [-1, 1].
+    const glm::dvec2 e{std::clamp((eye_xy.x - field.x0) / field.size_x_m, 0.0, 1.0),
+                       std::clamp((eye_xy.y - field.y0) / field.size_y_m, 0.0, 1.0)};
+    auto side = [](double s, double eye) {
+        const double extent = s >= eye ? 1.0 - eye : eye;
+        return extent > 0.0 ? (s - eye) / extent : 0.0;
+    };
+    auto back = [](double u, double eye) { return eye + u * (u >= 0.0 ? 1.0 - eye : eye); };
+    return grid_mesh(field, cells, cells, f, [&](double s, double t) {
+        const double u = side(s, e.x), w = side(t, e.y);
+        const double r = std::max(std::abs(u), std::abs(w));
+        const double scale = r > 0.0 ? std::pow(r, exponent - 1.0) : 0.0;
+        return glm::dvec2(field.x0 + field.size_x_m * back(u * scale, e.x),
+                          field.y0 + field.size_y_m * back(w * scale, e.y));
+    });
 }
 
 Surface Surface::sphere(const DomeOptions& dome) {

@@ -17,6 +17,7 @@
 #include "aerial/scene_renderer.hpp"
 #include "common/png.hpp"
 #include "game.hpp"
+#include "soak.hpp"
 #include "world.hpp"
 
 namespace {
@@ -157,6 +158,11 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_flag("--no-policy", no_policy, "Shade every visible vertex every frame with --model");
     app.add_flag("--no-readout", no_readout, "Leave out the on-screen readout (for goldens)");
+    int soak_frames = 0;
+    app.add_option("--soak", soak_frames,
+                   "Soak test: render FRAMES frames (1..1000000) flying back and forth, no files; "
+                   "print RSS and the difference to fresh renders; exit 1 when memory grows or a "
+                   "frame differs");
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp&) {
@@ -227,6 +233,10 @@ int main(int argc, char** argv) {
                     schedule.error().message);
     }
     if (window && headless) return fail("--window: not together with --headless");
+    if (app.count("--soak") > 0 && (soak_frames < 1 || soak_frames > 1000000)) {
+        return fail("--soak: expected 1..1000000 frames, got " + std::to_string(soak_frames));
+    }
+    if (app.count("--soak") > 0 && window) return fail("--soak: not together with --window");
     if (window && !sample::window_available()) {
         return fail("--window: this build has no window support (GLFW); use --headless");
     }
@@ -246,6 +256,17 @@ int main(int argc, char** argv) {
     config.sun = *schedule;
     config.width = width;
     config.height = height;
+    if (app.count("--soak") > 0) {
+        sample::SoakOptions soak;
+        soak.frames = soak_frames;
+        soak.baseline_frame = std::min(1000, std::max(1, soak_frames / 10));
+        soak.gl = *gl_backend;
+        auto report = sample::run_soak(world, config, soak);
+        if (!report) return fail("--soak: " + report.error().message, 1);
+        std::printf("%s: %s\n", kTool, report->summary().c_str());
+        if (!report->passed()) return fail("--soak: " + report->summary(), 1);
+        return 0;
+    }
     if (window) {
         // Interactive until closed; with --frames given, that many frames, the last saved.
         const bool counted = app.count("--frames") > 0;

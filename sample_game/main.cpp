@@ -158,11 +158,14 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_flag("--no-policy", no_policy, "Shade every visible vertex every frame with --model");
     app.add_flag("--no-readout", no_readout, "Leave out the on-screen readout (for goldens)");
-    int soak_frames = 0;
+    int soak_frames = 0, tile_resolution = sample::WorldOptions{}.tile_resolution;
     app.add_option("--soak", soak_frames,
                    "Soak test: render FRAMES frames (1..1000000) flying back and forth, no files; "
                    "print RSS and the difference to fresh renders; exit 1 when memory grows or a "
                    "frame differs");
+    app.add_option("--tile-resolution", tile_resolution,
+                   "Vertices along a terrain tile's side, 2..65 (fewer: a cheaper world)")
+        ->capture_default_str();
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp&) {
@@ -237,12 +240,16 @@ int main(int argc, char** argv) {
         return fail("--soak: expected 1..1000000 frames, got " + std::to_string(soak_frames));
     }
     if (app.count("--soak") > 0 && window) return fail("--soak: not together with --window");
+    if (tile_resolution < 2 || tile_resolution > 65) {
+        return fail("--tile-resolution: expected 2..65, got " + std::to_string(tile_resolution));
+    }
     if (window && !sample::window_available()) {
         return fail("--window: this build has no window support (GLFW); use --headless");
     }
 
     sample::WorldOptions world_options;
     world_options.seed = seed;
+    world_options.tile_resolution = tile_resolution;
     const sample::World world = sample::build_world(world_options);
     sample::GameConfig config;
     config.preset = preset;
@@ -259,7 +266,10 @@ int main(int argc, char** argv) {
     if (app.count("--soak") > 0) {
         sample::SoakOptions soak;
         soak.frames = soak_frames;
+        // 10 000 frames: legs of 500 frames (sun and camera over the whole script and back in
+        // 1 000), RSS baseline after the first round trip; shorter soaks scale both down.
         soak.baseline_frame = std::min(1000, std::max(1, soak_frames / 10));
+        soak.leg_frames = std::min(500, std::max(1, soak_frames / 20));
         soak.gl = *gl_backend;
         auto report = sample::run_soak(world, config, soak);
         if (!report) return fail("--soak: " + report.error().message, 1);

@@ -142,7 +142,8 @@ aerial::Result<SoakReport> run_soak(const World& world, GameConfig config,
             return aerial::Error{"sky", "frame " + std::to_string(i) + ": " + sky->stats->error};
         }
         const bool last = i + 1 == options.frames;
-        if ((i + 1) % std::max(1, options.compare_every) == 0 || last) {
+        // The first frame too: the fresh renderer's allocations are then part of the baseline.
+        if (i == 0 || (i + 1) % std::max(1, options.compare_every) == 0 || last) {
             const std::vector<std::uint8_t> soaked = context->read_rgba8();
             auto fresh = fresh_render(*context, ro, world, state, config);
             if (!fresh) {

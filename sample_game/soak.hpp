@@ -24,7 +24,8 @@ struct SoakOptions {
     /// The frame after which RSS is taken as the baseline (clamped to frames): the caches and
     /// the allocator have settled by then.
     int baseline_frame = 1000;
-    int compare_every = 100;  ///< frames between comparisons with a fresh render, >= 1
+    /// frames between comparisons with a fresh render, >= 1 (the first and last frames too)
+    int compare_every = 100;
     /// frames of one flight leg: t goes 0 -> 1 and back every 2 * leg_frames (sun and camera move)
     int leg_frames = 500;
     std::size_t rss_margin_kib = 4096;  ///< allowed growth of VmRSS after the baseline

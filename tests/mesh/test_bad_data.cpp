@@ -112,7 +112,9 @@ TEST(BadMeshData, NonFinitePositionsAreAnErrorNamingTheVertexAndTheBaseIsUntouch
             // NaN != NaN: the same NaN-ness, then the same value.
             for (int c = 0; c < 3; ++c) {
                 EXPECT_EQ(std::isnan(before[i][c]), std::isnan(after[i][c]));
-                if (!std::isnan(before[i][c])) EXPECT_EQ(before[i][c], after[i][c]);
+                if (!std::isnan(before[i][c])) {
+                    EXPECT_EQ(before[i][c], after[i][c]);
+                }
             }
         }
     }
@@ -208,7 +210,7 @@ TEST(BadMeshData, ABudgetSmallerThanTheBaseMeshRefinesNothing) {
     settings.split_lsb = 0.1f;
     auto made = AdaptiveMesh::create(base.value(), aerial::mesh::Surface{}, settings);
     ASSERT_TRUE(made) << made.error().message;
-    const auto stats = made->update(frame_at({0, 0, 2}, {0.5, 0.2, 0.1}));
+    const auto stats = made.value().update(frame_at({0, 0, 2}, {0.5, 0.2, 0.1}));
     EXPECT_EQ(stats.splits, 0u);
     EXPECT_EQ(stats.vertices, aerial::mesh::live_vertices(base.value()));
     EXPECT_FALSE(stats.complete) << "the budget stopped refinement, and the stats say so";

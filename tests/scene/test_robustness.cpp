@@ -238,6 +238,36 @@ Colours shaded_triangle() {
     return c;
 }
 
+TEST_F(StateHygiene, TheSnapshotSeesTheEnginesUnusualState) {
+    // Were a piece of state not read, the tests below could not see it change.
+    set_unusual_engine_state();
+    const auto s = aerial::gl::capture_state(api());
+    const auto expect = [&](const char* name, const char* value) {
+        const std::string* v = s.find(name);
+        ASSERT_NE(v, nullptr) << name << " is not in the snapshot";
+        EXPECT_EQ(*v, value) << name;
+    };
+    expect("GL_FOG_MODE", "GL_EXP2");
+    expect("GL_FOG_DENSITY", "0.25");
+    expect("GL_POLYGON_OFFSET_FILL", "GL_TRUE");
+    expect("GL_POLYGON_OFFSET_FACTOR", "1.5");
+    expect("GL_POLYGON_OFFSET_UNITS", "2");
+    expect("GL_POLYGON_MODE", "GL_FILL GL_LINE");
+    expect("GL_CULL_FACE_MODE", "GL_FRONT");
+    expect("GL_FRONT_FACE", "GL_CW");
+    expect("GL_ALPHA_TEST_FUNC", "GL_GEQUAL");
+    expect("GL_MATRIX_MODE", "GL_TEXTURE");
+    expect("GL_MODELVIEW_STACK_DEPTH", "2");
+    expect("GL_VIEWPORT", "3 2 89 59");
+    expect("GL_CURRENT_NORMAL", "0 0.600000024 0.800000012");
+    expect("unit 0 GL_TEXTURE_GEN_S", "GL_TRUE");
+    expect("unit 0 GL_TEXTURE_ENV_MODE", "GL_DECAL");
+    if (api().caps.vertex_program) {
+        expect("program.env[5]", "5 -5 0.5 2");
+        expect("program.local[7]", "-7 0.25 7 3");
+    }
+}
+
 TEST_F(StateHygiene, EveryFixedFunctionPathRestoresTheEnginesState) {
     set_unusual_engine_state();
     const Colours c = shaded_triangle();
@@ -337,8 +367,8 @@ TEST_F(StateHygiene, SkyBoxAndSunSpriteRestoreTheEnginesState) {
         ASSERT_FALSE(aerial::gl::draw_sky_box(api(), *second, box_view).has_value());
         ASSERT_FALSE(
             aerial::gl::draw_sun_sprite(api(), *sun, box_view, sky->view.sun_dir).has_value());
-        ASSERT_FALSE(second->update(faces, kSize).has_value());
-        ASSERT_FALSE(sun->update(*sprite).has_value());
+        ASSERT_FALSE(second.value().update(faces, kSize).has_value());
+        ASSERT_FALSE(sun.value().update(*sprite).has_value());
     });
 }
 
@@ -401,7 +431,7 @@ TEST_F(StateHygiene, SceneRendererRestoresTheEnginesStateOnEveryBackendAndSky) {
             }
             settings.model = k.model;
             for (int frame = 0; frame < 2; ++frame) {  // the second one from the caches
-                auto report = renderer->render(*world, camera, settings);
+                auto report = renderer.value().render(*world, camera, settings);
                 ASSERT_TRUE(report) << report.error().message;
             }
         });
@@ -442,7 +472,7 @@ TEST_F(StateHygiene, NoCurrentContextIsAnErrorNamingTheContextEverywhere) {
     settings.display.exposure = 8.0f;
     auto renderer = SceneRenderer::create(api());
     ASSERT_TRUE(renderer) << renderer.error().message;
-    ASSERT_TRUE(renderer->render(*world, camera, settings));
+    ASSERT_TRUE(renderer.value().render(*world, camera, settings));
     const auto first = context_->read_rgba8();
     const auto before = aerial::gl::capture_state(api());
     if (!release_current(*context_)) GTEST_SKIP() << "cannot release the context here";
@@ -457,7 +487,7 @@ TEST_F(StateHygiene, NoCurrentContextIsAnErrorNamingTheContextEverywhere) {
     auto created = SceneRenderer::create(api());
     ASSERT_FALSE(created);
     EXPECT_TRUE(is_context_error(created.error())) << created.error().message;
-    auto rendered = renderer->render(*world, camera, settings);
+    auto rendered = renderer.value().render(*world, camera, settings);
     ASSERT_FALSE(rendered);
     EXPECT_TRUE(is_context_error(rendered.error())) << rendered.error().message;
     const Colours c = shaded_triangle();
@@ -491,7 +521,7 @@ TEST_F(StateHygiene, NoCurrentContextIsAnErrorNamingTheContextEverywhere) {
     EXPECT_TRUE(changed.empty()) << "calls without a context changed:" << list;
     // Nothing the renderer had is lost: the same frame again, from its caches.
     api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    ASSERT_TRUE(renderer->render(*world, camera, settings));
+    ASSERT_TRUE(renderer.value().render(*world, camera, settings));
     EXPECT_EQ(aerial_test::compare_rgb(first, context_->read_rgba8()).max_lsb, 0);
 }
 
@@ -572,7 +602,7 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
     auto renderer = SceneRenderer::create(api());
     ASSERT_TRUE(renderer) << renderer.error().message;
     api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    ASSERT_TRUE(renderer->render(*good, camera, settings));
+    ASSERT_TRUE(renderer.value().render(*good, camera, settings));
     const auto first = context_->read_rgba8();
 
     const float nan = std::numeric_limits<float>::quiet_NaN();
@@ -581,7 +611,7 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
         auto world = small_world();
         world->add(make_mesh("bad box", mesh_of({0, 0, 0, 10, 0, 0, 0, bad, 10}, {0, 1, 2})));
         const auto before = aerial::gl::capture_state(api());
-        auto report = renderer->render(*world, camera, settings);
+        auto report = renderer.value().render(*world, camera, settings);
         ASSERT_FALSE(report);
         EXPECT_NE(report.error().field.find("bad box"), std::string::npos)
             << report.error().field << ": " << report.error().message;
@@ -592,7 +622,7 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
     }
     // The renderer's caches are intact: the good world draws as before.
     api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    ASSERT_TRUE(renderer->render(*good, camera, settings));
+    ASSERT_TRUE(renderer.value().render(*good, camera, settings));
     EXPECT_EQ(aerial_test::compare_rgb(first, context_->read_rgba8()).max_lsb, 0);
 
     // Empty, degenerate and non-manifold meshes, and a mesh 1e7 units away from the origin seen
@@ -610,7 +640,7 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
     FrameReport odd_report;
     for (int frame = 0; frame < 2; ++frame) {
         api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        auto report = renderer->render(*odd, camera, settings);
+        auto report = renderer.value().render(*odd, camera, settings);
         ASSERT_TRUE(report) << report.error().message;
         odd_report = *report;
     }
@@ -625,7 +655,7 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
     far_camera.eye += glm::dvec3(far_away, -far_away, 0.0);
     far_camera.target += glm::dvec3(far_away, -far_away, 0.0);
     api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    auto far_report = renderer->render(*moved, far_camera, settings);
+    auto far_report = renderer.value().render(*moved, far_camera, settings);
     ASSERT_TRUE(far_report) << far_report.error().message;
     EXPECT_GT(far_report->vertices_drawn, 0u) << "the moved tiles are in view";
     EXPECT_TRUE(aerial::gl::state_differences(before, aerial::gl::capture_state(api())).empty());

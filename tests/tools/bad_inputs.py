@@ -145,6 +145,8 @@ CASES = [
     (S, ["--soak", "many"], "", ["--soak"]),
     (S, ["--soak", "100", "--window"], "", ["--soak"]),
     (S, ["--unknown"], "", ["--unknown"]),
+    (S, ["--tile-resolution", "1"], "", ["--tile-resolution"]),
+    (S, ["--tile-resolution", "1e3"], "", ["--tile-resolution"]),
     ("aerial-scene-bench", ["--frames", "1"], "", ["--frames"]),
     ("aerial-scene-bench", ["--size", "axb"], "", ["--size"]),
     ("aerial-scene-bench", ["--model", "fast"], "", ["--model"]),
@@ -155,6 +157,8 @@ CASES = [
 def check(bin_dir, work_dir, tool, args, stdin, expected):
     """Runs one case; returns None when it behaves, else what is wrong."""
     binary = os.path.join(bin_dir, tool)
+    if not os.access(binary, os.X_OK):
+        return "no executable %s" % binary
     args = [a.replace("{dir}", work_dir) for a in args]
     env = dict(os.environ, LP_NUM_THREADS="1")
     try:
@@ -185,8 +189,9 @@ def main():
     if len(sys.argv) not in (2, 3):
         sys.stderr.write("usage: bad_inputs.py BIN_DIR [WORK_DIR]\n")
         return 2
-    bin_dir = sys.argv[1]
-    work_dir = sys.argv[2] if len(sys.argv) == 3 else tempfile.mkdtemp(prefix="bad_inputs.")
+    bin_dir = os.path.abspath(sys.argv[1])
+    work_dir = os.path.abspath(sys.argv[2]) if len(sys.argv) == 3 else tempfile.mkdtemp(
+        prefix="bad_inputs.")
     os.makedirs(work_dir, exist_ok=True)
     for name, text in FILES.items():
         with open(os.path.join(work_dir, name), "w") as f:

@@ -195,7 +195,7 @@ class StateHygiene : public ::testing::Test {
     void expect_restored(const char* what, Fn&& fn) {
         SCOPED_TRACE(what);
         const auto before = aerial::gl::capture_state(api());
-        ASSERT_GT(before.entries.size(), 100u);
+        ASSERT_GT(before.entries.size(), 60u);  // 84 on GL 1.1, several hundred on 4.5
         fn();
         const auto changed =
             aerial::gl::state_differences(before, aerial::gl::capture_state(api()));

@@ -159,10 +159,15 @@ int main(int argc, char** argv) {
     app.add_flag("--no-policy", no_policy, "Shade every visible vertex every frame with --model");
     app.add_flag("--no-readout", no_readout, "Leave out the on-screen readout (for goldens)");
     int soak_frames = 0, tile_resolution = sample::WorldOptions{}.tile_resolution;
+    int tess_budget = int(sample::SoakOptions{}.tessellation_budget);
     app.add_option("--soak", soak_frames,
                    "Soak test: render FRAMES frames (1..1000000) flying back and forth, no files; "
                    "print RSS and the difference to fresh renders; exit 1 when memory grows or a "
                    "frame differs");
+    app.add_option("--tess-budget", tess_budget,
+                   "--soak: vertex budget of the adaptive sky dome refined every frame, "
+                   "0..100000 (0: none)")
+        ->capture_default_str();
     app.add_option("--tile-resolution", tile_resolution,
                    "Vertices along a terrain tile's side, 2..65 (fewer: a cheaper world)")
         ->capture_default_str();
@@ -240,6 +245,9 @@ int main(int argc, char** argv) {
         return fail("--soak: expected 1..1000000 frames, got " + std::to_string(soak_frames));
     }
     if (app.count("--soak") > 0 && window) return fail("--soak: not together with --window");
+    if (tess_budget < 0 || tess_budget > 100000) {
+        return fail("--tess-budget: expected 0..100000, got " + std::to_string(tess_budget));
+    }
     if (tile_resolution < 2 || tile_resolution > 65) {
         return fail("--tile-resolution: expected 2..65, got " + std::to_string(tile_resolution));
     }
@@ -271,6 +279,7 @@ int main(int argc, char** argv) {
         soak.baseline_frame = std::min(1000, std::max(1, soak_frames / 10));
         soak.leg_frames = std::min(500, std::max(1, soak_frames / 20));
         soak.gl = *gl_backend;
+        soak.tessellation_budget = std::size_t(tess_budget);
         auto report = sample::run_soak(world, config, soak);
         if (!report) return fail("--soak: " + report.error().message, 1);
         std::printf("%s: %s\n", kTool, report->summary().c_str());

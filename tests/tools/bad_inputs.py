@@ -146,6 +146,7 @@ CASES = [
     (S, ["--soak", "100", "--window"], "", ["--soak"]),
     (S, ["--unknown"], "", ["--unknown"]),
     (S, ["--tile-resolution", "1"], "", ["--tile-resolution"]),
+    (S, ["--tess-budget", "-1"], "", ["--tess-budget"]),
     (S, ["--tile-resolution", "1e3"], "", ["--tile-resolution"]),
     ("aerial-scene-bench", ["--frames", "1"], "", ["--frames"]),
     ("aerial-scene-bench", ["--size", "axb"], "", ["--size"]),

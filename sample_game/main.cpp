@@ -19,6 +19,7 @@
 #include "aerial/scene_renderer.hpp"
 #include "common/png.hpp"
 #include "game.hpp"
+#include "soak.hpp"
 #include "world.hpp"
 
 namespace {
@@ -163,6 +164,19 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_flag("--no-policy", no_policy, "Shade every visible vertex every frame with --model");
     app.add_flag("--no-readout", no_readout, "Leave out the on-screen readout (for goldens)");
+    int soak_frames = 0, tile_resolution = sample::WorldOptions{}.tile_resolution;
+    int tess_budget = int(sample::SoakOptions{}.tessellation_budget);
+    app.add_option("--soak", soak_frames,
+                   "Soak test: render FRAMES frames (1..1000000) flying back and forth, no files; "
+                   "print RSS and the difference to fresh renders; exit 1 when memory grows or a "
+                   "frame differs");
+    app.add_option("--tess-budget", tess_budget,
+                   "--soak: vertex budget of the adaptive sky dome refined every frame, "
+                   "0..100000 (0: none)")
+        ->capture_default_str();
+    app.add_option("--tile-resolution", tile_resolution,
+                   "Vertices along a terrain tile's side, 2..65 (fewer: a cheaper world)")
+        ->capture_default_str();
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp&) {
@@ -239,12 +253,23 @@ int main(int argc, char** argv) {
                     schedule.error().message);
     }
     if (window && headless) return fail("--window: not together with --headless");
+    if (app.count("--soak") > 0 && (soak_frames < 1 || soak_frames > 1000000)) {
+        return fail("--soak: expected 1..1000000 frames, got " + std::to_string(soak_frames));
+    }
+    if (app.count("--soak") > 0 && window) return fail("--soak: not together with --window");
+    if (tess_budget < 0 || tess_budget > 100000) {
+        return fail("--tess-budget: expected 0..100000, got " + std::to_string(tess_budget));
+    }
+    if (tile_resolution < 2 || tile_resolution > 65) {
+        return fail("--tile-resolution: expected 2..65, got " + std::to_string(tile_resolution));
+    }
     if (window && !sample::window_available()) {
         return fail("--window: this build has no window support (GLFW); use --headless");
     }
 
     sample::WorldOptions world_options;
     world_options.seed = seed;
+    world_options.tile_resolution = tile_resolution;
     const sample::World world = sample::build_world(world_options);
     sample::GameConfig config;
     config.preset = preset;
@@ -258,6 +283,22 @@ int main(int argc, char** argv) {
     config.sun = *schedule;
     config.width = width;
     config.height = height;
+    if (app.count("--soak") > 0) {
+        sample::SoakOptions soak;
+        soak.frames = soak_frames;
+        // 10 000 frames: legs of 500 frames (sun and camera over the whole script and back in
+        // 1 000), RSS baseline after the first round trip; shorter soaks scale the legs down and
+        // take the baseline halfway (the adaptive dome fills its budget over the first frames).
+        soak.baseline_frame = std::min(1000, std::max(1, soak_frames / 2));
+        soak.leg_frames = std::min(500, std::max(1, soak_frames / 20));
+        soak.gl = *gl_backend;
+        soak.tessellation_budget = std::size_t(tess_budget);
+        auto report = sample::run_soak(world, config, soak);
+        if (!report) return fail("--soak: " + report.error().message, 1);
+        std::printf("%s: %s\n", kTool, report->summary().c_str());
+        if (!report->passed()) return fail("--soak: " + report->summary(), 1);
+        return 0;
+    }
     if (window) {
         // Interactive until closed; with --frames given, that many frames, the last saved.
         const bool counted = app.count("--frames") > 0;

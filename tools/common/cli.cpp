@@ -112,6 +112,12 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv, std:
         std::cout << app.help();
         return 0;
     } catch (const CLI::ParseError& e) {
+        // CLI11 checks required options before unknown arguments: name an unknown one first
+        // (`--bogus` alone is about --bogus, not about a missing --scene).
+        if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && !app.remaining().empty()) {
+            return fail(tool, "The following argument was not expected: " +
+                                  app.remaining().front() + " (see --help)");
+        }
         std::string what = e.what();
         if (what.empty()) what = e.get_name();
         return fail(tool, what + " (see --help)");

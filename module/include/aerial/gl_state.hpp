@@ -13,15 +13,19 @@
 // GL_VERTEX_PROGRAM_ARB, GL_FRAGMENT_PROGRAM_ARB; the blend functions and equations, depth function
 // and write mask, colour write mask, fog colour and coordinate source, the colour-material face and
 // parameter and the front and back ambient and diffuse material colours (which colour tracking
-// overwrites), shade model, matrix mode, the modelview and projection matrices, the unpack
-// pixel-store state and the pixel unpack buffer binding; the bound ARB vertex program and GLSL
+// overwrites), shade model, GL_NORMALIZE, the scissor, stencil and polygon-offset-fill enables,
+// polygon offset, polygon mode, viewport, cull face mode, front face, alpha test function and
+// reference, fog mode, density, start and end, the current normal, the framebuffer binding,
+// matrix mode, the modelview and projection matrices and their stack depths, the unpack
+// pixel-store state and the pixel unpack buffer binding; the bound ARB vertex program, the first
+// 96 vertex program env parameters and local parameters of the bound program, and the GLSL
 // program; the active and client active texture units; the current colour, secondary colour and
 // texture coordinates; the array buffer binding; the colour, secondary colour, vertex, normal and
 // fog coordinate arrays (enabled, size, type, stride, pointer, buffer); and on each of the first
 // min(GL_MAX_TEXTURE_UNITS, 8) units: the enabled texture targets and texture-coordinate
 // generation, the bound 1D/2D/3D/cube textures, the texture environment (mode, colour, and the
-// whole combine state), the texture matrix and the texture-coordinate array. Reading it costs a
-// few hundred glGet calls: for tests, not frames.
+// whole combine state), the texture matrix and its stack depth, and the texture-coordinate array.
+// Reading it costs a few hundred glGet calls: for tests, not frames.
 #pragma once
 
 #include <string>

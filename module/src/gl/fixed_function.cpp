@@ -101,6 +101,7 @@ Result<Path> choose_path(const Caps& caps, Path requested, bool fixed_function_l
 // ---- CombinerTexture ---------------------------------------------------------------------------
 
 Result<CombinerTexture> CombinerTexture::create(const Api& api, int size) {
+    if (auto e = detail::no_current_context(api)) return *e;
     if (!api.caps.texture_3d || api.TexImage3D == nullptr) {
         return Error{"combiner",
                      "combiner: the identity texture needs GL 1.2 or "
@@ -243,6 +244,7 @@ void common_state(const Api& api, detail::StateSaver& s, const ApplyOptions& opt
 Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options,
                                      const VertexColours& colours,
                                      const std::function<void()>& draw) {
+    if (auto e = detail::no_current_context(api)) return *e;
     if (colours.primary == nullptr) {
         return Error{"colours.primary", "colours.primary: the F_ex array is null"};
     }

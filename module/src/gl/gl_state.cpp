@@ -82,6 +82,14 @@ std::string enum_text(GLint value) {
         {GL_AMBIENT_AND_DIFFUSE, "GL_AMBIENT_AND_DIFFUSE"},
         {GL_FOG_COORD, "GL_FOG_COORD"},
         {GL_FRAGMENT_DEPTH, "GL_FRAGMENT_DEPTH"},
+        {GL_CW, "GL_CW"},
+        {GL_CCW, "GL_CCW"},
+        {GL_POINT, "GL_POINT"},
+        {GL_LINE, "GL_LINE"},
+        {GL_FILL, "GL_FILL"},
+        {GL_EXP, "GL_EXP"},
+        {GL_EXP2, "GL_EXP2"},
+        {GL_LINEAR, "GL_LINEAR"},
     };
     // clang-format on
     const auto it = kNames.find(value);
@@ -93,6 +101,9 @@ std::string enum_text(GLint value) {
     std::snprintf(text, sizeof text, "0x%04X", static_cast<unsigned>(value));
     return text;
 }
+
+// ARB_vertex_program guarantees at least 96 env and 96 local parameters.
+constexpr GLuint kProgramParameters = 96;
 
 std::string float_text(const GLfloat* v, int n) {
     std::string s;
@@ -224,7 +235,34 @@ StateSnapshot capture_state(const Api& api) {
         }
     }
     r.enumeration("GL_SHADE_MODEL", GL_SHADE_MODEL);
+    AERIAL_ENABLED(GL_NORMALIZE);
+    AERIAL_ENABLED(GL_SCISSOR_TEST);
+    AERIAL_ENABLED(GL_STENCIL_TEST);
+    AERIAL_ENABLED(GL_POLYGON_OFFSET_FILL);
+    r.floats("GL_POLYGON_OFFSET_FACTOR", GL_POLYGON_OFFSET_FACTOR, 1);
+    r.floats("GL_POLYGON_OFFSET_UNITS", GL_POLYGON_OFFSET_UNITS, 1);
+    {
+        std::array<GLint, 2> modes{};
+        api.GetIntegerv(GL_POLYGON_MODE, modes.data());
+        r.add("GL_POLYGON_MODE", enum_text(modes[0]) + " " + enum_text(modes[1]));
+        std::array<GLint, 4> box{};
+        api.GetIntegerv(GL_VIEWPORT, box.data());
+        r.add("GL_VIEWPORT", std::to_string(box[0]) + " " + std::to_string(box[1]) + " " +
+                                 std::to_string(box[2]) + " " + std::to_string(box[3]));
+    }
+    r.enumeration("GL_CULL_FACE_MODE", GL_CULL_FACE_MODE);
+    r.enumeration("GL_FRONT_FACE", GL_FRONT_FACE);
+    r.enumeration("GL_ALPHA_TEST_FUNC", GL_ALPHA_TEST_FUNC);
+    r.floats("GL_ALPHA_TEST_REF", GL_ALPHA_TEST_REF, 1);
+    r.enumeration("GL_FOG_MODE", GL_FOG_MODE);
+    r.floats("GL_FOG_DENSITY", GL_FOG_DENSITY, 1);
+    r.floats("GL_FOG_START", GL_FOG_START, 1);
+    r.floats("GL_FOG_END", GL_FOG_END, 1);
+    r.floats("GL_CURRENT_NORMAL", GL_CURRENT_NORMAL, 3);
     r.enumeration("GL_MATRIX_MODE", GL_MATRIX_MODE);
+    r.integer("GL_MODELVIEW_STACK_DEPTH", GL_MODELVIEW_STACK_DEPTH);
+    r.integer("GL_PROJECTION_STACK_DEPTH", GL_PROJECTION_STACK_DEPTH);
+    if (api.BindFramebuffer) r.integer("GL_FRAMEBUFFER_BINDING", GL_FRAMEBUFFER_BINDING);
     r.floats("GL_MODELVIEW_MATRIX", GL_MODELVIEW_MATRIX, 16);
     r.floats("GL_PROJECTION_MATRIX", GL_PROJECTION_MATRIX, 16);
     r.integer("GL_UNPACK_ALIGNMENT", GL_UNPACK_ALIGNMENT);
@@ -240,6 +278,19 @@ StateSnapshot capture_state(const Api& api) {
         GLint bound = 0;
         api.GetProgramiv(GL_VERTEX_PROGRAM_ARB, GL_PROGRAM_BINDING_ARB, &bound);
         r.add("GL_VERTEX_PROGRAM_ARB GL_PROGRAM_BINDING_ARB", std::to_string(bound));
+        // The vertex program parameters an engine's programs read: program.env, and
+        // program.local of the engine's bound program (the first kProgramParameters of each,
+        // the minimum every implementation has).
+        for (GLuint i = 0; i < kProgramParameters; ++i) {
+            std::array<GLfloat, 4> v{};
+            api.GetProgramEnvParameterfv(GL_VERTEX_PROGRAM_ARB, i, v.data());
+            r.add(("program.env[" + std::to_string(i) + "]").c_str(), float_text(v.data(), 4));
+        }
+        for (GLuint i = 0; bound != 0 && i < kProgramParameters; ++i) {
+            std::array<GLfloat, 4> v{};
+            api.GetProgramLocalParameterfv(GL_VERTEX_PROGRAM_ARB, i, v.data());
+            r.add(("program.local[" + std::to_string(i) + "]").c_str(), float_text(v.data(), 4));
+        }
     }
     if (api.UseProgram) r.integer("GL_CURRENT_PROGRAM", GL_CURRENT_PROGRAM);
     if (caps.multitexture) {
@@ -318,6 +369,7 @@ StateSnapshot capture_state(const Api& api) {
             r.tex_env_floats("GL_ALPHA_SCALE", GL_ALPHA_SCALE, 1);
         }
         r.floats("GL_TEXTURE_MATRIX", GL_TEXTURE_MATRIX, 16);
+        r.integer("GL_TEXTURE_STACK_DEPTH", GL_TEXTURE_STACK_DEPTH);
         r.floats("GL_CURRENT_TEXTURE_COORDS", GL_CURRENT_TEXTURE_COORDS, 4);
         r.array("GL_TEXTURE_COORD_ARRAY", GL_TEXTURE_COORD_ARRAY, GL_TEXTURE_COORD_ARRAY_SIZE,
                 GL_TEXTURE_COORD_ARRAY_TYPE, GL_TEXTURE_COORD_ARRAY_STRIDE,

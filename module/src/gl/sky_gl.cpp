@@ -107,6 +107,7 @@ bool cube_maps_supported(const Api& api) {
 
 Result<SkyCubemapTexture> SkyCubemapTexture::create(
     const Api& api, const std::array<std::vector<std::uint8_t>, 6>& faces, int size) {
+    if (auto e = detail::no_current_context(api)) return *e;
     if (!cube_maps_supported(api)) return no_cube_maps(api);
     if (auto e = check_faces(api, faces, size)) return *e;
     GLuint id = 0;
@@ -118,6 +119,7 @@ Result<SkyCubemapTexture> SkyCubemapTexture::create(
 
 std::optional<Error> SkyCubemapTexture::update(
     const std::array<std::vector<std::uint8_t>, 6>& faces, int size) {
+    if (auto e = detail::no_current_context(*api_)) return e;
     if (auto e = check_faces(*api_, faces, size)) return e;
     detail::StateSaver s(*api_);
     default_unpack(s);
@@ -155,6 +157,7 @@ SkyCubemapTexture::~SkyCubemapTexture() {
 // ---- SunSpriteTexture ------------------------------------------------------------------------
 
 Result<SunSpriteTexture> SunSpriteTexture::create(const Api& api, const SunSprite& sprite) {
+    if (auto e = detail::no_current_context(api)) return *e;
     GLuint id = 0;
     api.GenTextures(1, &id);
     SunSpriteTexture texture(api, id);
@@ -163,6 +166,7 @@ Result<SunSpriteTexture> SunSpriteTexture::create(const Api& api, const SunSprit
 }
 
 std::optional<Error> SunSpriteTexture::update(const SunSprite& sprite) {
+    if (auto e = detail::no_current_context(*api_)) return e;
     GLint max_size = 0;
     api_->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
     if (sprite.size < 1 || sprite.size > max_size ||
@@ -216,6 +220,7 @@ SkyBoxView sky_box_view_from_current_matrices(const Api& api) {
 
 std::optional<Error> draw_sky_box(const Api& api, const SkyCubemapTexture& texture,
                                   const SkyBoxView& view) {
+    if (auto e = detail::no_current_context(api)) return e;
     if (!cube_maps_supported(api)) return no_cube_maps(api);
     double near_plane = 0, far_plane = 0;
     if (!near_far(view.projection, near_plane, far_plane)) {
@@ -249,6 +254,7 @@ std::optional<Error> draw_sky_box(const Api& api, const SkyCubemapTexture& textu
 
 std::optional<Error> draw_sun_sprite(const Api& api, const SunSpriteTexture& texture,
                                      const SkyBoxView& view, const glm::dvec3& sun_dir) {
+    if (auto e = detail::no_current_context(api)) return e;
     double near_plane = 0, far_plane = 0;
     if (!near_far(view.projection, near_plane, far_plane)) {
         return Error{"projection",

@@ -6,6 +6,13 @@
 
 namespace aerial::gl::detail {
 
+std::optional<Error> no_current_context(const Api& api) {
+    if (api.GetString != nullptr && api.GetString(GL_VERSION) != nullptr) return std::nullopt;
+    return Error{"context",
+                 "context: no GL context is current on this thread (glGetString(GL_VERSION) is "
+                 "NULL); make the engine's context current before calling the module"};
+}
+
 std::vector<GLenum> texture_targets(const Caps& caps) {
     std::vector<GLenum> targets{GL_TEXTURE_1D, GL_TEXTURE_2D};
     if (caps.texture_3d) targets.push_back(GL_TEXTURE_3D);

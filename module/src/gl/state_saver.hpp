@@ -5,11 +5,18 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <vector>
 
+#include "aerial/error.hpp"
 #include "aerial/gl_api.hpp"
 
 namespace aerial::gl::detail {
+
+/// Error "context" when no GL context is current on this thread (glGetString(GL_VERSION) gives
+/// NULL): every entry point that talks to GL checks this first, so a call made at the wrong
+/// time is a clear error rather than GL calls that silently do nothing (or crash a driver).
+std::optional<Error> no_current_context(const Api& api);
 
 /// The texture targets a unit may have enabled (TEXTURE_CUBE_MAP only where the context has it).
 std::vector<GLenum> texture_targets(const Caps& caps);

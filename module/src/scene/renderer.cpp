@@ -284,6 +284,7 @@ void SceneRenderer::clear_caches() {
 }
 
 Result<SceneRenderer> SceneRenderer::create(const gl::Api& api, const RendererOptions& options) {
+    if (auto e = gl::detail::no_current_context(api)) return *e;
     auto impl = std::make_unique<Impl>();
     impl->api = &api;
     impl->options = options;
@@ -518,6 +519,7 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
     const auto start = std::chrono::steady_clock::now();
     Impl& im = *impl_;
     const gl::Api& api = *im.api;
+    if (auto e = gl::detail::no_current_context(api)) return *e;
     if (auto e = validate(root)) return Error{e->field, "scene: " + e->message};
     if (auto e = validate(camera)) return *e;
     if (!(settings.error_target_lsb >= 0.0)) {

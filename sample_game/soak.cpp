@@ -1,0 +1,179 @@
+#include "soak.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "aerial/mesh.hpp"
+
+namespace sample {
+namespace {
+
+constexpr int kCompactEvery = 50;  ///< frames between AdaptiveMesh::compact() calls
+
+/// The value in KiB of a "Name:   1234 kB" line of /proc/self/status.
+std::size_t status_kib(const std::string& text, const char* name) {
+    const std::size_t at = text.find(name);
+    if (at == std::string::npos) return 0;
+    return std::size_t(
+        std::strtoull(text.c_str() + at + std::char_traits<char>::length(name), nullptr, 10));
+}
+
+/// The largest difference of two RGBA8 images on the colour channels, in 8-bit steps.
+int max_difference(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b) {
+    if (a.size() != b.size()) return 255;
+    int worst = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        if (i % 4 == 3) continue;
+        worst = std::max(worst, std::abs(int(a[i]) - int(b[i])));
+    }
+    return worst;
+}
+
+/// The image a renderer created now draws of `state` (fresh caches, fresh sky).
+aerial::Result<std::vector<std::uint8_t>> fresh_render(const aerial::headless::Context& context,
+                                                       const aerial::scene::RendererOptions& ro,
+                                                       const World& world, const FlightState& state,
+                                                       const GameConfig& config) {
+    auto renderer = aerial::scene::SceneRenderer::create(context.api(), ro);
+    if (!renderer) return renderer.error();
+    auto sky = install_sky(renderer.value(), context.api(), config);
+    if (!sky) return sky.error();
+    auto outcome = render_frame(context.api(), renderer.value(), world, state, config);
+    if (!outcome) return outcome.error();
+    return context.read_rgba8();
+}
+
+}  // namespace
+
+MemoryUse memory_use() {
+    std::ifstream file("/proc/self/status");
+    const std::string text((std::istreambuf_iterator<char>(file)),
+                           std::istreambuf_iterator<char>());
+    return {status_kib(text, "VmRSS:"), status_kib(text, "VmHWM:")};
+}
+
+std::string SoakReport::summary() const {
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "soak: %d frames rss_kib@%d=%zu hwm_kib@%d=%zu rss_kib@%d=%zu hwm_kib@%d=%zu "
+                  "growth_kib=%lld margin_kib=%zu memory=%s comparisons=%d worst_lsb=%d "
+                  "(frame %d) tolerance_lsb=%d frames=%s tess_max_vertices=%zu tess_budget=%zu "
+                  "tess_budget_frames=%d tessellation=%s mean_ms=%.2f",
+                  frames, baseline_frame, rss_baseline_kib, baseline_frame, hwm_baseline_kib,
+                  frames, rss_end_kib, frames, hwm_end_kib,
+                  (long long)rss_end_kib - (long long)rss_baseline_kib, rss_margin_kib,
+                  memory_flat() ? "flat" : "GROWING", comparisons, worst_lsb, worst_frame,
+                  tolerance_lsb, frames_match() ? "match" : "DIFFER", tessellation_max_vertices,
+                  tessellation_budget, tessellation_budget_frames,
+                  tessellation_within_budget() ? "within" : "OVER", mean_ms);
+    return line;
+}
+
+aerial::Result<SoakReport> run_soak(const World& world, GameConfig config,
+                                    const SoakOptions& options) {
+    config.readout = false;
+    auto context = aerial::headless::Context::create({options.gl, config.width, config.height});
+    if (!context) return context.error();
+    const aerial::gl::Api& api = context->api();
+    aerial::scene::RendererOptions ro;
+    ro.backend = config.backend;
+    ro.path = config.path;
+    auto renderer = aerial::scene::SceneRenderer::create(api, ro);
+    if (!renderer) return renderer.error();
+    auto sky = install_sky(renderer.value(), api, config);
+    if (!sky) return sky.error();
+    config.sky = sky->used;
+
+    SoakReport report;
+    report.frames = options.frames;
+    report.baseline_frame = std::clamp(options.baseline_frame, 1, options.frames);
+    report.rss_margin_kib = options.rss_margin_kib;
+    // The policy reuses colours within its error target by design; the fresh render rounds once.
+    report.tolerance_lsb = 1 + (config.policy ? int(std::ceil(config.error_target_lsb)) : 0);
+    report.tessellation_budget = options.tessellation_budget;
+    // The adaptive dome: 80 km around the middle of the terrain, refined for the eye and sun of
+    // each frame where its interpolated sky colour would be more than 1 LSB off (created at the
+    // first frame, with that frame's exposure).
+    std::optional<aerial::mesh::AdaptiveMesh> dome;
+    const int period = 2 * std::max(1, options.leg_frames);
+    double total_ms = 0.0;
+    for (int i = 0; i < options.frames; ++i) {
+        const int phase = i % period;
+        const double t = phase <= period / 2 ? double(phase) / (period / 2)
+                                             : double(period - phase) / (period / 2);
+        const FlightState state = flight_at(world, t, config.sun);
+        auto outcome = render_frame(api, renderer.value(), world, state, config);
+        if (!outcome) {
+            return aerial::Error{"frame",
+                                 "frame " + std::to_string(i) + ": " + outcome.error().message};
+        }
+        total_ms += outcome->milliseconds;
+        if (options.tessellation_budget > 0) {
+            if (!dome) {
+                aerial::mesh::DomeOptions shape;
+                auto base = aerial::mesh::geodesic_dome(8, shape);
+                if (!base) return base.error();
+                aerial::mesh::AdaptiveSettings settings;
+                settings.max_vertices = options.tessellation_budget;
+                settings.colour.display = outcome->settings.display;
+                settings.colour.texel = glm::vec3(0.0f);
+                auto made = aerial::mesh::AdaptiveMesh::create(
+                    std::move(base).value(), aerial::mesh::Surface::sphere(shape), settings);
+                if (!made) return made.error();
+                dome.emplace(std::move(made).value());
+            }
+            aerial::View view;
+            view.eye = camera_for(world, state, double(config.width) / config.height).eye;
+            view.sun_dir = outcome->settings.sun_dir;
+            view.up = outcome->settings.up;
+            auto frame = aerial::prepare_frame<float>(outcome->settings.atmosphere, view,
+                                                      aerial::Model::height);
+            if (!frame) return frame.error();
+            const aerial::mesh::UpdateStats stats = dome->update(*frame);
+            report.tessellation_max_vertices =
+                std::max(report.tessellation_max_vertices, stats.vertices);
+            if (!stats.complete) ++report.tessellation_budget_frames;
+            // AdaptiveMesh keeps deleted elements until compact(): an engine compacts now and
+            // then, or the mesh's arrays grow with every split and merge (at the budget, RSS
+            // grew by 20 MiB in 108 frames without this).
+            if ((i + 1) % kCompactEvery == 0) dome->compact();
+        }
+        if (sky->stats && !sky->stats->error.empty()) {
+            return aerial::Error{"sky", "frame " + std::to_string(i) + ": " + sky->stats->error};
+        }
+        const bool last = i + 1 == options.frames;
+        // The first frame too: the fresh renderer's allocations are then part of the baseline.
+        if (i == 0 || (i + 1) % std::max(1, options.compare_every) == 0 || last) {
+            const std::vector<std::uint8_t> soaked = context->read_rgba8();
+            auto fresh = fresh_render(*context, ro, world, state, config);
+            if (!fresh) {
+                return aerial::Error{"fresh", "fresh render of frame " + std::to_string(i) + ": " +
+                                                  fresh.error().message};
+            }
+            const int lsb = max_difference(soaked, *fresh);
+            ++report.comparisons;
+            if (lsb > report.worst_lsb || report.worst_frame < 0) {
+                report.worst_lsb = std::max(report.worst_lsb, lsb);
+                if (lsb == report.worst_lsb) report.worst_frame = i;
+            }
+        }
+        if (i + 1 == report.baseline_frame) {
+            const MemoryUse m = memory_use();
+            report.rss_baseline_kib = m.rss_kib;
+            report.hwm_baseline_kib = m.hwm_kib;
+        }
+    }
+    const MemoryUse m = memory_use();
+    report.rss_end_kib = m.rss_kib;
+    report.hwm_end_kib = m.hwm_kib;
+    report.mean_ms = total_ms / options.frames;
+    return report;
+}
+
+}  // namespace sample

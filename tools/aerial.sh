@@ -2,7 +2,9 @@
 # aerial.sh — sets up, builds and runs the project: the two commands of the README's Quick start.
 #
 #   tools/aerial.sh run    installs what is missing, builds, renders the sample's flythrough into build/out/flythrough/
-#   tools/aerial.sh test   installs what is missing, builds, runs the whole test suite (CTest)
+#   tools/aerial.sh test   installs what is missing, builds, runs the whole test suite (CTest),
+#                          then the sanitizer build's subset and a short run of each fuzzer
+#   tools/aerial.sh fuzz [SECONDS]  runs each libFuzzer target for SECONDS (default 300)
 #   tools/aerial.sh goldens  re-renders the golden images of tests/golden/ (never run by tests)
 #
 # Works from any directory. Needs Debian (apt) for the install step; root or sudo to install.
@@ -31,9 +33,16 @@ PACKAGES=(
     xauth
     python3-matplotlib
     python3
+    clang
+    libclang-rt-14-dev
 )
 
 BUILD_DIR=build
+# The clang build with AddressSanitizer, UndefinedBehaviorSanitizer and the libFuzzer targets.
+SANITIZE_DIR=build-sanitize
+# What `test` runs there: the tests of these labels (the GL tests on OSMesa/llvmpipe only, the
+# other drivers and contexts run the same code), and each fuzzer for FUZZ_SMOKE_SECONDS.
+FUZZ_SMOKE_SECONDS=20
 OUT_DIR="$BUILD_DIR/out"
 
 usage() {
@@ -50,6 +59,15 @@ Commands:
                   --frames 48; see $BUILD_DIR/bin/aerial-sample --help).
   test            install, configure and build as above, then run the whole suite:
                   ctest --test-dir $BUILD_DIR --output-on-failure -j2
+                  Then the sanitizer stage: configures $SANITIZE_DIR/ with clang,
+                  -DAERIAL_SANITIZE=ON -DAERIAL_FUZZ=ON (AddressSanitizer with LeakSanitizer,
+                  UndefinedBehaviorSanitizer, every finding fatal), builds it and runs
+                  ctest --test-dir $SANITIZE_DIR -L sanitize -j2
+                  which is the suite without the GL driver and context variants, plus every
+                  libFuzzer target of tests/fuzz for $FUZZ_SMOKE_SECONDS s from its seed corpus.
+  fuzz [SECONDS]  install, configure and build $SANITIZE_DIR/ as above, then run every libFuzzer
+                  target for SECONDS (default 300) and print the executions of each; new inputs
+                  land in $SANITIZE_DIR/tests/fuzz/NAME/corpus, crashes next to it (crash-*).
   goldens         install and configure as above, build aerial-render, and re-render every
                   golden image listed in tests/golden/goldens.txt with the settings listed
                   there (OSMesa, llvmpipe, LP_NUM_THREADS pinned); records GL_RENDERER and
@@ -134,6 +152,44 @@ setup() {
     build
 }
 
+configure_sanitize() {
+    if [[ -f $SANITIZE_DIR/build.ninja ]] &&
+        grep -qx 'AERIAL_FUZZ:BOOL=ON' "$SANITIZE_DIR/CMakeCache.txt" 2>/dev/null; then
+        return
+    fi
+    command -v clang++ >/dev/null 2>&1 || die "clang++ not found (Debian packages clang, libclang-rt-14-dev)"
+    say "configuring the sanitizer and fuzzing build in $SANITIZE_DIR/ (clang)"
+    cmake -S . -B "$SANITIZE_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+        -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DAERIAL_FUZZ=ON \
+        -DAERIAL_BUILD_SAMPLE_GAME=OFF
+}
+
+build_sanitize() {
+    local jobs
+    jobs=$(nproc 2>/dev/null || echo 2)
+    say "building $SANITIZE_DIR/ with $jobs jobs${1:+ (targets: $*)}"
+    cmake --build "$SANITIZE_DIR" -j "$jobs" ${1:+--target "$@"}
+}
+
+fuzz_targets() {
+    local dir
+    for dir in tests/fuzz/corpus/*/; do
+        basename "$dir"
+    done
+}
+
+# Runs the fuzz tests (CTest label "fuzz") for $1 seconds each and prints libFuzzer's counts.
+run_fuzzers() {
+    local seconds=$1 status=0 name
+    say "running each fuzzer for $seconds s"
+    AERIAL_FUZZ_SECONDS=$seconds ctest --test-dir "$SANITIZE_DIR" -L '^fuzz$' -j2 \
+        --output-on-failure --timeout $((seconds + 600)) || status=$?
+    for name in $(fuzz_targets); do
+        cat "$SANITIZE_DIR/tests/fuzz/$name/summary.txt" 2>/dev/null || true
+    done
+    return "$status"
+}
+
 # Re-renders the goldens of tests/golden/goldens.txt (its format is described in the file).
 render_goldens() {
     local dir=tests/golden size="" gl="" envs=() kind a b c name line renderer="" count=0
@@ -184,20 +240,29 @@ main() {
             usage
             return 0
             ;;
-        run | test | goldens) shift ;;
+        run | test | goldens | fuzz) shift ;;
         "")
             usage >&2
-            printf '\naerial.sh: missing command (run, test or goldens)\n' >&2
+            printf '\naerial.sh: missing command (run, test, fuzz or goldens)\n' >&2
             exit 2
             ;;
         *)
-            printf 'aerial.sh: unknown command %q (expected run, test or goldens; see --help)\n' \
+            printf 'aerial.sh: unknown command %q (expected run, test, fuzz or goldens; see --help)\n' \
                 "$command" >&2
             exit 2
             ;;
     esac
+    local fuzz_seconds=300
+    if [[ $command == fuzz && $# -gt 0 ]]; then
+        if [[ ! $1 =~ ^[0-9]+$ || $1 -lt 1 || $1 -gt 604800 ]]; then
+            printf 'aerial.sh: fuzz SECONDS: expected a whole number 1 .. 604800, got %q\n' "$1" >&2
+            exit 2
+        fi
+        fuzz_seconds=$1
+        shift
+    fi
     if [[ $command != run && $# -gt 0 ]]; then
-        printf 'aerial.sh: %s takes no arguments, got %q (see --help)\n' "$command" "$1" >&2
+        printf 'aerial.sh: %s takes no further arguments, got %q (see --help)\n' "$command" "$1" >&2
         exit 2
     fi
 
@@ -210,6 +275,14 @@ main() {
         render_goldens
         return
     fi
+    if [[ $command == fuzz ]]; then
+        install_missing_packages
+        configure_sanitize
+        # shellcheck disable=SC2046
+        build_sanitize $(fuzz_targets)
+        run_fuzzers "$fuzz_seconds"
+        return
+    fi
     setup
     if [[ $command == run ]]; then
         mkdir -p "$OUT_DIR"
@@ -219,6 +292,11 @@ main() {
     else
         say "running the test suite"
         ctest --test-dir "$BUILD_DIR" --output-on-failure -j2
+        configure_sanitize
+        build_sanitize
+        say "running the sanitizer subset and the fuzz smoke ($FUZZ_SMOKE_SECONDS s per fuzzer)"
+        AERIAL_FUZZ_SECONDS=$FUZZ_SMOKE_SECONDS \
+            ctest --test-dir "$SANITIZE_DIR" -L '^sanitize$' --output-on-failure -j2
     fi
 }
 

@@ -2,8 +2,9 @@
 # aerial.sh — sets up, builds and runs the project: the two commands of the README's Quick start.
 #
 #   tools/aerial.sh run    installs what is missing, builds, renders the sample's flythrough into build/out/flythrough/
-#   tools/aerial.sh test   installs what is missing, builds, runs the whole test suite (CTest),
-#                          then the sanitizer build's subset and a short run of each fuzzer
+#   tools/aerial.sh test   installs what is missing, builds, runs the whole test suite (CTest)
+#   tools/aerial.sh sanitize  the clang ASan+UBSan build: the suite's subset and a short run of
+#                          each fuzzer
 #   tools/aerial.sh fuzz [SECONDS]  runs each libFuzzer target for SECONDS (default 300)
 #   tools/aerial.sh goldens  re-renders the golden images of tests/golden/ (never run by tests)
 #
@@ -40,7 +41,7 @@ PACKAGES=(
 BUILD_DIR=build
 # The clang build with AddressSanitizer, UndefinedBehaviorSanitizer and the libFuzzer targets.
 SANITIZE_DIR=build-sanitize
-# What `test` runs there: the suite but these (CTest -E): the GL tests on softpipe, on EGL and
+# What `sanitize` runs there: the suite but these (CTest -E): the GL tests on softpipe, on EGL and
 # with extensions hidden run the module's same code as on OSMesa llvmpipe (GL 1.3 and 1.1 stay:
 # they take the combiner and two-pass paths), and the golden images render through aerial-render
 # as test_aerial_render does. Plus each fuzzer for FUZZ_SMOKE_SECONDS.
@@ -62,7 +63,7 @@ Commands:
                   --frames 48; see $BUILD_DIR/bin/aerial-sample --help).
   test            install, configure and build as above, then run the whole suite:
                   ctest --test-dir $BUILD_DIR --output-on-failure -j2
-                  Then the sanitizer stage: configures $SANITIZE_DIR/ with clang,
+  sanitize        install, then configure $SANITIZE_DIR/ with clang,
                   -DAERIAL_SANITIZE=ON -DAERIAL_FUZZ=ON (AddressSanitizer with LeakSanitizer,
                   UndefinedBehaviorSanitizer, every finding fatal), builds it and runs
                   ctest --test-dir $SANITIZE_DIR -E '$SANITIZE_EXCLUDE' -j2
@@ -244,14 +245,14 @@ main() {
             usage
             return 0
             ;;
-        run | test | goldens | fuzz) shift ;;
+        run | test | goldens | sanitize | fuzz) shift ;;
         "")
             usage >&2
-            printf '\naerial.sh: missing command (run, test, fuzz or goldens)\n' >&2
+            printf '\naerial.sh: missing command (run, test, sanitize, fuzz or goldens)\n' >&2
             exit 2
             ;;
         *)
-            printf 'aerial.sh: unknown command %q (expected run, test, fuzz or goldens; see --help)\n' \
+            printf 'aerial.sh: unknown command %q (expected run, test, sanitize, fuzz or goldens; see --help)\n' \
                 "$command" >&2
             exit 2
             ;;
@@ -279,6 +280,15 @@ main() {
         render_goldens
         return
     fi
+    if [[ $command == sanitize ]]; then
+        install_missing_packages
+        configure_sanitize
+        build_sanitize
+        say "running the sanitizer subset and the fuzz smoke ($FUZZ_SMOKE_SECONDS s per fuzzer)"
+        AERIAL_FUZZ_SECONDS=$FUZZ_SMOKE_SECONDS \
+            ctest --test-dir "$SANITIZE_DIR" -E "$SANITIZE_EXCLUDE" --output-on-failure -j2
+        return
+    fi
     if [[ $command == fuzz ]]; then
         install_missing_packages
         configure_sanitize
@@ -296,11 +306,6 @@ main() {
     else
         say "running the test suite"
         ctest --test-dir "$BUILD_DIR" --output-on-failure -j2
-        configure_sanitize
-        build_sanitize
-        say "running the sanitizer subset and the fuzz smoke ($FUZZ_SMOKE_SECONDS s per fuzzer)"
-        AERIAL_FUZZ_SECONDS=$FUZZ_SMOKE_SECONDS \
-            ctest --test-dir "$SANITIZE_DIR" -E "$SANITIZE_EXCLUDE" --output-on-failure -j2
     fi
 }
 

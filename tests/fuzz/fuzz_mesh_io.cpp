@@ -54,18 +54,19 @@ void refine(aerial::mesh::Mesh mesh) {
     auto adaptive =
         aerial::mesh::AdaptiveMesh::create(std::move(mesh), aerial::mesh::Surface{}, settings);
     check(adaptive.ok(), "AdaptiveMesh::create rejected a mesh validate_mesh accepted");
+    aerial::mesh::AdaptiveMesh& refined = adaptive.value();
     for (int which = 0; which < 2; ++which) {
-        const auto stats = adaptive->update(frame_at(which));
+        const auto stats = refined.update(frame_at(which));
         check(std::isfinite(stats.max_error_lsb), "non-finite max_error_lsb after an update");
         check(stats.vertices <= settings.max_vertices, "the update went over its vertex budget");
     }
-    for (const auto v : adaptive->mesh().vertices()) {
-        const auto p = adaptive->mesh().point(v);
+    for (const auto v : refined.mesh().vertices()) {
+        const auto p = refined.mesh().point(v);
         check(std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]),
               "a non-finite vertex after refinement");
     }
     const auto dense =
-        aerial::mesh::dense_error(adaptive->mesh(), frame_at(1), settings.colour, 0.05, 4);
+        aerial::mesh::dense_error(refined.mesh(), frame_at(1), settings.colour, 0.05, 4);
     check(dense.ok(), "dense_error rejected a refined mesh");
     check(std::isfinite(dense->max_lsb) && std::isfinite(dense->rmse_lsb),
           "non-finite dense error");

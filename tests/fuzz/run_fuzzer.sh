@@ -20,5 +20,5 @@ if [ "$status" -ne 0 ] || [ -z "$runs" ]; then
     echo "fuzz $name: FAILED (exit $status); the input is in $work/, the log in $log" >&2
     exit 1
 fi
-echo "fuzz $name: $runs, $(ls "$work/corpus" | wc -l) new inputs in $work/corpus" |
+echo "fuzz $name: $runs, $(find "$work/corpus" -type f | wc -l) inputs found in $work/corpus" |
     tee "$work/summary.txt"

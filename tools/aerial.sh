@@ -3,6 +3,9 @@
 #
 #   tools/aerial.sh run    installs what is missing, builds, renders the sample's flythrough into build/out/flythrough/
 #   tools/aerial.sh test   installs what is missing, builds, runs the whole test suite (CTest)
+#   tools/aerial.sh sanitize  the clang ASan+UBSan build: the suite's subset and a short run of
+#                          each fuzzer
+#   tools/aerial.sh fuzz [SECONDS]  runs each libFuzzer target for SECONDS (default 300)
 #   tools/aerial.sh goldens  re-renders the golden images of tests/golden/ (never run by tests)
 #
 # Works from any directory. Needs Debian (apt) for the install step; root or sudo to install.
@@ -32,9 +35,19 @@ PACKAGES=(
     xauth
     python3-matplotlib
     python3
+    clang
+    libclang-rt-14-dev
 )
 
 BUILD_DIR=build
+# The clang build with AddressSanitizer, UndefinedBehaviorSanitizer and the libFuzzer targets.
+SANITIZE_DIR=build-sanitize
+# What `sanitize` runs there: the suite but these (CTest -E): the GL tests on softpipe, on EGL and
+# with extensions hidden run the module's same code as on OSMesa llvmpipe (GL 1.3 and 1.1 stay:
+# they take the combiner and two-pass paths), and the golden images render through aerial-render
+# as test_aerial_render does. Plus each fuzzer for FUZZ_SMOKE_SECONDS.
+SANITIZE_EXCLUDE='\.(softpipe|no_ext)$|\.egl\.|GoldenImage\.|CrossBackend\.'
+FUZZ_SMOKE_SECONDS=20
 OUT_DIR="$BUILD_DIR/out"
 
 usage() {
@@ -51,6 +64,16 @@ Commands:
                   --frames 48; see $BUILD_DIR/bin/aerial-sample --help).
   test            install, configure and build as above, then run the whole suite:
                   ctest --test-dir $BUILD_DIR --output-on-failure -j2
+  sanitize        install, then configure $SANITIZE_DIR/ with clang,
+                  -DAERIAL_SANITIZE=ON -DAERIAL_FUZZ=ON (AddressSanitizer with LeakSanitizer,
+                  UndefinedBehaviorSanitizer, every finding fatal), builds it and runs
+                  ctest --test-dir $SANITIZE_DIR -E '$SANITIZE_EXCLUDE' -j2
+                  which is the suite without the softpipe, EGL and hidden-extension GL runs and
+                  the golden images, plus every libFuzzer target of tests/fuzz for
+                  $FUZZ_SMOKE_SECONDS s from its seed corpus (CTest label fuzz).
+  fuzz [SECONDS]  install, configure and build $SANITIZE_DIR/ as above, then run every libFuzzer
+                  target for SECONDS (default 300) and print the executions of each; new inputs
+                  land in $SANITIZE_DIR/tests/fuzz/NAME/corpus, crashes next to it (crash-*).
   goldens         install and configure as above, build aerial-render, and re-render every
                   golden image listed in tests/golden/goldens.txt with the settings listed
                   there (OSMesa, llvmpipe, LP_NUM_THREADS pinned); records GL_RENDERER and
@@ -135,6 +158,44 @@ setup() {
     build
 }
 
+configure_sanitize() {
+    if [[ -f $SANITIZE_DIR/build.ninja ]] &&
+        grep -qx 'AERIAL_FUZZ:BOOL=ON' "$SANITIZE_DIR/CMakeCache.txt" 2>/dev/null; then
+        return
+    fi
+    command -v clang++ >/dev/null 2>&1 || die "clang++ not found (Debian packages clang, libclang-rt-14-dev)"
+    say "configuring the sanitizer and fuzzing build in $SANITIZE_DIR/ (clang)"
+    cmake -S . -B "$SANITIZE_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release \
+        -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DAERIAL_FUZZ=ON \
+        -DAERIAL_BUILD_SAMPLE_GAME=OFF
+}
+
+build_sanitize() {
+    local jobs
+    jobs=$(nproc 2>/dev/null || echo 2)
+    say "building $SANITIZE_DIR/ with $jobs jobs${1:+ (targets: $*)}"
+    cmake --build "$SANITIZE_DIR" -j "$jobs" ${1:+--target "$@"}
+}
+
+fuzz_targets() {
+    local dir
+    for dir in tests/fuzz/corpus/*/; do
+        basename "$dir"
+    done
+}
+
+# Runs the fuzz tests (CTest label "fuzz") for $1 seconds each and prints libFuzzer's counts.
+run_fuzzers() {
+    local seconds=$1 status=0 name
+    say "running each fuzzer for $seconds s"
+    AERIAL_FUZZ_SECONDS=$seconds ctest --test-dir "$SANITIZE_DIR" -L '^fuzz$' -j2 \
+        --output-on-failure --timeout $((seconds + 600)) || status=$?
+    for name in $(fuzz_targets); do
+        cat "$SANITIZE_DIR/tests/fuzz/$name/summary.txt" 2>/dev/null || true
+    done
+    return "$status"
+}
+
 # Re-renders the goldens of tests/golden/goldens.txt (its format is described in the file).
 render_goldens() {
     local dir=tests/golden size="" gl="" envs=() kind a b c name line renderer="" count=0
@@ -185,20 +246,29 @@ main() {
             usage
             return 0
             ;;
-        run | test | goldens) shift ;;
+        run | test | goldens | sanitize | fuzz) shift ;;
         "")
             usage >&2
-            printf '\naerial.sh: missing command (run, test or goldens)\n' >&2
+            printf '\naerial.sh: missing command (run, test, sanitize, fuzz or goldens)\n' >&2
             exit 2
             ;;
         *)
-            printf 'aerial.sh: unknown command %q (expected run, test or goldens; see --help)\n' \
+            printf 'aerial.sh: unknown command %q (expected run, test, sanitize, fuzz or goldens; see --help)\n' \
                 "$command" >&2
             exit 2
             ;;
     esac
+    local fuzz_seconds=300
+    if [[ $command == fuzz && $# -gt 0 ]]; then
+        if [[ ! $1 =~ ^[0-9]+$ || $1 -lt 1 || $1 -gt 604800 ]]; then
+            printf 'aerial.sh: fuzz SECONDS: expected a whole number 1 .. 604800, got %q\n' "$1" >&2
+            exit 2
+        fi
+        fuzz_seconds=$1
+        shift
+    fi
     if [[ $command != run && $# -gt 0 ]]; then
-        printf 'aerial.sh: %s takes no arguments, got %q (see --help)\n' "$command" "$1" >&2
+        printf 'aerial.sh: %s takes no further arguments, got %q (see --help)\n' "$command" "$1" >&2
         exit 2
     fi
 
@@ -209,6 +279,23 @@ main() {
         install_missing_packages
         configure
         render_goldens
+        return
+    fi
+    if [[ $command == sanitize ]]; then
+        install_missing_packages
+        configure_sanitize
+        build_sanitize
+        say "running the sanitizer subset and the fuzz smoke ($FUZZ_SMOKE_SECONDS s per fuzzer)"
+        AERIAL_FUZZ_SECONDS=$FUZZ_SMOKE_SECONDS \
+            ctest --test-dir "$SANITIZE_DIR" -E "$SANITIZE_EXCLUDE" --output-on-failure -j2
+        return
+    fi
+    if [[ $command == fuzz ]]; then
+        install_missing_packages
+        configure_sanitize
+        # shellcheck disable=SC2046
+        build_sanitize $(fuzz_targets)
+        run_fuzzers "$fuzz_seconds"
         return
     fi
     setup

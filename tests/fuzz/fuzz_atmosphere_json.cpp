@@ -1,0 +1,63 @@
+// libFuzzer target: the atmosphere JSON parser (aerial::atmosphere_from_json). An accepted
+// atmosphere must pass validate(), survive to_json and back unchanged, and give finite F_ex,
+// L_in and E_sun in every model at a few vertices.
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "aerial/atmosphere.hpp"
+#include "aerial/scattering.hpp"
+#include "fuzz_check.hpp"
+
+namespace {
+
+using aerial::fuzz::check;
+using aerial::fuzz::finite;
+
+bool same(const aerial::Atmosphere& a, const aerial::Atmosphere& b) {
+    return a.rayleigh_scattering == b.rayleigh_scattering && a.mie_scattering == b.mie_scattering &&
+           a.mie_absorption == b.mie_absorption && a.mie_g == b.mie_g &&
+           a.rayleigh_scale_height_m == b.rayleigh_scale_height_m &&
+           a.mie_scale_height_m == b.mie_scale_height_m && a.planet_radius_m == b.planet_radius_m &&
+           a.atmosphere_radius_m == b.atmosphere_radius_m && a.sun_irradiance == b.sun_irradiance;
+}
+
+template <class T>
+void check_models(const aerial::Atmosphere& atmosphere) {
+    aerial::View view;
+    view.eye = {0.0, 0.0, 2.0};
+    view.sun_dir = {0.0, 0.8660254037844386, 0.5};
+    const glm::vec<3, T> vertices[] = {{T(0), T(1000), T(2)},
+                                       {T(0), T(50000), T(0)},
+                                       {T(0), T(-20000), T(3000)},
+                                       {T(2), T(2), T(2)}};
+    for (aerial::Model model : aerial::all_models()) {
+        auto frame = aerial::prepare_frame<T>(atmosphere, view, model);
+        if (!frame) continue;
+        // The reference model integrates numerically: one vertex keeps an input fast.
+        const int count = model == aerial::Model::reference ? 1 : 4;
+        for (int i = 0; i < count; ++i) {
+            const auto s = aerial::scatter(*frame, vertices[i]);
+            check(finite(s.extinction) && finite(s.in_scattering) && finite(s.sun_irradiance),
+                  "non-finite scattering from an accepted atmosphere");
+        }
+    }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+    const std::string_view text(reinterpret_cast<const char*>(data), size);
+    auto atmosphere = aerial::atmosphere_from_json(text);
+    if (!atmosphere) {
+        check(!atmosphere.error().message.empty(), "an error without a message");
+        return 0;
+    }
+    check(!aerial::validate(*atmosphere), "atmosphere_from_json accepted an invalid atmosphere");
+    auto again = aerial::atmosphere_from_json(aerial::to_json(*atmosphere));
+    check(again.ok(), "to_json wrote an atmosphere atmosphere_from_json rejects");
+    check(same(*atmosphere, *again), "to_json and back changed the atmosphere");
+    check_models<float>(*atmosphere);
+    check_models<double>(*atmosphere);
+    return 0;
+}

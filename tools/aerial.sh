@@ -48,6 +48,13 @@ SANITIZE_DIR=build-sanitize
 # as test_aerial_render does. Plus each fuzzer for FUZZ_SMOKE_SECONDS.
 SANITIZE_EXCLUDE='\.(softpipe|no_ext)$|\.egl\.|GoldenImage\.|CrossBackend\.'
 FUZZ_SMOKE_SECONDS=20
+# What `test` runs in $SANITIZE_DIR/ after the Release suite (CI's budget does not hold the whole
+# sanitizer build): the test executables of the core, the C interface, the mesh and the ARB
+# program generator and interpreter (no GL driver in the process), and every fuzzer for
+# FUZZ_SMOKE_SECONDS. `sanitize` runs more.
+SANITIZE_CI_TESTS=(test_core_accuracy test_core_atmosphere test_core_batch test_core_batch_kernels
+    test_core_batch_rgba8 test_core_cache test_core_models test_core_phase test_core_sky
+    test_core_stability test_core_sun test_capi_c test_mesh test_mesh_bad_data test_gl_arb_program)
 OUT_DIR="$BUILD_DIR/out"
 
 usage() {
@@ -64,6 +71,10 @@ Commands:
                   --frames 48; see $BUILD_DIR/bin/aerial-sample --help).
   test            install, configure and build as above, then run the whole suite:
                   ctest --test-dir $BUILD_DIR --output-on-failure -j2
+                  then the sanitizer stage: configure $SANITIZE_DIR/ as for sanitize, build
+                  the test executables of the core, the C interface, the mesh and the ARB
+                  program (SANITIZE_CI_TESTS in this script) and the fuzzers, run those tests
+                  (ctest -L) and each fuzzer for $FUZZ_SMOKE_SECONDS s
   sanitize        install, then configure $SANITIZE_DIR/ with clang,
                   -DAERIAL_SANITIZE=ON -DAERIAL_FUZZ=ON (AddressSanitizer with LeakSanitizer,
                   UndefinedBehaviorSanitizer, every finding fatal), builds it and runs
@@ -307,6 +318,17 @@ main() {
     else
         say "running the test suite"
         ctest --test-dir "$BUILD_DIR" --output-on-failure -j2
+        say "sanitizer stage: ${SANITIZE_CI_TESTS[*]} and the fuzzers under ASan+UBSan"
+        configure_sanitize
+        # shellcheck disable=SC2046
+        build_sanitize "${SANITIZE_CI_TESTS[@]}" $(fuzz_targets)
+        local labels
+        labels="^($(IFS='|'; echo "${SANITIZE_CI_TESTS[*]}")|fuzz)\$"
+        AERIAL_FUZZ_SECONDS=$FUZZ_SMOKE_SECONDS \
+            ctest --test-dir "$SANITIZE_DIR" -L "$labels" --output-on-failure -j2
+        for name in $(fuzz_targets); do
+            cat "$SANITIZE_DIR/tests/fuzz/$name/summary.txt" 2>/dev/null || true
+        done
     fi
 }
 

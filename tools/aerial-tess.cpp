@@ -143,16 +143,54 @@ Row grade(const Scene& scene, const std::string& method, const Mesh& mesh, doubl
     return row;
 }
 
-// Runs `levels` in order until the dense max is <= 1 LSB (that level included).
+// Runs `levels` (coarse to fine) in order until the dense max is <= 1 LSB (that level included).
+// Then, when `between` is given, runs the levels it gives strictly between the last level that
+// failed by 3 steps or more and the first passing level (those not run yet), coarse to fine,
+// until one passes: the error is not monotone in the level (a geodesic dome of frequency 49 can
+// pass where 48 fails by 2 steps), and the table takes the fewest vertices that pass, so no
+// method's count is overstated by the spacing of its coarse levels.
 void sweep(const Scene& scene, const std::string& method, const std::vector<double>& levels,
            const std::function<Mesh(double, double&)>& build, const Settings& settings,
-           std::vector<Row>& rows) {
-    for (double level : levels) {
+           std::vector<Row>& rows,
+           const std::function<std::vector<double>(double, double)>& between = {}) {
+    auto run = [&](double level) {
         double build_ms = 0.0;
         const Mesh mesh = build(level, build_ms);
         rows.push_back(grade(scene, method, mesh, build_ms, settings));
-        if (rows.back().error.max_lsb <= 1) break;
+        return rows.back().error.max_lsb;
+    };
+    std::size_t clearly_failing = 0;  // index of the last level with max >= 3 steps
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+        const int max_lsb = run(levels[i]);
+        if (max_lsb >= 3) clearly_failing = i;
+        if (max_lsb > 1) continue;
+        if (i > 0 && between && !settings.quick)
+            for (double level : between(levels[clearly_failing], levels[i])) {
+                const bool graded =
+                    std::any_of(levels.begin() + clearly_failing, levels.begin() + i,
+                                [&](double l) { return std::abs(l - level) < 1e-9; });
+                if (!graded && run(level) <= 1) break;
+            }
+        break;
     }
+}
+
+// Every integer strictly between two integer levels (geodesic frequencies, rings, cells).
+std::vector<double> integers_between(double coarse, double fine) {
+    std::vector<double> out;
+    for (int l = int(coarse) + 1; l < int(fine); ++l) out.push_back(l);
+    return out;
+}
+
+// Split thresholds strictly between two, in steps of 0.05 LSB from the coarser (larger) one.
+std::vector<double> thresholds_between(double coarse, double fine) {
+    std::vector<double> out;
+    for (int k = 1;; ++k) {
+        const double t = coarse - 0.05 * k;
+        if (t <= fine + 1e-9) break;
+        out.push_back(t);
+    }
+    return out;
 }
 
 Mesh adaptive_mesh(const Scene& scene, const Mesh& base, const aerial::mesh::Surface& surface,
@@ -189,7 +227,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
             [&](double split, double& ms) {
                 return adaptive_mesh(scene, base, surface, split, ms);
             },
-            settings, rows);
+            settings, rows, thresholds_between);
         sweep(
             scene, "uniform-geodesic", capped({4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128}, 64),
             [&](double f, double& ms) {
@@ -198,7 +236,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                 ms = ms_since(start);
                 return m;
             },
-            settings, rows);
+            settings, rows, integers_between);
         sweep(
             scene, "uniform-latlong", capped({4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128}, 48),
             [&](double r, double& ms) {
@@ -233,7 +271,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
             [&](double split, double& ms) {
                 return adaptive_mesh(scene, base, surface, split, ms);
             },
-            settings, rows);
+            settings, rows, thresholds_between);
         sweep(
             scene, "uniform-grid", capped({8, 16, 32, 64, 128, 256}, 128),
             [&](double cells, double& ms) {
@@ -254,7 +292,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                 ms = ms_since(start);
                 return m;
             },
-            settings, rows);
+            settings, rows, integers_between);
     }
 }
 
@@ -317,6 +355,8 @@ int main(int argc, char** argv) {
     app.add_option("--frames", frames, "Frames for --bench-update (default 120)");
     app.add_flag("--no-chart", no_chart, "Do not write tess.png");
     int face_pixels = 0;
+    std::string only;
+    app.add_option("--scene", only, "Run only the scenes whose name contains this text");
     app.add_option("--face-pixels", face_pixels,
                    "Pixels a side of each of the six cube faces the GL grading renders "
                    "(default 128, --quick 64), 16 .. 2048");
@@ -347,6 +387,13 @@ int main(int argc, char** argv) {
             for (double sun : {2.0, 10.0, 30.0, 60.0}) scenes.push_back(dome_scene(sun, g));
         for (double eye : {2.0, 300.0, 3000.0})
             for (double sun : {10.0, 60.0}) scenes.push_back(terrain_scene(eye, sun));
+    }
+    if (!only.empty()) {
+        scenes.erase(
+            std::remove_if(scenes.begin(), scenes.end(),
+                           [&](const Scene& s) { return s.name.find(only) == std::string::npos; }),
+            scenes.end());
+        if (scenes.empty()) return aerial::tools::fail(kTool, "--scene: no scene matches " + only);
     }
     std::vector<Row> rows;
     const auto start = Clock::now();
@@ -382,14 +429,16 @@ int main(int argc, char** argv) {
         std::printf("%-24s", s.name.c_str());
         for (const auto& m : methods) {
             std::string cell = "-";
-            std::size_t most = 0;
+            std::size_t most = 0, fewest = 0;
             bool seen = false;
             for (const Row& r : rows) {
                 if (r.scene != s.name || r.method != m) continue;
                 seen = true;
                 most = std::max(most, r.vertices);
-                if (r.error.max_lsb <= 1) cell = std::to_string(r.vertices);
+                if (r.error.max_lsb <= 1 && (fewest == 0 || r.vertices < fewest))
+                    fewest = r.vertices;
             }
+            if (fewest > 0) cell = std::to_string(fewest);
             if (seen && cell == "-") cell = ">" + std::to_string(most);
             std::printf(" %20s", cell.c_str());
         }

@@ -65,6 +65,7 @@ struct Settings {
     bool quick = false;
     int face_pixels = 128;  ///< per cube face: 90 deg / 128 = 0.012 rad per pixel
     double lod_exponent = 2.0;
+    bool quantized_estimate = true;  ///< adaptive estimates with 8-bit vertex colours
     aerial::tess::GlGrader* grader = nullptr;
 };
 
@@ -194,9 +195,12 @@ std::vector<double> thresholds_between(double coarse, double fine) {
 }
 
 Mesh adaptive_mesh(const Scene& scene, const Mesh& base, const aerial::mesh::Surface& surface,
-                   double split_lsb, double& build_ms) {
+                   double split_lsb, bool quantized, double& build_ms) {
     aerial::mesh::AdaptiveSettings a;
     a.colour = scene.colour;
+    a.colour.quantized_vertices = quantized;
+    a.colour.on_dome_sphere = scene.dome && quantized;
+    a.colour.dome = scene.dome_options;
     a.split_lsb = float(split_lsb);
     a.lock_boundary = false;
     const auto start = Clock::now();
@@ -218,14 +222,18 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                          levels.end());
         return levels;
     };
-    const std::vector<double> splits = {2.0, 1.5, 1.0, 0.8, 0.65, 0.5, 0.4, 0.3, 0.2};
+    // Split thresholds; with 8-bit vertex colours in the estimate they must stay above half a step.
+    const std::vector<double> splits =
+        settings.quantized_estimate
+            ? std::vector<double>{2.0, 1.5, 1.2, 1.0, 0.9, 0.8, 0.7, 0.6, 0.55}
+            : std::vector<double>{2.0, 1.5, 1.0, 0.8, 0.65, 0.5, 0.4, 0.3, 0.2};
     if (scene.dome) {
         const auto surface = aerial::mesh::Surface::sphere(scene.dome_options);
         const Mesh base = aerial::mesh::geodesic_dome(4, scene.dome_options).value();
         sweep(
             scene, "adaptive", splits,
             [&](double split, double& ms) {
-                return adaptive_mesh(scene, base, surface, split, ms);
+                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate, ms);
             },
             settings, rows, thresholds_between);
         sweep(
@@ -249,7 +257,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
         if (decimated) {
             // Offline: an adaptive mesh refined to half a step, decimated back to the bound.
             double ms = 0.0;
-            const Mesh fine = adaptive_mesh(scene, base, surface, 0.5, ms);
+            const Mesh fine = adaptive_mesh(scene, base, surface, 0.5, false, ms);
             sweep(
                 scene, "decimated", {1.0, 0.8, 0.65, 0.5},
                 [&](double bound, double& build_ms) {
@@ -269,7 +277,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
         sweep(
             scene, "adaptive", splits,
             [&](double split, double& ms) {
-                return adaptive_mesh(scene, base, surface, split, ms);
+                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate, ms);
             },
             settings, rows, thresholds_between);
         sweep(
@@ -354,6 +362,9 @@ int main(int argc, char** argv) {
                  "Print the median time of an adaptive update of a 100k-triangle terrain");
     app.add_option("--frames", frames, "Frames for --bench-update (default 120)");
     app.add_flag("--no-chart", no_chart, "Do not write tess.png");
+    bool float_estimate = false;
+    app.add_flag("--float-estimate", float_estimate,
+                 "Adaptive estimates with float vertex colours (not rounded to 8 bits as drawn)");
     int face_pixels = 0;
     std::string only;
     app.add_option("--scene", only, "Run only the scenes whose name contains this text");
@@ -369,6 +380,7 @@ int main(int argc, char** argv) {
 
     Settings settings;
     settings.quick = quick;
+    settings.quantized_estimate = !float_estimate;
     if (quick) settings.face_pixels = 64;
     if (app.count("--face-pixels")) {
         if (face_pixels < 16 || face_pixels > 2048)

@@ -65,7 +65,7 @@ struct Settings {
     bool quick = false;
     int face_pixels = 128;  ///< per cube face: 90 deg / 128 = 0.012 rad per pixel
     double lod_exponent = 2.0;
-    bool quantized_estimate = true;  ///< adaptive estimates with 8-bit vertex colours
+    bool quantized_estimate = true;  ///< adaptive domes: 8-bit vertex colours, sphere samples
     aerial::tess::GlGrader* grader = nullptr;
 };
 
@@ -198,8 +198,10 @@ Mesh adaptive_mesh(const Scene& scene, const Mesh& base, const aerial::mesh::Sur
                    double split_lsb, bool quantized, double& build_ms) {
     aerial::mesh::AdaptiveSettings a;
     a.colour = scene.colour;
-    a.colour.quantized_vertices = quantized;
-    a.colour.on_dome_sphere = scene.dome && quantized;
+    // 8-bit vertex colours: exact for the dome (L_in only); on terrain the GL path rounds F_ex and
+    // L_in apart, so the float estimate is kept there.
+    a.colour.quantized_vertices = quantized && scene.dome;
+    a.colour.on_dome_sphere = quantized && scene.dome;
     a.colour.dome = scene.dome_options;
     a.split_lsb = float(split_lsb);
     a.lock_boundary = false;
@@ -224,7 +226,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
     };
     // Split thresholds; with 8-bit vertex colours in the estimate they must stay above half a step.
     const std::vector<double> splits =
-        settings.quantized_estimate
+        settings.quantized_estimate && scene.dome
             ? std::vector<double>{2.0, 1.5, 1.2, 1.0, 0.9, 0.8, 0.7, 0.6, 0.55}
             : std::vector<double>{2.0, 1.5, 1.0, 0.8, 0.65, 0.5, 0.4, 0.3, 0.2};
     if (scene.dome) {
@@ -364,7 +366,8 @@ int main(int argc, char** argv) {
     app.add_flag("--no-chart", no_chart, "Do not write tess.png");
     bool float_estimate = false;
     app.add_flag("--float-estimate", float_estimate,
-                 "Adaptive estimates with float vertex colours (not rounded to 8 bits as drawn)");
+                 "Adaptive domes estimate with float vertex colours (not rounded to 8 bits as "
+                 "drawn) on the flat triangles");
     int face_pixels = 0;
     std::string only;
     app.add_option("--scene", only, "Run only the scenes whose name contains this text");

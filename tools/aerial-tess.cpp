@@ -65,6 +65,7 @@ struct Settings {
     bool quick = false;
     int face_pixels = 128;  ///< per cube face: 90 deg / 128 = 0.012 rad per pixel
     double lod_exponent = 2.0;
+    bool quantized_estimate = true;  ///< adaptive domes: 8-bit vertex colours, sphere samples
     aerial::tess::GlGrader* grader = nullptr;
 };
 
@@ -143,22 +144,65 @@ Row grade(const Scene& scene, const std::string& method, const Mesh& mesh, doubl
     return row;
 }
 
-// Runs `levels` in order until the dense max is <= 1 LSB (that level included).
+// Runs `levels` (coarse to fine) in order until the dense max is <= 1 LSB (that level included).
+// Then, when `between` is given, runs the levels it gives strictly between the last level that
+// failed by 3 steps or more and the first passing level (those not run yet), coarse to fine,
+// until one passes: the error is not monotone in the level (a geodesic dome of frequency 49 can
+// pass where 48 fails by 2 steps), and the table takes the fewest vertices that pass, so no
+// method's count is overstated by the spacing of its coarse levels.
 void sweep(const Scene& scene, const std::string& method, const std::vector<double>& levels,
            const std::function<Mesh(double, double&)>& build, const Settings& settings,
-           std::vector<Row>& rows) {
-    for (double level : levels) {
+           std::vector<Row>& rows,
+           const std::function<std::vector<double>(double, double)>& between = {}) {
+    auto run = [&](double level) {
         double build_ms = 0.0;
         const Mesh mesh = build(level, build_ms);
         rows.push_back(grade(scene, method, mesh, build_ms, settings));
-        if (rows.back().error.max_lsb <= 1) break;
+        return rows.back().error.max_lsb;
+    };
+    std::size_t clearly_failing = 0;  // index of the last level with max >= 3 steps
+    for (std::size_t i = 0; i < levels.size(); ++i) {
+        const int max_lsb = run(levels[i]);
+        if (max_lsb >= 3) clearly_failing = i;
+        if (max_lsb > 1) continue;
+        if (i > 0 && between && !settings.quick)
+            for (double level : between(levels[clearly_failing], levels[i])) {
+                const bool graded =
+                    std::any_of(levels.begin() + clearly_failing, levels.begin() + i,
+                                [&](double l) { return std::abs(l - level) < 1e-9; });
+                if (!graded && run(level) <= 1) break;
+            }
+        break;
     }
 }
 
+// Every integer strictly between two integer levels (geodesic frequencies, rings, cells).
+std::vector<double> integers_between(double coarse, double fine) {
+    std::vector<double> out;
+    for (int l = int(coarse) + 1; l < int(fine); ++l) out.push_back(l);
+    return out;
+}
+
+// Split thresholds strictly between two, in steps of 0.05 LSB from the coarser (larger) one.
+std::vector<double> thresholds_between(double coarse, double fine) {
+    std::vector<double> out;
+    for (int k = 1;; ++k) {
+        const double t = coarse - 0.05 * k;
+        if (t <= fine + 1e-9) break;
+        out.push_back(t);
+    }
+    return out;
+}
+
 Mesh adaptive_mesh(const Scene& scene, const Mesh& base, const aerial::mesh::Surface& surface,
-                   double split_lsb, double& build_ms) {
+                   double split_lsb, bool quantized, double& build_ms) {
     aerial::mesh::AdaptiveSettings a;
     a.colour = scene.colour;
+    // 8-bit vertex colours: exact for the dome (L_in only); on terrain the GL path rounds F_ex and
+    // L_in apart, so the float estimate is kept there.
+    a.colour.quantized_vertices = quantized && scene.dome;
+    a.colour.on_dome_sphere = quantized && scene.dome;
+    a.colour.dome = scene.dome_options;
     a.split_lsb = float(split_lsb);
     a.lock_boundary = false;
     const auto start = Clock::now();
@@ -180,16 +224,20 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                          levels.end());
         return levels;
     };
-    const std::vector<double> splits = {2.0, 1.5, 1.0, 0.8, 0.65, 0.5, 0.4, 0.3, 0.2};
+    // Split thresholds; with 8-bit vertex colours in the estimate they must stay above half a step.
+    const std::vector<double> splits =
+        settings.quantized_estimate && scene.dome
+            ? std::vector<double>{2.0, 1.5, 1.2, 1.0, 0.9, 0.8, 0.7, 0.6, 0.55}
+            : std::vector<double>{2.0, 1.5, 1.0, 0.8, 0.65, 0.5, 0.4, 0.3, 0.2};
     if (scene.dome) {
         const auto surface = aerial::mesh::Surface::sphere(scene.dome_options);
         const Mesh base = aerial::mesh::geodesic_dome(4, scene.dome_options).value();
         sweep(
             scene, "adaptive", splits,
             [&](double split, double& ms) {
-                return adaptive_mesh(scene, base, surface, split, ms);
+                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate, ms);
             },
-            settings, rows);
+            settings, rows, thresholds_between);
         sweep(
             scene, "uniform-geodesic", capped({4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128}, 64),
             [&](double f, double& ms) {
@@ -198,7 +246,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                 ms = ms_since(start);
                 return m;
             },
-            settings, rows);
+            settings, rows, integers_between);
         sweep(
             scene, "uniform-latlong", capped({4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128}, 48),
             [&](double r, double& ms) {
@@ -211,7 +259,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
         if (decimated) {
             // Offline: an adaptive mesh refined to half a step, decimated back to the bound.
             double ms = 0.0;
-            const Mesh fine = adaptive_mesh(scene, base, surface, 0.5, ms);
+            const Mesh fine = adaptive_mesh(scene, base, surface, 0.5, false, ms);
             sweep(
                 scene, "decimated", {1.0, 0.8, 0.65, 0.5},
                 [&](double bound, double& build_ms) {
@@ -231,9 +279,9 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
         sweep(
             scene, "adaptive", splits,
             [&](double split, double& ms) {
-                return adaptive_mesh(scene, base, surface, split, ms);
+                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate, ms);
             },
-            settings, rows);
+            settings, rows, thresholds_between);
         sweep(
             scene, "uniform-grid", capped({8, 16, 32, 64, 128, 256}, 128),
             [&](double cells, double& ms) {
@@ -254,7 +302,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                 ms = ms_since(start);
                 return m;
             },
-            settings, rows);
+            settings, rows, integers_between);
     }
 }
 
@@ -316,7 +364,13 @@ int main(int argc, char** argv) {
                  "Print the median time of an adaptive update of a 100k-triangle terrain");
     app.add_option("--frames", frames, "Frames for --bench-update (default 120)");
     app.add_flag("--no-chart", no_chart, "Do not write tess.png");
+    bool float_estimate = false;
+    app.add_flag("--float-estimate", float_estimate,
+                 "Adaptive domes estimate with float vertex colours (not rounded to 8 bits as "
+                 "drawn) on the flat triangles");
     int face_pixels = 0;
+    std::string only;
+    app.add_option("--scene", only, "Run only the scenes whose name contains this text");
     app.add_option("--face-pixels", face_pixels,
                    "Pixels a side of each of the six cube faces the GL grading renders "
                    "(default 128, --quick 64), 16 .. 2048");
@@ -329,6 +383,7 @@ int main(int argc, char** argv) {
 
     Settings settings;
     settings.quick = quick;
+    settings.quantized_estimate = !float_estimate;
     if (quick) settings.face_pixels = 64;
     if (app.count("--face-pixels")) {
         if (face_pixels < 16 || face_pixels > 2048)
@@ -347,6 +402,13 @@ int main(int argc, char** argv) {
             for (double sun : {2.0, 10.0, 30.0, 60.0}) scenes.push_back(dome_scene(sun, g));
         for (double eye : {2.0, 300.0, 3000.0})
             for (double sun : {10.0, 60.0}) scenes.push_back(terrain_scene(eye, sun));
+    }
+    if (!only.empty()) {
+        scenes.erase(
+            std::remove_if(scenes.begin(), scenes.end(),
+                           [&](const Scene& s) { return s.name.find(only) == std::string::npos; }),
+            scenes.end());
+        if (scenes.empty()) return aerial::tools::fail(kTool, "--scene: no scene matches " + only);
     }
     std::vector<Row> rows;
     const auto start = Clock::now();
@@ -382,14 +444,16 @@ int main(int argc, char** argv) {
         std::printf("%-24s", s.name.c_str());
         for (const auto& m : methods) {
             std::string cell = "-";
-            std::size_t most = 0;
+            std::size_t most = 0, fewest = 0;
             bool seen = false;
             for (const Row& r : rows) {
                 if (r.scene != s.name || r.method != m) continue;
                 seen = true;
                 most = std::max(most, r.vertices);
-                if (r.error.max_lsb <= 1) cell = std::to_string(r.vertices);
+                if (r.error.max_lsb <= 1 && (fewest == 0 || r.vertices < fewest))
+                    fewest = r.vertices;
             }
+            if (fewest > 0) cell = std::to_string(fewest);
             if (seen && cell == "-") cell = ">" + std::to_string(most);
             std::printf(" %20s", cell.c_str());
         }

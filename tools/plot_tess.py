@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Draws aerial-tess's CSV: max error (8-bit steps) against vertices, log-log, one panel per
 scene, a line at 1 LSB.  The maxima are whole steps (GL images against the per-pixel
-reference); 0 is drawn at 0.5 so that it stays on the log scale.
+reference); 0 is drawn at 0.5 so that it stays on the log scale.  Each method's points are
+joined in order of vertices (the sweep's fine search runs between coarse levels).
 Usage: plot_tess.py tess.csv tess.png"""
 import csv
 import math
@@ -34,8 +35,8 @@ def main():
             if r["scene"] == scene and r["method"] not in methods:
                 methods.append(r["method"])
         for m in methods:
-            pts = [(int(r["vertices"]), max(float(r["max_lsb"]), 0.5)) for r in rows
-                   if r["scene"] == scene and r["method"] == m]
+            pts = sorted((int(r["vertices"]), max(float(r["max_lsb"]), 0.5)) for r in rows
+                         if r["scene"] == scene and r["method"] == m)
             ax.plot([p[0] for p in pts], [p[1] for p in pts], styles.get(m, "x-"), label=m,
                     markersize=3)
         ax.axhline(1.0, color="grey", linewidth=0.8)

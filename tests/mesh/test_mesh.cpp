@@ -633,3 +633,74 @@ TEST(MeshShapes, DistanceLodIsAConformingGridDenserNearTheEye) {
     ASSERT_FALSE(nan_eye.ok());
     EXPECT_EQ(nan_eye.error().field, "eye_xy");
 }
+
+TEST(ColourError, QuantizedVerticesMeasureTheColoursAsDrawnInEightBits) {
+    const DomeScene scene(10.0, 0.90);
+    aerial::mesh::ColourOptions quantized = scene.colour;
+    quantized.quantized_vertices = true;
+    quantized.max_samples_per_edge = 2;  // edge midpoints and the centroid
+    // A triangle far smaller than a colour step: the float error is ~0, the quantized one is the
+    // vertices' rounding, interpolated to the samples.
+    const glm::dvec3 c = scene.dome.centre;
+    const glm::dvec3 p[3] = {c + scene.dome.radius_m * sun_at(20, 80),
+                             c + scene.dome.radius_m * sun_at(20, 80.001),
+                             c + scene.dome.radius_m * sun_at(20.001, 80)};
+    glm::vec3 col[3], offset[3];
+    for (int k = 0; k < 3; ++k) {
+        col[k] = aerial::mesh::display_colour(scene.frame, scene.colour, p[k]);
+        offset[k] = 255.0f * (glm::round(col[k] * 255.0f) / 255.0f - col[k]);
+    }
+    float expected = 0.0f;
+    const float w[4][3] = {
+        {0.5f, 0.5f, 0.0f}, {0.0f, 0.5f, 0.5f}, {0.5f, 0.0f, 0.5f}, {1.0f / 3, 1.0f / 3, 1.0f / 3}};
+    for (const auto& s : w) {
+        const glm::vec3 e = glm::abs(s[0] * offset[0] + s[1] * offset[1] + s[2] * offset[2]);
+        expected = std::max({expected, e.x, e.y, e.z});
+    }
+    const float float_error = aerial::mesh::colour_error(scene.frame, scene.colour, p[0], p[1],
+                                                         p[2], col[0], col[1], col[2]);
+    const float quantized_error = aerial::mesh::colour_error(scene.frame, quantized, p[0], p[1],
+                                                             p[2], col[0], col[1], col[2]);
+    EXPECT_LT(float_error, 0.01f);
+    EXPECT_NEAR(quantized_error, expected, 0.01f);
+    EXPECT_GT(quantized_error, 0.05f) << "the rounding of three vertices should show";
+    EXPECT_LE(quantized_error, 0.51f);
+    // Below half a step the target cannot be met with 8-bit vertex colours: an error.
+    AdaptiveSettings settings = dome_settings(scene);
+    settings.colour.quantized_vertices = true;
+    settings.split_lsb = 0.5f;
+    auto base = aerial::mesh::geodesic_dome(4, scene.dome);
+    ASSERT_TRUE(base.ok());
+    auto made =
+        AdaptiveMesh::create(base.value(), aerial::mesh::Surface::sphere(scene.dome), settings);
+    ASSERT_FALSE(made.ok());
+    EXPECT_EQ(made.error().field, "split_lsb");
+    // Above it, refinement meets the quantized target on every face.
+    settings.split_lsb = 1.0f;
+    AdaptiveMesh m = refined_dome(scene, settings);
+    EXPECT_LE(max_face_error(m.mesh(), scene.frame, settings.colour), settings.split_lsb);
+}
+
+TEST(ColourError, OnDomeSphereTakesTheExactColourWhereTheViewRayMeetsTheDome) {
+    const DomeScene scene(10.0, 0.90);
+    aerial::mesh::ColourOptions on_sphere = scene.colour;
+    on_sphere.on_dome_sphere = true;
+    on_sphere.dome = scene.dome;
+    // A tiny triangle at half the dome's radius, low in the sky, showing the colours of the
+    // dome behind it: exact on the sphere, several steps off at 40 km.
+    const glm::dvec3 c = scene.dome.centre;
+    const glm::dvec3 d[3] = {sun_at(5, 80), sun_at(5, 80.001), sun_at(5.001, 80)};
+    glm::dvec3 p[3];
+    glm::vec3 col[3];
+    for (int k = 0; k < 3; ++k) {
+        p[k] = c + 0.5 * scene.dome.radius_m * d[k];
+        col[k] =
+            aerial::mesh::display_colour(scene.frame, scene.colour, c + scene.dome.radius_m * d[k]);
+    }
+    EXPECT_LT(aerial::mesh::colour_error(scene.frame, on_sphere, p[0], p[1], p[2], col[0], col[1],
+                                         col[2]),
+              0.05f);
+    EXPECT_GT(aerial::mesh::colour_error(scene.frame, scene.colour, p[0], p[1], p[2], col[0],
+                                         col[1], col[2]),
+              2.0f);
+}

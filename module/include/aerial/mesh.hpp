@@ -120,6 +120,16 @@ struct ColourOptions {
     /// Samples per triangle edge at most (the barycentric grid for triangles large against the
     /// Mie lobe); 2 gives edge midpoints and the centroid only. In 2 .. 32.
     int max_samples_per_edge = 8;
+    /// The vertex colours are rounded to 8 bits before they are interpolated, as the GL path
+    /// draws them (RGBA8): the error is then that of the rounded colours, interpolated, against
+    /// the exact colour. The framebuffer's own rounding keeps the pixel within 1 step of the
+    /// exact colour's rounding wherever this error is below 1 step. Exact for a sky dome
+    /// (texel 0); with a texel, F_ex and L_in are rounded as one colour, an approximation.
+    bool quantized_vertices = false;
+    /// Sky domes: the exact colour of a sample is taken where the view ray through it meets the
+    /// dome's sphere (what a per-pixel sky shows in that pixel), not on the flat triangle.
+    bool on_dome_sphere = false;
+    DomeOptions dome;  ///< the sphere, with on_dome_sphere
 };
 
 /// The first bad field of the options (exposure, texel, max_samples_per_edge).

@@ -49,6 +49,11 @@ std::optional<Error> validate(const AdaptiveSettings& settings) {
     if (!(settings.split_lsb > 0.0f) || !std::isfinite(settings.split_lsb))
         return Error{"split_lsb", "split_lsb: expected a finite value > 0, got " +
                                       std::to_string(settings.split_lsb)};
+    if (settings.colour.quantized_vertices && !(settings.split_lsb > 0.5f))
+        return Error{"split_lsb",
+                     "split_lsb: expected > 0.5 with colour.quantized_vertices (8-bit "
+                     "vertex colours are off by up to half a step), got " +
+                         std::to_string(settings.split_lsb)};
     if (!(settings.merge_ratio >= 1.0f) || !std::isfinite(settings.merge_ratio))
         return Error{"merge_ratio", "merge_ratio: expected a finite value >= 1, got " +
                                         std::to_string(settings.merge_ratio)};

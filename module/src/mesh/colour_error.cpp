@@ -82,15 +82,43 @@ glm::vec3 display_colour(const Frame<float>& frame, const ColourOptions& options
     return c;
 }
 
+namespace {
+
+// The point the sample q shows: q itself, or with on_dome_sphere where the view ray from the eye
+// through q meets the dome's sphere (the eye is inside it).
+glm::dvec3 shown_point(const Frame<float>& frame, const ColourOptions& options,
+                       const glm::dvec3& q) {
+    if (!options.on_dome_sphere) return q;
+    const glm::dvec3 eye = frame.view.eye;
+    const glm::dvec3 ray = q - eye;
+    const double length = glm::length(ray);
+    if (!(length > 0.0)) return q;
+    const glm::dvec3 d = ray / length;
+    const glm::dvec3 oc = eye - options.dome.centre;
+    const double b = glm::dot(oc, d);
+    const double disc = b * b - (glm::dot(oc, oc) - options.dome.radius_m * options.dome.radius_m);
+    if (!(disc >= 0.0)) return q;
+    const double t = -b + std::sqrt(disc);
+    return t > 0.0 ? eye + t * d : q;
+}
+
+}  // namespace
+
 float colour_error_skipping(const Frame<float>& frame, const ColourOptions& options,
                             const glm::dvec3 (&p)[3], const glm::vec3 (&c)[3],
                             const bool (&skip_edge)[3]) {
     const int n = estimate_samples_per_edge(frame, options, p);
+    glm::vec3 shown[3] = {c[0], c[1], c[2]};
+    if (options.quantized_vertices)
+        for (glm::vec3& v : shown) v = glm::round(glm::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
     float worst = 0.0f;
     auto sample = [&](double a, double b, double d) {
         const glm::dvec3 q = a * p[0] + b * p[1] + d * p[2];
-        const glm::vec3 interpolated = float(a) * c[0] + float(b) * c[1] + float(d) * c[2];
-        worst = std::max(worst, channel_error_lsb(interpolated, display_colour(frame, options, q)));
+        const glm::vec3 interpolated =
+            float(a) * shown[0] + float(b) * shown[1] + float(d) * shown[2];
+        worst = std::max(
+            worst, channel_error_lsb(interpolated, display_colour(frame, options,
+                                                                  shown_point(frame, options, q))));
     };
     // Always the edge midpoints (where bisection puts the new vertex) and the centroid.
     if (n % 2 == 1) {

@@ -300,6 +300,20 @@ TEST(ViewValidate, NamesTheBadField) {
     v = {};
     v.meters_per_unit = 0.0;
     EXPECT_EQ(aerial::validate(v)->field, "meters_per_unit");
+    // An eye the float paths cannot hold (found by fuzz_batch: an eye at -1.8e308 m gave NaN
+    // L_in): beyond kMaxDistanceM in metres, or beyond float in engine units.
+    v = {};
+    v.eye.y = -1.79e308;
+    ASSERT_TRUE(aerial::validate(v));
+    EXPECT_EQ(aerial::validate(v)->field, "eye");
+    v = {};
+    v.eye.x = 2e12;
+    EXPECT_EQ(aerial::validate(v)->field, "eye");
+    v.meters_per_unit = 0.1;  // 2e11 m: fine
+    EXPECT_FALSE(aerial::validate(v));
+    v.eye.x = 1e39;  // 1e-27 m per unit keeps it near in metres, but no float holds 1e39
+    v.meters_per_unit = 1e-27;
+    EXPECT_EQ(aerial::validate(v)->field, "eye");
     Atmosphere bad;
     bad.mie_g = 2.0;
     const auto frame = aerial::prepare_frame<float>(bad, View{}, Model::height);

@@ -533,7 +533,9 @@ Pops sun_move_pops(int morph_updates) {
             const auto v = OpenMesh::VertexHandle(int(i));
             const bool was = std::size_t(v.idx()) < alive.size() && alive[std::size_t(v.idx())];
             const bool is = !mesh.status(v).deleted();
-            const auto [a, b] = m.parents(v);
+            // Not a structured binding: a lambda may not capture one in C++17 (clang rejects it).
+            const auto parents = m.parents(v);
+            const auto a = parents.first, b = parents.second;
             auto parents_mean = [&](const std::vector<float>& c, float* mean) {
                 for (int k = 0; k < 3; ++k) mean[k] = 0.5f * (at(c, a)[k] + at(c, b)[k]);
             };

@@ -203,4 +203,33 @@ TEST(MeshFile, ErrorsNameThePathAndTheProblem) {
     EXPECT_NE(r.error().message.find("no faces"), std::string::npos) << r.error().message;
 }
 
+// Files that made OpenMesh's readers allocate gigabytes, loop forever or write past a buffer
+// (found by fuzz_mesh_io) are refused before OpenMesh sees them, and the error says why.
+TEST(MeshFile, RefusesWhatOpenMeshWouldMisread) {
+    const struct {
+        const char* name;
+        const char* text;
+        const char* expected;
+    } cases[] = {
+        {"huge.ply", "ply\nformat ascii 1.0\nelement vertex 100000000\nproperty float x\nend_header\n",
+         "declares 100000000 vertex elements"},
+        {"endless.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_`eader\n",
+         "not a PLY keyword"},
+        {"format.ply", "ply\nformat ascii \xcc\xd1ent vertex 3\nend_header\n", "format ascii"},
+        {"index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 4/1 1/1 2/1\n", "face index '4/1'"},
+        {"unread.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n", "face index '3/1'"},
+        {"header.off", "OFF(  0\x11 2 \xc9\n", "OFF header word"},
+        {"huge.off", "OFF\n90000000 1 0\n0 0 0\n", "declares 90000000 vertices"},
+    };
+    for (const auto& c : cases) {
+        const auto r = load_mesh_file(temp_file(c.name, c.text));
+        ASSERT_FALSE(r) << c.name;
+        EXPECT_NE(r.error().message.find(c.name), std::string::npos) << r.error().message;
+        EXPECT_NE(r.error().message.find(c.expected), std::string::npos) << r.error().message;
+    }
+    // What they guard keeps working: relative indices, texture coordinates.
+    EXPECT_TRUE(load_mesh_file(
+        temp_file("relative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf -3/1 -2/1 -1/1\n")));
+}
+
 }  // namespace

@@ -67,7 +67,10 @@ typedef enum aerial_status {
     AERIAL_ERROR_ARB_PROGRAM = 13,       /* no program for the model, a limit exceeded, or the
                                             driver rejected the text (with its error position) */
     AERIAL_ERROR_OUT_OF_MEMORY = 14,
-    AERIAL_ERROR_INTERNAL = 15 /* a bug: the message says where */
+    AERIAL_ERROR_INTERNAL = 15, /* a bug: the message says where */
+    /* Not a status: makes every int a valid aerial_status, so that a value from a newer library
+       (or any int) passed to aerial_status_string() is defined behaviour in C++ too. */
+    AERIAL_STATUS_MAX_ENUM = 0x7FFFFFFF
 } aerial_status;
 
 /* A fixed text for each status ("invalid atmosphere", ...); "unknown status" for other values. */

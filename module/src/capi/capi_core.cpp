@@ -263,6 +263,8 @@ const char* aerial_status_string(aerial_status status) {
             return "out of memory";
         case AERIAL_ERROR_INTERNAL:
             return "internal error";
+        case AERIAL_STATUS_MAX_ENUM:
+            break;
     }
     return "unknown status";
 }

@@ -121,8 +121,8 @@ std::size_t shade_range_rgba8(const Plan& plan, std::size_t first, std::size_t l
                                 ? out.in_scattering_rgba8 + begin * job.in_scattering_stride
                                 : nullptr;
     };
-    const bool packed_xyz =
-        pos.stride_bytes == 3 * sizeof(float) && pos.y == pos.x + 1 && pos.z == pos.x + 2;
+    const bool packed_xyz = pos.x != nullptr && pos.stride_bytes == 3 * sizeof(float) &&
+                            pos.y == pos.x + 1 && pos.z == pos.x + 2;
     if (packed_xyz || pos.stride_bytes == sizeof(float)) {
         job.packed_xyz = packed_xyz;
         job.x = packed_xyz ? pos.x + 3 * first : pos.x + first;
@@ -163,8 +163,8 @@ std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
                                                   ? detail::KernelPrecision::fast
                                                   : detail::KernelPrecision::accurate;
     // Tightly packed x, y, z records (the common AoS layout) are split with SIMD loads.
-    const bool packed_xyz =
-        pos.stride_bytes == 3 * sizeof(float) && pos.y == pos.x + 1 && pos.z == pos.x + 2;
+    const bool packed_xyz = pos.x != nullptr && pos.stride_bytes == 3 * sizeof(float) &&
+                            pos.y == pos.x + 1 && pos.z == pos.x + 2;
     BlockScratch scratch;
     std::size_t invalid = 0;
     for (std::size_t begin = first; begin < last; begin += kBlockSize) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
@@ -74,6 +75,19 @@ std::optional<Error> validate(const View& view) {
     if (!std::isfinite(view.meters_per_unit) || view.meters_per_unit <= 0.0) {
         return Error{"meters_per_unit", "meters_per_unit must be finite and > 0, got " +
                                             format_number(view.meters_per_unit)};
+    }
+    // The float paths take the eye in engine units and in metres: beyond kMaxDistanceM (where
+    // vertices count as invalid) or beyond float's range it would be infinite there, and every
+    // colour NaN.
+    const double largest = std::max({std::abs(view.eye.x), std::abs(view.eye.y),
+                                     std::abs(view.eye.z)});
+    if (largest * view.meters_per_unit > kMaxDistanceM ||
+        largest > double(std::numeric_limits<float>::max())) {
+        return Error{"eye", "eye must be within " + format_number(kMaxDistanceM) +
+                                " m of the origin on each axis (and float-sized in engine "
+                                "units), got " +
+                                format_vector(view.eye) + " at " +
+                                format_number(view.meters_per_unit) + " m per unit"};
     }
     return std::nullopt;
 }

@@ -2,7 +2,14 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
+#include <iterator>
+#include <new>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <string>
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
@@ -28,6 +35,174 @@ std::string lower_extension(const std::string& path) {
     return ext;
 }
 
+/// OFF and PLY headers declare element counts, and OpenMesh reserves memory for them before it
+/// reads an element: a 100-byte file declaring 10^8 vertices makes it allocate gigabytes. Every
+/// element takes at least one byte of the file, so a count above the file's size is a lie; this
+/// returns the first such count's description, or nothing.
+/// OpenMesh's OBJ reader writes texture coordinates through face indices it has not checked (an
+/// index past the vertices read corrupts the heap; found by fuzz_mesh_io): every index of every
+/// face must name a vertex, texture coordinate or normal defined before it.
+std::optional<std::string> bad_obj_index(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    std::string line;
+    long long counts[3] = {0, 0, 0};  // v, vt, vn so far
+    for (long long number = 1; std::getline(file, line); ++number) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (!line.empty() && line.back() == '\\') {
+            return "line " + std::to_string(number) + ": line continuations are not supported";
+        }
+        std::istringstream words(line);
+        std::string keyword;
+        words >> keyword;
+        // Counted as OpenMesh counts them: only when the coordinates read as numbers.
+        const auto reads = [&words](int n) {
+            float value = 0.0f;
+            for (int i = 0; i < n; ++i) {
+                if (!(words >> value)) return false;
+            }
+            return true;
+        };
+        if (keyword == "v" && reads(3)) ++counts[0];
+        if (keyword == "vt" && reads(2)) ++counts[1];
+        if (keyword == "vn" && reads(3)) ++counts[2];
+        if (keyword != "f") continue;
+        for (std::string corner; words >> corner;) {
+            std::istringstream parts(corner);
+            std::string part;
+            for (int k = 0; k < 3 && std::getline(parts, part, '/'); ++k) {
+                if (part.empty() && k > 0) continue;  // "1//3": no texture coordinate
+                char* end = nullptr;
+                const long long index = std::strtoll(part.c_str(), &end, 10);
+                if (end == part.c_str() || *end != '\0' || index == 0 ||
+                    (index > 0 ? index > counts[k] : -index > counts[k])) {
+                    return "line " + std::to_string(number) + ": face index '" +
+                           corner.substr(0, 40) + "' names nothing defined before it";
+                }
+            }
+        }
+    }
+    return std::nullopt;
+}
+
+std::optional<std::string> implausible_count(const std::string& path, const std::string& ext) {
+    if (ext == "obj") return bad_obj_index(path);
+    if (ext != "off" && ext != "ply") return std::nullopt;
+    std::ifstream file(path, std::ios::binary | std::ios::ate);
+    const auto size = static_cast<long long>(file.tellg());
+    file.seekg(0);
+    std::string head(std::size_t(std::min<long long>(std::max<long long>(size, 0), 65536)), '\0');
+    file.read(head.data(), std::streamsize(head.size()));
+    head.resize(std::size_t(std::max<std::streamsize>(file.gcount(), 0)));
+    std::istringstream lines(head);
+    std::string line;
+    auto too_many = [&](long double count) { return count < 0 || count > (long double)size; };
+    if (ext == "ply") {
+        // OpenMesh's PLY reader also loops forever on some malformed headers (found by
+        // fuzz_mesh_io): only a header of known lines that ends in end_header goes to it.
+        int number = 0;
+        while (std::getline(lines, line)) {
+            if (!line.empty() && line.back() == '\r') line.pop_back();
+            std::istringstream words(line);
+            std::string keyword, name;
+            words >> keyword;
+            if (number++ == 0) {
+                if (keyword != "ply") return std::string("it does not start with the line 'ply'");
+                continue;
+            }
+            if (keyword == "end_header") return std::nullopt;
+            if (keyword != "format" && keyword != "comment" && keyword != "obj_info" &&
+                keyword != "element" && keyword != "property") {
+                return "header line " + std::to_string(number) + " starts with '" +
+                       keyword.substr(0, 40) + "', not a PLY keyword";
+            }
+            // OpenMesh's reader trusts these lines: each must have exactly its fields.
+            const auto bad = [&](const char* what) {
+                return "header line " + std::to_string(number) + ": " + what;
+            };
+            const auto type = [](const std::string& t) {
+                static const char* const known[] = {
+                    "char",  "uchar",  "short",  "ushort", "int",     "uint",    "float",
+                    "double", "int8",  "uint8",  "int16",  "uint16",  "int32",   "uint32",
+                    "float32", "float64"};
+                return std::find(std::begin(known), std::end(known), t) != std::end(known);
+            };
+            std::string extra;
+            if (keyword == "format") {
+                std::string encoding, version;
+                if (!(words >> encoding >> version) || words >> extra ||
+                    (encoding != "ascii" && encoding != "binary_little_endian" &&
+                     encoding != "binary_big_endian")) {
+                    return bad("expected 'format ascii|binary_little_endian|binary_big_endian "
+                               "VERSION'");
+                }
+            }
+            if (keyword == "property") {
+                std::string first, second, third;
+                words >> first;
+                const bool list = first == "list";
+                if (list ? !(words >> second >> third) || !type(second) || !type(third)
+                         : !type(first)) {
+                    return bad("a property of an unknown type");
+                }
+                std::string property_name;
+                if (!(words >> property_name) || words >> extra) {
+                    return bad("expected 'property TYPE NAME' or 'property list TYPE TYPE NAME'");
+                }
+            }
+            long double count = 0;
+            if (keyword == "element" &&
+                (!(words >> name >> count) || words >> extra || count != std::floor(count))) {
+                return bad("expected 'element NAME COUNT'");
+            }
+            if (keyword == "element" && too_many(count)) {
+                return "its header declares " + std::to_string((long long)count) + " " +
+                       name.substr(0, 40) + " elements in a file of " + std::to_string(size) +
+                       " bytes";
+            }
+        }
+        return std::string("its header has no end_header line in its first 64 KiB");
+    }
+    // OFF: the header word ([ST][C][N][4][n]OFF), then "vertices faces edges" on the same line
+    // or the next non-comment one. OpenMesh reserves whatever it reads there, and reads a
+    // malformed header differently from this (found by fuzz_mesh_io), so anything else is
+    // refused. Binary OFF is refused too.
+    bool header = false;
+    int number = 0;
+    while (std::getline(lines, line)) {
+        ++number;
+        const auto start = line.find_first_not_of(" \t\r");
+        if (start == std::string::npos || line[start] == '#') continue;
+        std::istringstream words(line.substr(start));
+        if (!header) {
+            std::string word;
+            words >> word;
+            static const std::regex keyword("S?T?C?N?4?n?OFF");
+            if (!std::regex_match(word, keyword)) {
+                return "it does not start with an OFF header word, got '" + word.substr(0, 40) +
+                       "'";
+            }
+            header = true;
+            std::string rest;
+            if (!(words >> rest)) continue;  // the counts are on the next line
+            if (rest == "BINARY") return std::string("binary OFF is not supported");
+            words.clear();
+            words.str(rest + " " + std::string(std::istreambuf_iterator<char>(words), {}));
+        }
+        long long vertices = -1, faces = -1;
+        std::string extra;
+        if (!(words >> vertices >> faces) || vertices < 0 || faces < 0) {
+            return "line " + std::to_string(number) + ": expected the vertex and face counts";
+        }
+        if (too_many(vertices) || too_many(faces)) {
+            return "its header declares " + std::to_string(vertices) + " vertices and " +
+                   std::to_string(faces) + " faces in a file of " + std::to_string(size) +
+                   " bytes";
+        }
+        return std::nullopt;
+    }
+    return std::string("it has no vertex and face counts");
+}
+
 }  // namespace
 
 Result<MeshData> load_mesh_file(const std::string& path) {
@@ -47,8 +222,20 @@ Result<MeshData> load_mesh_file(const std::string& path) {
     options += OpenMesh::IO::Options::VertexNormal;
     options += OpenMesh::IO::Options::VertexTexCoord;
     // OpenMesh reports parse errors on its own error stream; the Result says what failed.
+    if (auto lie = implausible_count(path, ext)) {
+        return Error{path, path + ": not a valid ." + ext + " file: " + *lie};
+    }
     omerr().disable();
-    const bool read = OpenMesh::IO::read_mesh(mesh, path, options);
+    bool read = false;
+    try {
+        read = OpenMesh::IO::read_mesh(mesh, path, options);
+    } catch (const std::bad_alloc&) {
+        omerr().enable();
+        return Error{path, path + ": out of memory while OpenMesh read it"};
+    } catch (const std::exception& e) {
+        omerr().enable();
+        return Error{path, path + ": OpenMesh failed reading it: " + e.what()};
+    }
     omerr().enable();
     if (!read) return Error{path, path + ": OpenMesh could not read it as ." + ext};
     if (mesh.n_faces() == 0) return Error{path, path + ": the file has no faces"};

@@ -74,7 +74,7 @@ std::optional<std::string> bad_obj_index(const std::string& path) {
                 char* end = nullptr;
                 const long long index = std::strtoll(part.c_str(), &end, 10);
                 if (end == part.c_str() || *end != '\0' || index == 0 ||
-                    (index > 0 ? index > counts[k] : -index > counts[k])) {
+                    (index > 0 ? index > counts[k] : index < -counts[k])) {
                     return "line " + std::to_string(number) + ": face index '" +
                            corner.substr(0, 40) + "' names nothing defined before it";
                 }
@@ -129,11 +129,11 @@ std::optional<std::string> implausible_count(const std::string& path, const std:
             std::string extra;
             if (keyword == "format") {
                 std::string encoding, version;
-                if (!(words >> encoding >> version) || words >> extra ||
+                if (!(words >> encoding >> version) || words >> extra || version != "1.0" ||
                     (encoding != "ascii" && encoding != "binary_little_endian" &&
                      encoding != "binary_big_endian")) {
                     return bad("expected 'format ascii|binary_little_endian|binary_big_endian "
-                               "VERSION'");
+                               "1.0'");
                 }
             }
             if (keyword == "property") {

@@ -211,7 +211,8 @@ TEST(MeshFile, RefusesWhatOpenMeshWouldMisread) {
         const char* text;
         const char* expected;
     } cases[] = {
-        {"huge.ply", "ply\nformat ascii 1.0\nelement vertex 100000000\nproperty float x\nend_header\n",
+        {"huge.ply",
+         "ply\nformat ascii 1.0\nelement vertex 100000000\nproperty float x\nend_header\n",
          "declares 100000000 vertex elements"},
         {"endless.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_`eader\n",
          "not a PLY keyword"},

@@ -79,8 +79,8 @@ std::optional<Error> validate(const View& view) {
     // The float paths take the eye in engine units and in metres: beyond kMaxDistanceM (where
     // vertices count as invalid) or beyond float's range it would be infinite there, and every
     // colour NaN.
-    const double largest = std::max({std::abs(view.eye.x), std::abs(view.eye.y),
-                                     std::abs(view.eye.z)});
+    const double largest =
+        std::max({std::abs(view.eye.x), std::abs(view.eye.y), std::abs(view.eye.z)});
     if (largest * view.meters_per_unit > kMaxDistanceM ||
         largest > double(std::numeric_limits<float>::max())) {
         return Error{"eye", "eye must be within " + format_number(kMaxDistanceM) +

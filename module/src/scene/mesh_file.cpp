@@ -121,9 +121,8 @@ std::optional<std::string> implausible_count(const std::string& path, const std:
             };
             const auto type = [](const std::string& t) {
                 static const char* const known[] = {
-                    "char",  "uchar",  "short",  "ushort", "int",     "uint",    "float",
-                    "double", "int8",  "uint8",  "int16",  "uint16",  "int32",   "uint32",
-                    "float32", "float64"};
+                    "char", "uchar", "short", "ushort", "int",   "uint",   "float",   "double",
+                    "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
                 return std::find(std::begin(known), std::end(known), t) != std::end(known);
             };
             std::string extra;
@@ -132,8 +131,9 @@ std::optional<std::string> implausible_count(const std::string& path, const std:
                 if (!(words >> encoding >> version) || words >> extra || version != "1.0" ||
                     (encoding != "ascii" && encoding != "binary_little_endian" &&
                      encoding != "binary_big_endian")) {
-                    return bad("expected 'format ascii|binary_little_endian|binary_big_endian "
-                               "1.0'");
+                    return bad(
+                        "expected 'format ascii|binary_little_endian|binary_big_endian "
+                        "1.0'");
                 }
             }
             if (keyword == "property") {
@@ -195,8 +195,7 @@ std::optional<std::string> implausible_count(const std::string& path, const std:
         }
         if (too_many(vertices) || too_many(faces)) {
             return "its header declares " + std::to_string(vertices) + " vertices and " +
-                   std::to_string(faces) + " faces in a file of " + std::to_string(size) +
-                   " bytes";
+                   std::to_string(faces) + " faces in a file of " + std::to_string(size) + " bytes";
         }
         return std::nullopt;
     }

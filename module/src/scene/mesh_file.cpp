@@ -35,10 +35,6 @@ std::string lower_extension(const std::string& path) {
     return ext;
 }
 
-/// OFF and PLY headers declare element counts, and OpenMesh reserves memory for them before it
-/// reads an element: a 100-byte file declaring 10^8 vertices makes it allocate gigabytes. Every
-/// element takes at least one byte of the file, so a count above the file's size is a lie; this
-/// returns the first such count's description, or nothing.
 /// OpenMesh's OBJ reader writes texture coordinates through face indices it has not checked (an
 /// index past the vertices read corrupts the heap; found by fuzz_mesh_io): every index of every
 /// face must name a vertex, texture coordinate or normal defined before it.
@@ -84,7 +80,11 @@ std::optional<std::string> bad_obj_index(const std::string& path) {
     return std::nullopt;
 }
 
-std::optional<std::string> implausible_count(const std::string& path, const std::string& ext) {
+/// What would make OpenMesh misread the file, or nothing. OFF and PLY headers declare element
+/// counts, and OpenMesh reserves memory for them before it reads an element: a 100-byte file
+/// declaring 10^8 vertices makes it allocate gigabytes. Every element takes at least one byte of
+/// the file, so a count above the file's size is a lie. OBJ: see bad_obj_index.
+std::optional<std::string> check_before_openmesh(const std::string& path, const std::string& ext) {
     if (ext == "obj") return bad_obj_index(path);
     if (ext != "off" && ext != "ply") return std::nullopt;
     std::ifstream file(path, std::ios::binary | std::ios::ate);
@@ -221,7 +221,7 @@ Result<MeshData> load_mesh_file(const std::string& path) {
     options += OpenMesh::IO::Options::VertexNormal;
     options += OpenMesh::IO::Options::VertexTexCoord;
     // OpenMesh reports parse errors on its own error stream; the Result says what failed.
-    if (auto lie = implausible_count(path, ext)) {
+    if (auto lie = check_before_openmesh(path, ext)) {
         return Error{path, path + ": not a valid ." + ext + " file: " + *lie};
     }
     omerr().disable();

@@ -274,40 +274,30 @@ void LutTexture::draw(const float* coords, const std::function<void()>& draw) co
     api.GetIntegerv(GL_ACTIVE_TEXTURE, &active);
     api.GetIntegerv(GL_CLIENT_ACTIVE_TEXTURE, &client_active);
     {
+        // One combiner stage on the active unit: previous (op) this unit's table, looked up at
+        // coords; alpha passes through.
+        const auto combine = [&](GLenum other_target, GLenum target, GLuint id, GLint op) {
+            api.Disable(other_target);
+            api.BindTexture(target, id);
+            api.Enable(target);
+            api.TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+            api.TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, op);
+            api.TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB, GL_PREVIOUS);
+            api.TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB, GL_SRC_COLOR);
+            api.TexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB, GL_TEXTURE);
+            api.TexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB, GL_SRC_COLOR);
+            api.TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_REPLACE);
+            api.TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA, GL_PREVIOUS);
+            api.TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
+            api.TexEnvi(GL_TEXTURE_ENV, GL_RGB_SCALE, 1);
+            api.TexEnvi(GL_TEXTURE_ENV, GL_ALPHA_SCALE, 1);
+            api.TexCoordPointer(2, GL_FLOAT, 0, coords);
+            api.EnableClientState(GL_TEXTURE_COORD_ARRAY);
+        };
         const UnitState unit1(api, GL_TEXTURE1);
-        api.Disable(GL_TEXTURE_2D);
-        api.BindTexture(GL_TEXTURE_1D, extinction_id_);
-        api.Enable(GL_TEXTURE_1D);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_MODULATE);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB, GL_PREVIOUS);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB, GL_SRC_COLOR);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB, GL_TEXTURE);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB, GL_SRC_COLOR);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_REPLACE);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA, GL_PREVIOUS);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_RGB_SCALE, 1);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_ALPHA_SCALE, 1);
-        api.TexCoordPointer(2, GL_FLOAT, 0, coords);
-        api.EnableClientState(GL_TEXTURE_COORD_ARRAY);
+        combine(GL_TEXTURE_2D, GL_TEXTURE_1D, extinction_id_, GL_MODULATE);  // x F_ex
         const UnitState unit2(api, GL_TEXTURE2);
-        api.Disable(GL_TEXTURE_1D);
-        api.BindTexture(GL_TEXTURE_2D, in_scattering_id_);
-        api.Enable(GL_TEXTURE_2D);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_ADD);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB, GL_PREVIOUS);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB, GL_SRC_COLOR);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB, GL_TEXTURE);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB, GL_SRC_COLOR);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_REPLACE);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA, GL_PREVIOUS);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_RGB_SCALE, 1);
-        api.TexEnvi(GL_TEXTURE_ENV, GL_ALPHA_SCALE, 1);
-        api.TexCoordPointer(2, GL_FLOAT, 0, coords);
-        api.EnableClientState(GL_TEXTURE_COORD_ARRAY);
+        combine(GL_TEXTURE_1D, GL_TEXTURE_2D, in_scattering_id_, GL_ADD);  // + L_in
         api.ActiveTexture(GL_TEXTURE0);
         api.ClientActiveTexture(GL_TEXTURE0);
         draw();

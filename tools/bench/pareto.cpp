@@ -342,18 +342,6 @@ Result<std::vector<std::unique_ptr<MeshEntry>>> build_meshes(const BenchScene& s
 
 // ---- Frames -----------------------------------------------------------------------------------
 
-void draw_arrays(const gl::Api& api, const render::Mesh& mesh) {
-    if (api.ClientActiveTexture) api.ClientActiveTexture(GL_TEXTURE0);
-    api.EnableClientState(GL_VERTEX_ARRAY);
-    api.VertexPointer(3, GL_FLOAT, 0, mesh.positions.data());
-    api.EnableClientState(GL_TEXTURE_COORD_ARRAY);
-    api.TexCoordPointer(2, GL_FLOAT, 0, mesh.texcoords.data());
-    api.DrawElements(GL_TRIANGLES, GLsizei(mesh.indices.size()), GL_UNSIGNED_INT,
-                     mesh.indices.data());
-    api.DisableClientState(GL_TEXTURE_COORD_ARRAY);
-    api.DisableClientState(GL_VERTEX_ARRAY);
-}
-
 void begin_frame(const gl::Api& api, const render::Scene& scene, const render::Matrices& m) {
     api.ClearColor(float(scene.background.r), float(scene.background.g), float(scene.background.b),
                    1.0f);
@@ -375,7 +363,7 @@ std::optional<Error> render_frame(const headless::Context& context, const render
     const gl::Api& api = context.api();
     const render::Mesh& mesh = v.mesh->mesh;
     const char* name = method_name(v.method);
-    const std::function<void()> draw = [&] { draw_arrays(api, mesh); };
+    const std::function<void()> draw = [&] { render::draw_arrays(api, mesh); };
     begin_frame(api, scene, matrices);
     auto frame = prepare_frame<float>(scene.atmosphere, scene.view(), method_model(v.method));
     if (!frame) return framed(name, frame.error());
@@ -475,7 +463,7 @@ Result<std::vector<std::uint8_t>> reference_image(const headless::Context& conte
     auto frame = prepare_frame<float>(scene.atmosphere, scene.view(), Model::reference);
     if (!frame) return frame.error();
     begin_frame(api, scene, matrices);
-    draw_arrays(api, mesh);
+    render::draw_arrays(api, mesh);
     api.Finish();
     std::vector<std::uint8_t> pixels = context.read_rgba8();
     if (auto e = render::shade_per_pixel(context, *frame, scene.display, matrices, pixels))

@@ -49,6 +49,18 @@ Matrices camera_matrices(const Camera& camera, int width, int height) {
     return m;
 }
 
+void draw_arrays(const gl::Api& api, const Mesh& mesh) {
+    if (api.ClientActiveTexture) api.ClientActiveTexture(GL_TEXTURE0);
+    api.EnableClientState(GL_VERTEX_ARRAY);
+    api.VertexPointer(3, GL_FLOAT, 0, mesh.positions.data());
+    api.EnableClientState(GL_TEXTURE_COORD_ARRAY);
+    api.TexCoordPointer(2, GL_FLOAT, 0, mesh.texcoords.data());
+    api.DrawElements(GL_TRIANGLES, GLsizei(mesh.indices.size()), GL_UNSIGNED_INT,
+                     mesh.indices.data());
+    api.DisableClientState(GL_TEXTURE_COORD_ARRAY);
+    api.DisableClientState(GL_VERTEX_ARRAY);
+}
+
 void load_matrix(const gl::Api& api, unsigned mode, const glm::dmat4& m) {
     const glm::mat4 f(m);
     api.MatrixMode(mode);
@@ -194,17 +206,7 @@ Result<RenderedImage> render_scene(const headless::Context& context, const Scene
     load_matrix(api, GL_MODELVIEW, matrices.view);
     const BoundTexture bound(api, texture);
 
-    const std::function<void()> draw_mesh = [&] {
-        if (api.ClientActiveTexture) api.ClientActiveTexture(GL_TEXTURE0);
-        api.EnableClientState(GL_VERTEX_ARRAY);
-        api.VertexPointer(3, GL_FLOAT, 0, mesh.positions.data());
-        api.EnableClientState(GL_TEXTURE_COORD_ARRAY);
-        api.TexCoordPointer(2, GL_FLOAT, 0, mesh.texcoords.data());
-        api.DrawElements(GL_TRIANGLES, GLsizei(mesh.indices.size()), GL_UNSIGNED_INT,
-                         mesh.indices.data());
-        api.DisableClientState(GL_TEXTURE_COORD_ARRAY);
-        api.DisableClientState(GL_VERTEX_ARRAY);
-    };
+    const std::function<void()> draw_mesh = [&] { draw_arrays(api, mesh); };
 
     // Once per context, as an engine would: the path, and the combiner path's texture.
     gl::ApplyOptions apply;

@@ -99,6 +99,10 @@ struct Matrices {
 };
 Matrices camera_matrices(const Camera& camera, int width, int height);
 
+/// Draws `mesh` (positions and texture coordinates from client arrays, texture unit 0) with
+/// whatever state is set; leaves those two client arrays disabled.
+void draw_arrays(const gl::Api& api, const Mesh& mesh);
+
 /// Loads `m` (as float) into the matrix stack `mode` (GL_PROJECTION, GL_MODELVIEW).
 void load_matrix(const gl::Api& api, unsigned mode, const glm::dmat4& m);
 

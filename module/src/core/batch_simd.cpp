@@ -503,69 +503,105 @@ HWY_INLINE Segment MakeSegment(const FrameConstants& k, VF x, VF y, VF z) {
 
 // ---- hoffman-preetham -------------------------------------------------------------------------
 
-/// The 2002 model for one vector of positions (engine units): F_ex, and L_in when
+/// The 2002 model for kN vectors of positions at once (engine units): F_ex, and L_in when
 /// kInScattering; invalid lanes (NaN, Inf, farther than kMaxDistanceM) get F_ex = 1, L_in = 0.
-/// Returns the valid lanes. The distance s and the direction d / s come from one refined
-/// reciprocal square root of |d|^2 (no square root, no division); per channel one ExpAndExpm1
-/// gives F_ex = exp(-tau) and the path length s phi(tau) = -expm1(-tau) / beta_ex with
-/// tau = beta_ex s, exact down to tau = 0 without a series; the phases are computed once per
-/// vertex (the Henyey–Greenstein power with a second refined reciprocal square root).
-template <class M, bool kInScattering>
-HWY_INLINE MF HoffmanPreethamVector(const FrameConstants& k, VF x, VF y, VF z, VF (&extinction)[3],
-                                    VF (&in_scattering)[3]) {
+/// Sets valid[j] to the valid lanes of vector j. The distance s and the direction d / s come
+/// from one refined reciprocal square root of |d|^2 (no square root, no division); per channel
+/// one ExpAndExpm1 gives F_ex = exp(-tau) and the path length s phi(tau) = -expm1(-tau) /
+/// beta_ex with tau = beta_ex s, exact down to tau = 0 without a series; the phases are computed
+/// once per vertex (the Henyey–Greenstein power with a second refined reciprocal square root).
+///
+/// Why kN vectors: one vector is about 120 instructions along a chain of dependent operations
+/// (square root, exponential polynomial, codes) as long as the out-of-order window of a core, so
+/// one vector at a time leaves most execution ports idle waiting on latency. Every step below is
+/// written for all kN vectors before the next step, which puts independent work next to each
+/// other in program order. Each lane's operations are the same for any kN: the results are bit
+/// for bit those of kN = 1.
+template <class M, bool kInScattering, int kN>
+HWY_INLINE void HoffmanPreethamVectors(const FrameConstants& k, const VF (&x)[kN],
+                                       const VF (&y)[kN], const VF (&z)[kN], MF (&valid)[kN],
+                                       VF (&extinction)[kN][3], VF (&in_scattering)[kN][3]) {
     // Offset from the eye in engine units, then scaled: the difference is exact near the eye
     // (Sterbenz), where scaling first would round both terms at the size of the distance to the
     // origin; and no fused operation, so that every target rounds alike.
-    VF dx = hn::Sub(x, K(k.eye_units[0]));
-    VF dy = hn::Sub(y, K(k.eye_units[1]));
-    VF dz = hn::Sub(z, K(k.eye_units[2]));
-    if (!k.unit_scale) {
-        const VF scale = K(k.meters_per_unit);
-        dx = hn::Mul(dx, scale);
-        dy = hn::Mul(dy, scale);
-        dz = hn::Mul(dz, scale);
+    VF dx[kN], dy[kN], dz[kN], s2[kN], inv_s[kN], s[kN];
+#define AERIAL_EACH _Pragma("GCC unroll 8") for (int j = 0; j < kN; ++j)
+    AERIAL_EACH {
+        dx[j] = hn::Sub(x[j], K(k.eye_units[0]));
+        dy[j] = hn::Sub(y[j], K(k.eye_units[1]));
+        dz[j] = hn::Sub(z[j], K(k.eye_units[2]));
     }
-    const MF valid = hn::Le(Dot(dx, dy, dz, dx, dy, dz), K(k.max_distance_sq_m2));  // not NaN
+    if (!k.unit_scale) {
+        AERIAL_EACH {
+            dx[j] = hn::Mul(dx[j], K(k.meters_per_unit));
+            dy[j] = hn::Mul(dy[j], K(k.meters_per_unit));
+            dz[j] = hn::Mul(dz[j], K(k.meters_per_unit));
+        }
+    }
+    AERIAL_EACH s2[j] = Dot(dx[j], dy[j], dz[j], dx[j], dy[j], dz[j]);
+    AERIAL_EACH valid[j] = hn::Le(s2[j], K(k.max_distance_sq_m2));  // false for NaN
     // Invalid lanes are moved onto the eye, where F_ex = exp(0) = 1 and L_in = 0 exactly.
-    dx = hn::IfThenElseZero(valid, dx);
-    dy = hn::IfThenElseZero(valid, dy);
-    dz = hn::IfThenElseZero(valid, dz);
-    const VF s2 = Dot(dx, dy, dz, dx, dy, dz);
-    // Below the smallest normal float |d| is 0 (1e-19 m): the vertex is at the eye, s = 0, and
-    // L_in = 0 whatever the phase made of d / s (finite: inv_s is 1 there).
-    const MF positive = hn::Ge(s2, K(kTiny));
-    const VF inv_s = RefinedRsqrt(hn::IfThenElse(positive, s2, K(1.0f)));
-    const VF s = hn::IfThenElseZero(positive, hn::Mul(s2, inv_s));
-    VF length[3];
+    AERIAL_EACH s2[j] = hn::IfThenElseZero(valid[j], s2[j]);
+    // |d|^2 below the smallest normal float (|d| < 1.1e-19 m, 0 at the eye) is raised to it
+    // for the reciprocal square root: s = |d|^2 / |d| stays 0 at the eye and below 1.1e-19 m
+    // elsewhere, and d / s finite.
+    AERIAL_EACH inv_s[j] = RefinedRsqrt(hn::Max(s2[j], K(kTiny)));
+    AERIAL_EACH s[j] = hn::Mul(s2[j], inv_s[j]);
+    VF length[kN][3];
     for (int c = 0; c < 3; ++c) {
-        ExpAndExpm1<M::kExpDegree>(hn::Mul(K(k.hp_minus_extinction[c]), s), extinction[c],
-                                   length[c]);
-        // s phi(tau) = -expm1(-tau) / beta_ex; 1 / beta_ex is 0 where beta_ex is: then beta_R =
-        // beta_Ms = 0 and L_in is 0 anyway.
-        length[c] = hn::Mul(length[c], K(k.hp_minus_inv_extinction[c]));
+        AERIAL_EACH {
+            ExpAndExpm1<M::kExpDegree>(hn::Mul(K(k.hp_minus_extinction[c]), s[j]), extinction[j][c],
+                                       length[j][c]);
+        }
     }
     if constexpr (kInScattering) {
         // Phases (see Phases): 1 - c' from the chord |d/s - sign(g) sun|^2 / 2, at most 2 but
-        // for rounding.
-        const VF cx = hn::MulSub(dx, inv_s, K(k.hg_peak[0]));
-        const VF cy = hn::MulSub(dy, inv_s, K(k.hg_peak[1]));
-        const VF cz = hn::MulSub(dz, inv_s, K(k.hg_peak[2]));
-        const VF one_minus_c = hn::Min(hn::Mul(Dot(cx, cy, cz, cx, cy, cz), K(0.5f)), K(2.0f));
-        const VF c = hn::Sub(K(1.0f), one_minus_c);
-        const VF rayleigh = hn::Mul(K(k.rayleigh_phase_scale), hn::MulAdd(c, c, K(1.0f)));
-        const VF inv_root_base = RefinedRsqrt(hn::MulAdd(K(k.hg_b), one_minus_c, K(k.hg_a)));
-        const VF mie = hn::Mul(hn::Mul(K(k.hg_numerator), inv_root_base),
-                               hn::Mul(inv_root_base, inv_root_base));
+        // for rounding; the direction of invalid lanes is taken as 0 (their L_in is 0).
+        VF rayleigh[kN], mie[kN];
+        AERIAL_EACH {
+            const VF cx =
+                hn::MulSub(hn::IfThenElseZero(valid[j], dx[j]), inv_s[j], K(k.hg_peak[0]));
+            const VF cy =
+                hn::MulSub(hn::IfThenElseZero(valid[j], dy[j]), inv_s[j], K(k.hg_peak[1]));
+            const VF cz =
+                hn::MulSub(hn::IfThenElseZero(valid[j], dz[j]), inv_s[j], K(k.hg_peak[2]));
+            const VF one_minus_c = hn::Min(hn::Mul(Dot(cx, cy, cz, cx, cy, cz), K(0.5f)), K(2.0f));
+            const VF c = hn::Sub(K(1.0f), one_minus_c);
+            rayleigh[j] = hn::Mul(K(k.rayleigh_phase_scale), hn::MulAdd(c, c, K(1.0f)));
+            const VF inv_root_base = RefinedRsqrt(hn::MulAdd(K(k.hg_b), one_minus_c, K(k.hg_a)));
+            mie[j] = hn::Mul(hn::Mul(K(k.hg_numerator), inv_root_base),
+                             hn::Mul(inv_root_base, inv_root_base));
+        }
         for (int ch = 0; ch < 3; ++ch) {
-            // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), >= 0.
-            const VF angular =
-                hn::MulAdd(K(k.hp_rayleigh[ch]), rayleigh, hn::Mul(K(k.hp_mie[ch]), mie));
-            in_scattering[ch] = hn::Mul(angular, length[ch]);
+            AERIAL_EACH {
+                // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), >= 0; s phi(tau) =
+                // -expm1(-tau) / beta_ex, where 1 / beta_ex is 0 where beta_ex is: then beta_R =
+                // beta_Ms = 0 and L_in is 0 anyway.
+                const VF angular =
+                    hn::MulAdd(K(k.hp_rayleigh[ch]), rayleigh[j], hn::Mul(K(k.hp_mie[ch]), mie[j]));
+                in_scattering[j][ch] =
+                    hn::Mul(angular, hn::Mul(length[j][ch], K(k.hp_minus_inv_extinction[ch])));
+            }
         }
     } else {
         (void)in_scattering;
     }
-    return valid;
+#undef AERIAL_EACH
+}
+
+/// One vector of HoffmanPreethamVectors; returns the valid lanes.
+template <class M, bool kInScattering>
+HWY_INLINE MF HoffmanPreethamVector(const FrameConstants& k, VF x, VF y, VF z, VF (&extinction)[3],
+                                    VF (&in_scattering)[3]) {
+    const VF xs[1] = {x}, ys[1] = {y}, zs[1] = {z};
+    MF valid[1];
+    VF ext[1][3], ins[1][3];
+    HoffmanPreethamVectors<M, kInScattering, 1>(k, xs, ys, zs, valid, ext, ins);
+    for (int c = 0; c < 3; ++c) {
+        extinction[c] = ext[0][c];
+        if constexpr (kInScattering) in_scattering[c] = ins[0][c];
+    }
+    return valid[0];
 }
 
 template <class M, bool kInScattering>
@@ -604,10 +640,12 @@ HWY_INLINE hn::Vec<DI> TruncateInRange(VF v) {
 /// float operations as to_unorm8 (a multiply, then an add: the library is built without
 /// contraction into fused multiply-adds), as 32-bit lanes. kNonNegative: v >= 0 is known (F_ex
 /// from an exponential, L_in a product of non-negative factors), the lower clamp is left out.
-template <bool kNonNegative = false>
+/// kAtMostOne: v <= 1 is known too, the upper clamp is left out.
+template <bool kNonNegative = false, bool kAtMostOne = false>
 HWY_INLINE hn::Vec<DI> Unorm8(VF v) {
     // Max first: it gives 0 for NaN (the second operand), as to_unorm8 does.
-    const VF clamped = hn::Min(kNonNegative ? v : hn::Max(v, hn::Zero(DF())), K(1.0f));
+    const VF lower = kNonNegative ? v : hn::Max(v, hn::Zero(DF()));
+    const VF clamped = kAtMostOne ? lower : hn::Min(lower, K(1.0f));
     return TruncateInRange(hn::Add(hn::Mul(clamped, K(255.0f)), K(0.5f)));
 }
 
@@ -633,11 +671,15 @@ HWY_INLINE void StoreWords(hn::Vec<DI> words, std::uint8_t* out, std::size_t str
     for (std::size_t j = 0; j < n; ++j) std::memcpy(out + j * stride, &buffer[j], 4);
 }
 
+/// Vectors the one-pass kernel shades together (see HoffmanPreethamVectors).
+constexpr int kInterleave = 2;
+
 /// The 2002 model from positions to the caller's RGBA8 arrays in one pass: positions loaded
 /// (deinterleaved when kPackedXyz: x, y, z floats back to back; else three arrays), F_ex and
-/// L_in computed in registers and stored as codes, no float arrays in between. `exposure`
-/// multiplies L_in before the clamp (ToneCurve::clamp). The codes are those of the float path
-/// (ShadeHoffmanPreetham) through the 8-bit rule, bit for bit.
+/// L_in computed in registers and stored as codes, no float arrays in between; kInterleave
+/// vectors at a time, the rest one by one. `exposure` multiplies L_in before the clamp
+/// (ToneCurve::clamp). The codes are those of the float path (ShadeHoffmanPreetham) through the
+/// 8-bit rule, bit for bit.
 template <class M, bool kPackedXyz, bool kInScattering>
 std::size_t ShadeHoffmanPreethamRgba8(const FrameConstants& constants, const Rgba8Job& work) {
     // Local copies: the byte stores below cannot alias them, so the constants stay in registers.
@@ -646,9 +688,49 @@ std::size_t ShadeHoffmanPreethamRgba8(const FrameConstants& constants, const Rgb
     const DF d;
     const std::size_t lanes = hn::Lanes(d);
     const VF exposure = K(job.exposure);
-    HWY_ALIGN float pad[3 * kMaxLanes] = {};
+    // Codes of one vector, n lanes of it stored from vertex i. F_ex = exp(-tau) is in [0, 1]
+    // (ExpAndExpm1 of x <= 0), so its codes need neither clamp.
+    auto store = [&](const VF(&extinction)[3], const VF(&in_scattering)[3], std::size_t i,
+                     std::size_t n) {
+        if (job.extinction) {
+            StoreWords(
+                PackWords(Unorm8<true, true>(extinction[0]), Unorm8<true, true>(extinction[1]),
+                          Unorm8<true, true>(extinction[2])),
+                job.extinction + i * job.extinction_stride, job.extinction_stride, n);
+        }
+        if constexpr (kInScattering) {
+            StoreWords(PackWords(Unorm8<true>(hn::Mul(in_scattering[0], exposure)),
+                                 Unorm8<true>(hn::Mul(in_scattering[1], exposure)),
+                                 Unorm8<true>(hn::Mul(in_scattering[2], exposure))),
+                       job.in_scattering + i * job.in_scattering_stride, job.in_scattering_stride,
+                       n);
+        }
+    };
     std::size_t invalid = 0;
-    for (std::size_t i = 0; i < job.count; i += lanes) {
+    std::size_t i = 0;
+    for (; i + kInterleave * lanes <= job.count; i += kInterleave * lanes) {
+        VF x[kInterleave], y[kInterleave], z[kInterleave];
+        for (int j = 0; j < kInterleave; ++j) {
+            const std::size_t at = i + j * lanes;
+            if constexpr (kPackedXyz) {
+                hn::LoadInterleaved3(d, job.x + 3 * at, x[j], y[j], z[j]);
+            } else {
+                x[j] = hn::LoadU(d, job.x + at);
+                y[j] = hn::LoadU(d, job.y + at);
+                z[j] = hn::LoadU(d, job.z + at);
+            }
+        }
+        MF valid[kInterleave];
+        VF extinction[kInterleave][3], in_scattering[kInterleave][3];
+        HoffmanPreethamVectors<M, kInScattering, kInterleave>(k, x, y, z, valid, extinction,
+                                                              in_scattering);
+        for (int j = 0; j < kInterleave; ++j) {
+            invalid += hn::CountTrue(d, hn::Not(valid[j]));
+            store(extinction[j], in_scattering[j], i + j * lanes, lanes);
+        }
+    }
+    HWY_ALIGN float pad[3 * kMaxLanes] = {};
+    for (; i < job.count; i += lanes) {
         const std::size_t n = std::min(lanes, job.count - i);
         VF x, y, z;
         if constexpr (kPackedXyz) {
@@ -674,18 +756,7 @@ std::size_t ShadeHoffmanPreethamRgba8(const FrameConstants& constants, const Rgb
         const MF valid =
             HoffmanPreethamVector<M, kInScattering>(k, x, y, z, extinction, in_scattering);
         invalid += hn::CountTrue(d, hn::AndNot(valid, hn::FirstN(d, n)));
-        if (job.extinction) {
-            StoreWords(PackWords(Unorm8<true>(extinction[0]), Unorm8<true>(extinction[1]),
-                                 Unorm8<true>(extinction[2])),
-                       job.extinction + i * job.extinction_stride, job.extinction_stride, n);
-        }
-        if constexpr (kInScattering) {
-            StoreWords(PackWords(Unorm8<true>(hn::Mul(in_scattering[0], exposure)),
-                                 Unorm8<true>(hn::Mul(in_scattering[1], exposure)),
-                                 Unorm8<true>(hn::Mul(in_scattering[2], exposure))),
-                       job.in_scattering + i * job.in_scattering_stride, job.in_scattering_stride,
-                       n);
-        }
+        store(extinction, in_scattering, i, n);
     }
     return invalid;
 }

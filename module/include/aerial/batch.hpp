@@ -126,10 +126,11 @@ struct BatchStats {
     unsigned threads_used = 1;
 };
 
-/// Shades every vertex of `positions` into `outputs`. With the hoffman-preetham model, a SIMD
-/// kernel, and only extinction_rgba8 and/or in_scattering_rgba8 (clamp curve) asked for, the
-/// vertices go from positions to codes in one pass, with no float arrays in between (the
-/// fastest case, and the codes are those the float path's values give under the 8-bit rule).
+/// Shades every vertex of `positions` into `outputs`. With the hoffman-preetham or height model,
+/// a SIMD kernel, and only RGBA8 outputs (extinction, lit, in-scattering; clamp curve for the
+/// last two), the vertices go from positions to codes in one pass, with no float arrays in
+/// between (the fastest case, and the codes are those the float path's values give under the
+/// 8-bit rule).
 /// Errors (nothing is written): a null array
 /// with count > 0, a stride smaller than its element, lit_rgba8 without lighting normals,
 /// exposure <= 0 or not finite, no output at all. `reference` runs on the scalar kernel whatever

@@ -46,8 +46,8 @@ struct Plan {
     const Positions& positions;
     const BatchOutputs& out;
     const BatchSettings& settings;
-    /// hoffman-preetham on the SIMD kernels with only F_ex and L_in (clamp curve) as RGBA8:
-    /// one pass from positions to codes (detail::shade_hoffman_preetham_rgba8).
+    /// hoffman-preetham or height on the SIMD kernels with only RGBA8 outputs (clamp curve):
+    /// one pass from positions to codes (detail::shade_rgba8).
     bool one_pass_rgba8;
     bool need_extinction;
     bool need_in_scattering;
@@ -113,10 +113,21 @@ std::size_t shade_range_rgba8(const Plan& plan, std::size_t first, std::size_t l
     detail::Rgba8Job job;
     job.exposure = plan.settings.display.exposure;
     job.extinction_stride = plan.extinction_rgba8_stride;
+    job.lit_stride = plan.lit_rgba8_stride;
     job.in_scattering_stride = plan.in_scattering_rgba8_stride;
+    job.normal_stride = plan.normal_stride;
+    const Lighting* light = out.lit_rgba8 ? plan.settings.lighting : nullptr;
+    if (light) {
+        for (int c = 0; c < 3; ++c) {
+            job.ambient[c] = light->ambient[c];
+            job.albedo[c] = light->albedo[c];
+        }
+    }
     auto point_outputs_at = [&](std::size_t begin) {
         job.extinction =
             out.extinction_rgba8 ? out.extinction_rgba8 + begin * job.extinction_stride : nullptr;
+        job.lit = light ? out.lit_rgba8 + begin * job.lit_stride : nullptr;
+        job.normals = light ? advance(light->normals, begin * job.normal_stride) : nullptr;
         job.in_scattering = out.in_scattering_rgba8
                                 ? out.in_scattering_rgba8 + begin * job.in_scattering_stride
                                 : nullptr;
@@ -130,7 +141,7 @@ std::size_t shade_range_rgba8(const Plan& plan, std::size_t first, std::size_t l
         job.z = packed_xyz ? nullptr : pos.z + first;
         job.count = last - first;
         point_outputs_at(first);
-        return detail::shade_hoffman_preetham_rgba8(plan.frame, job, precision);
+        return detail::shade_rgba8(plan.frame, job, precision);
     }
     alignas(64) float x[kBlockSize], y[kBlockSize], z[kBlockSize];
     std::size_t invalid = 0;
@@ -147,7 +158,7 @@ std::size_t shade_range_rgba8(const Plan& plan, std::size_t first, std::size_t l
         job.z = z;
         job.count = n;
         point_outputs_at(begin);
-        invalid += detail::shade_hoffman_preetham_rgba8(plan.frame, job, precision);
+        invalid += detail::shade_rgba8(plan.frame, job, precision);
     }
     return invalid;
 }
@@ -407,10 +418,10 @@ Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positi
 
     auto packed = [](std::size_t stride, std::size_t element) { return stride ? stride : element; };
     const bool one_pass_rgba8 =
-        frame.model == Model::hoffman_preetham && settings.kernel != Kernel::scalar &&
-        !out.lit_rgba8 && !out.extinction_rgb && !out.in_scattering_rgb &&
+        (frame.model == Model::hoffman_preetham || frame.model == Model::height) &&
+        settings.kernel != Kernel::scalar && !out.extinction_rgb && !out.in_scattering_rgb &&
         !out.sun_irradiance_rgb &&
-        (!out.in_scattering_rgba8 || settings.display.tone == ToneCurve::clamp);
+        ((!out.in_scattering_rgba8 && !out.lit_rgba8) || settings.display.tone == ToneCurve::clamp);
     const Plan plan{frame,
                     positions,
                     out,

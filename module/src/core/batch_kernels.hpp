@@ -49,8 +49,9 @@ std::size_t shade_block_scalar(const Frame<float>& frame, const KernelBlock& blo
 std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block,
                              KernelPrecision precision);
 
-/// The 2002 model straight from positions to RGBA8 codes, one pass, no float arrays (the batch
-/// API's fast path for F_ex and L_in with ToneCurve::clamp). Pointers start at the first vertex.
+/// Either SIMD model straight from positions to RGBA8 codes, one pass, no float arrays (the
+/// batch API's fast path for F_ex, the lit colour and L_in with ToneCurve::clamp). Pointers start
+/// at the first vertex.
 struct Rgba8Job {
     const float* x = nullptr;  ///< packed_xyz: x, y, z floats back to back from here
     const float* y = nullptr;  ///< else three tightly packed arrays
@@ -59,16 +60,22 @@ struct Rgba8Job {
     std::size_t count = 0;
     std::uint8_t* extinction = nullptr;     ///< F_ex codes, or null
     std::size_t extinction_stride = 4;      ///< bytes
+    std::uint8_t* lit = nullptr;            ///< codes of the lit colour * exposure, or null
+    std::size_t lit_stride = 4;             ///< bytes
+    const float* normals = nullptr;         ///< for lit: x, y, z floats at the start of each record
+    std::size_t normal_stride = 12;         ///< bytes
+    float ambient[3] = {0.0f, 0.0f, 0.0f};  ///< Lighting::ambient
+    float albedo[3] = {1.0f, 1.0f, 1.0f};   ///< Lighting::albedo
     std::uint8_t* in_scattering = nullptr;  ///< codes of L_in * exposure, or null
     std::size_t in_scattering_stride = 4;
     float exposure = 1.0f;
 };
 
-/// Shades job.count vertices of the hoffman-preetham frame `frame` into the job's arrays: the
-/// codes are, bit for bit, the 8-bit rule applied to what shade_block_simd gives in float with
-/// the same precision. Returns the number of invalid vertices.
-std::size_t shade_hoffman_preetham_rgba8(const Frame<float>& frame, const Rgba8Job& job,
-                                         KernelPrecision precision);
+/// Shades job.count vertices of the hoffman-preetham or height frame `frame` into the job's
+/// arrays: the codes are, bit for bit, the 8-bit rule applied to what shade_block_simd gives in
+/// float with the same precision (and, for lit, to batch.cpp's lit colour of those floats).
+/// Returns the number of invalid vertices.
+std::size_t shade_rgba8(const Frame<float>& frame, const Rgba8Job& job, KernelPrecision precision);
 
 /// RGBA8 words (R in the lowest byte, A = 255) of n vertices: each channel times `scale`, then
 /// floor(clamp(v, 0, 1) * 255 + 0.5), bit-identical to to_unorm8(v * scale) for finite v.

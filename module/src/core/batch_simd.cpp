@@ -10,7 +10,8 @@
 // The 2002 model, whose cost is all in the exponentials, has its own (ExpAndExpm1): exp and
 // expm1 from one range reduction, a degree-7 (accurate) or degree-5 (fast) polynomial, and the
 // distance and the Henyey–Greenstein power from refined reciprocal square roots; it also runs
-// from positions straight to RGBA8 codes in one pass (ShadeHoffmanPreethamRgba8).
+// from positions straight to RGBA8 codes in one pass (ShadeRgba8, which takes the height model
+// and the lit colour too).
 // The scaled complementary error function of the Chapman factor is the rational form of
 // Numerical Recipes (erfcc, fractional error below 1.2e-7 for every y >= 0), kept in log form so
 // that log(H Ch) costs one log and no exp.
@@ -604,6 +605,9 @@ HWY_INLINE MF HoffmanPreethamVector(const FrameConstants& k, VF x, VF y, VF z, V
     return valid[0];
 }
 
+/// Vectors the one-pass kernel shades together (see HoffmanPreethamVectors).
+constexpr int kInterleave = 2;
+
 template <class M, bool kInScattering>
 std::size_t ShadeHoffmanPreetham(const FrameConstants& k, const KernelBlock& b) {
     return ForEachVector(b, [&k](VF x, VF y, VF z, const VectorOut& out) {
@@ -666,99 +670,9 @@ HWY_INLINE void StoreWords(hn::Vec<DI> words, std::uint8_t* out, std::size_t str
         hn::StoreU(words, di, reinterpret_cast<int32_t*>(out));
         return;
     }
-    HWY_ALIGN int32_t buffer[kMaxLanes];
+    HWY_ALIGN int32_t buffer[kMaxLanes] = {};
     hn::Store(words, di, buffer);
     for (std::size_t j = 0; j < n; ++j) std::memcpy(out + j * stride, &buffer[j], 4);
-}
-
-/// Vectors the one-pass kernel shades together (see HoffmanPreethamVectors).
-constexpr int kInterleave = 2;
-
-/// The 2002 model from positions to the caller's RGBA8 arrays in one pass: positions loaded
-/// (deinterleaved when kPackedXyz: x, y, z floats back to back; else three arrays), F_ex and
-/// L_in computed in registers and stored as codes, no float arrays in between; kInterleave
-/// vectors at a time, the rest one by one. `exposure` multiplies L_in before the clamp
-/// (ToneCurve::clamp). The codes are those of the float path (ShadeHoffmanPreetham) through the
-/// 8-bit rule, bit for bit.
-template <class M, bool kPackedXyz, bool kInScattering>
-std::size_t ShadeHoffmanPreethamRgba8(const FrameConstants& constants, const Rgba8Job& work) {
-    // Local copies: the byte stores below cannot alias them, so the constants stay in registers.
-    const FrameConstants k = constants;
-    const Rgba8Job job = work;
-    const DF d;
-    const std::size_t lanes = hn::Lanes(d);
-    const VF exposure = K(job.exposure);
-    // Codes of one vector, n lanes of it stored from vertex i. F_ex = exp(-tau) is in [0, 1]
-    // (ExpAndExpm1 of x <= 0), so its codes need neither clamp.
-    auto store = [&](const VF(&extinction)[3], const VF(&in_scattering)[3], std::size_t i,
-                     std::size_t n) {
-        if (job.extinction) {
-            StoreWords(
-                PackWords(Unorm8<true, true>(extinction[0]), Unorm8<true, true>(extinction[1]),
-                          Unorm8<true, true>(extinction[2])),
-                job.extinction + i * job.extinction_stride, job.extinction_stride, n);
-        }
-        if constexpr (kInScattering) {
-            StoreWords(PackWords(Unorm8<true>(hn::Mul(in_scattering[0], exposure)),
-                                 Unorm8<true>(hn::Mul(in_scattering[1], exposure)),
-                                 Unorm8<true>(hn::Mul(in_scattering[2], exposure))),
-                       job.in_scattering + i * job.in_scattering_stride, job.in_scattering_stride,
-                       n);
-        }
-    };
-    std::size_t invalid = 0;
-    std::size_t i = 0;
-    for (; i + kInterleave * lanes <= job.count; i += kInterleave * lanes) {
-        VF x[kInterleave], y[kInterleave], z[kInterleave];
-        for (int j = 0; j < kInterleave; ++j) {
-            const std::size_t at = i + j * lanes;
-            if constexpr (kPackedXyz) {
-                hn::LoadInterleaved3(d, job.x + 3 * at, x[j], y[j], z[j]);
-            } else {
-                x[j] = hn::LoadU(d, job.x + at);
-                y[j] = hn::LoadU(d, job.y + at);
-                z[j] = hn::LoadU(d, job.z + at);
-            }
-        }
-        MF valid[kInterleave];
-        VF extinction[kInterleave][3], in_scattering[kInterleave][3];
-        HoffmanPreethamVectors<M, kInScattering, kInterleave>(k, x, y, z, valid, extinction,
-                                                              in_scattering);
-        for (int j = 0; j < kInterleave; ++j) {
-            invalid += hn::CountTrue(d, hn::Not(valid[j]));
-            store(extinction[j], in_scattering[j], i + j * lanes, lanes);
-        }
-    }
-    HWY_ALIGN float pad[3 * kMaxLanes] = {};
-    for (; i < job.count; i += lanes) {
-        const std::size_t n = std::min(lanes, job.count - i);
-        VF x, y, z;
-        if constexpr (kPackedXyz) {
-            const float* p = job.x + 3 * i;
-            if (HWY_UNLIKELY(n < lanes)) {
-                std::memcpy(pad, p, 3 * n * sizeof(float));
-                p = pad;
-            }
-            hn::LoadInterleaved3(d, p, x, y, z);
-        } else if (HWY_LIKELY(n == lanes)) {
-            x = hn::LoadU(d, job.x + i);
-            y = hn::LoadU(d, job.y + i);
-            z = hn::LoadU(d, job.z + i);
-        } else {
-            std::memcpy(pad, job.x + i, n * sizeof(float));
-            std::memcpy(pad + kMaxLanes, job.y + i, n * sizeof(float));
-            std::memcpy(pad + 2 * kMaxLanes, job.z + i, n * sizeof(float));
-            x = hn::Load(d, pad);
-            y = hn::Load(d, pad + kMaxLanes);
-            z = hn::Load(d, pad + 2 * kMaxLanes);
-        }
-        VF extinction[3], in_scattering[3];
-        const MF valid =
-            HoffmanPreethamVector<M, kInScattering>(k, x, y, z, extinction, in_scattering);
-        invalid += hn::CountTrue(d, hn::AndNot(valid, hn::FirstN(d, n)));
-        store(extinction, in_scattering, i, n);
-    }
-    return invalid;
 }
 
 // ---- height -----------------------------------------------------------------------------------
@@ -824,183 +738,358 @@ HWY_INLINE void Transmittance(const FrameConstants& k, VF h, VF log_r, VF log_m,
     }
 }
 
+/// The height model for one vector of positions (engine units), its results handed to `out`
+/// (VectorOut: arrays; RegisterOut: registers): F_ex always, L_in when kInScattering, E_sun at the
+/// vertex when kSunIrradiance. Returns the valid lanes.
+template <class M, bool kInScattering, bool kSunIrradiance, class Out>
+HWY_INLINE MF HeightVector(const FrameConstants& k, VF x, VF y, VF z, const Out& out) {
+    const DF d;
+    const VF zero = hn::Zero(d);
+    const Segment seg = MakeSegment(k, x, y, z);
+    const VF s = seg.s;
+    const VF min_h = K(k.min_altitude_m);
+    const VF h0 = K(k.eye_altitude_m);
+    // Altitude of the vertex above the sphere (altitude_above_sphere).
+    const VF along_up = Dot(seg.px, seg.py, seg.pz, K(k.up[0]), K(k.up[1]), K(k.up[2]));
+    const VF numerator = hn::MulAdd(K(k.two_radius_m), along_up,
+                                    Dot(seg.px, seg.py, seg.pz, seg.px, seg.py, seg.pz));
+    const VF to_centre = hn::Sqrt(hn::Max(hn::Add(numerator, K(k.radius_sq_m2)), zero));
+    const VF h1 = hn::Max(hn::Div(numerator, hn::Add(to_centre, K(k.radius_m))), min_h);
+    const VF rise = hn::Sub(h1, h0);
+    const VF sag = hn::Mul(hn::Mul(s, s), K(k.inv_two_radius));
+    const VF h_low = hn::Max(hn::NegMulAdd(sag, K(1.0f / 6.0f), hn::Min(h0, h1)), min_h);
+
+    // Path-averaged densities and the extinction.
+    const VF dh = hn::Abs(rise);
+    const VF rho_r = hn::Mul(M::Exp(hn::Mul(h_low, K(-k.inv_hr))),
+                             ExponentialAverage<M>(hn::Mul(dh, K(k.inv_hr))));
+    const VF rho_m = hn::Mul(M::Exp(hn::Mul(h_low, K(-k.inv_hm))),
+                             ExponentialAverage<M>(hn::Mul(dh, K(k.inv_hm))));
+    VF tau[3], extinction[3];
+    for (int c = 0; c < 3; ++c) {
+        const VF beta = hn::MulAdd(K(k.rayleigh[c]), rho_r, hn::Mul(K(k.mie_extinction[c]), rho_m));
+        tau[c] = hn::Mul(beta, s);
+        extinction[c] = M::Exp(hn::Neg(tau[c]));
+        out.Extinction(c, hn::IfThenElse(seg.valid, extinction[c], K(1.0f)));
+    }
+    if constexpr (!kInScattering && !kSunIrradiance) return seg.valid;
+
+    // Sun at the vertex: log Chapman factors, and E_sun.
+    const VF cx = hn::MulAdd(K(k.up[0]), K(k.radius_m), seg.px);
+    const VF cy = hn::MulAdd(K(k.up[1]), K(k.radius_m), seg.py);
+    const VF cz = hn::MulAdd(K(k.up[2]), K(k.radius_m), seg.pz);
+    const VF centre_distance = hn::Sqrt(Dot(cx, cy, cz, cx, cy, cz));
+    const MF off_centre = hn::Gt(centre_distance, zero);
+    const VF mu1 = hn::IfThenElse(off_centre,
+                                  hn::Div(Dot(cx, cy, cz, K(k.sun[0]), K(k.sun[1]), K(k.sun[2])),
+                                          hn::IfThenElse(off_centre, centre_distance, K(1.0f))),
+                                  K(1.0f));
+    VF lf_r1, lf_m1;
+    LogChapmanFactors<M>(k, h1, mu1, lf_r1, lf_m1);
+    if constexpr (kSunIrradiance) {
+        VF sun[3];
+        Transmittance<M>(k, h1, lf_r1, lf_m1, sun);
+        for (int c = 0; c < 3; ++c) {
+            out.SunIrradiance(c, hn::IfThenElseZero(seg.valid, hn::Mul(K(k.sun_top[c]), sun[c])));
+        }
+    }
+    if constexpr (!kInScattering) return seg.valid;
+
+    // A blocked end borrows the other end's factor; the shadow is tested per node.
+    const MF lit1 =
+        hn::And(hn::Lt(lf_r1, K(kBlockedLogColumn)), hn::Lt(lf_m1, K(kBlockedLogColumn)));
+    const VF lr0 = k.eye_lit ? K(k.eye_log_chapman_r) : lf_r1;
+    const VF lm0 = k.eye_lit ? K(k.eye_log_chapman_m) : lf_m1;
+    const VF lr1 = hn::IfThenElse(lit1, lf_r1, lr0);
+    const VF lm1 = hn::IfThenElse(lit1, lf_m1, lm0);
+    const MF active = k.eye_lit ? hn::Eq(zero, zero) : lit1;
+
+    VF sunlit_r[3] = {zero, zero, zero};
+    VF sunlit_m[3] = {zero, zero, zero};
+    if (k.k_total > 0.0f && !hn::AllFalse(d, hn::And(active, seg.valid))) {
+        const VF k_r0 = K(k.k_r0), k_m0 = K(k.k_m0);
+        const VF a_r = hn::Mul(rise, K(k.inv_hr));
+        const VF a_m = hn::Mul(rise, K(k.inv_hm));
+        // G optical depth to the vertex and the extinction there, relative to the eye's.
+        const VF z_r = hn::Min(hn::Neg(a_r), K(80.0f));
+        const VF z_m = hn::Min(hn::Neg(a_m), K(80.0f));
+        const VF exp_r = M::Exp(z_r), exp_m = M::Exp(z_m);
+        const VF tau_total =
+            hn::Mul(s, hn::MulAdd(k_r0, ExpAverageFrom(z_r, Expm1GivenExp(z_r, exp_r)),
+                                  hn::Mul(k_m0, ExpAverageFrom(z_m, Expm1GivenExp(z_m, exp_m)))));
+        const VF k_end = hn::MulAdd(k_r0, exp_r, hn::Mul(k_m0, exp_m));
+        const VF a_fit =
+            Clamp(hn::IfThenElse(hn::Gt(k_end, zero),
+                                 SafeLog<M>(hn::Min(hn::Div(K(k.k_total), k_end),
+                                                    K(std::numeric_limits<float>::max()))),
+                                 K(80.0f)),
+                  -80.0f, 80.0f);
+        // log_one_minus_exp_over_x(a_fit) + log_one_minus_exp_over_x(tau_total), as one log.
+        const VF expm1_fit = Expm1<M>(hn::Neg(a_fit));
+        const VF expm1_total = Expm1<M>(hn::Neg(tau_total));
+        const VF log_scale = SafeLog<M>(hn::Mul(ExpAverageFrom(hn::Neg(a_fit), expm1_fit),
+                                                ExpAverageFrom(hn::Neg(tau_total), expm1_total)));
+        // Where tau_total < 1e-4 the fitted depth is linear in the node and the fraction is
+        // the node itself; elsewhere 1 / tau_total is safe (it overflows for subnormals).
+        const MF total_small = hn::Lt(tau_total, K(1e-4f));
+        const VF inv_total = hn::Div(K(1.0f), hn::Max(tau_total, K(1e-4f)));
+        const MF fit_small = hn::Lt(hn::Abs(a_fit), K(1e-4f));
+        const VF inv_fit = hn::Div(K(1.0f), hn::IfThenElse(fit_small, K(1.0f), a_fit));
+        // in_planet_shadow along the segment (FrameConstants::shadow_*), with the part of d
+        // across the sun taken as a vector: |d|^2 - (d.sun)^2 cancels when d is along it.
+        const VF sun_x = K(k.sun[0]), sun_y = K(k.sun[1]), sun_z = K(k.sun[2]);
+        const VF d_sun = Dot(seg.dx, seg.dy, seg.dz, sun_x, sun_y, sun_z);
+        const VF px = hn::NegMulAdd(sun_x, d_sun, seg.dx);
+        const VF py = hn::NegMulAdd(sun_y, d_sun, seg.dy);
+        const VF pz = hn::NegMulAdd(sun_z, d_sun, seg.dz);
+        const VF perpendicular_sq = Dot(px, py, pz, px, py, pz);
+        const VF across_d =
+            hn::Mul(K(2.0f), Dot(px, py, pz, K(k.shadow_across_eye[0]), K(k.shadow_across_eye[1]),
+                                 K(k.shadow_across_eye[2])));
+        for (int n = 0; n < 3; ++n) {
+            const VF node = K(simd::kSunNodes[n]);
+            // Fitted optical depth to the node, the fraction of the total, and the u where
+            // the one-exponential fit reaches it (exponential_quantile).
+            const VF tau_fit = hn::IfThenElse(total_small, hn::Mul(node, tau_total),
+                                              hn::Neg(M::Log1p(hn::Mul(node, expm1_total))));
+            const VF fraction =
+                hn::IfThenElse(total_small, node, Clamp(hn::Mul(tau_fit, inv_total), 0.0f, 1.0f));
+            const VF quantile_arg = hn::Mul(fraction, expm1_fit);
+            const VF quantile = hn::IfThenElse(
+                hn::Le(hn::Add(quantile_arg, K(1.0f)), zero), K(1.0f),
+                Clamp(hn::Mul(hn::Neg(M::Log1p(quantile_arg)), inv_fit), 0.0f, 1.0f));
+            const VF series = hn::NegMulAdd(hn::Mul(a_fit, fraction),
+                                            hn::Mul(hn::Sub(K(1.0f), fraction), K(0.5f)), fraction);
+            const VF u = hn::IfThenElse(fit_small, series, quantile);
+            // in_planet_shadow at eye + d u: on the night side, within the cylinder.
+            const VF along = hn::MulAdd(u, d_sun, K(k.shadow_along_eye));
+            const VF excess =
+                hn::MulAdd(u, hn::MulAdd(u, perpendicular_sq, across_d), K(k.shadow_excess_eye));
+            const MF shadow = hn::And(hn::Lt(along, zero), hn::Lt(excess, zero));
+            const VF h = hn::Max(
+                hn::NegMulAdd(hn::Mul(sag, u), hn::Sub(K(1.0f), u), hn::MulAdd(rise, u, h0)),
+                min_h);
+            // tau_to(u): G optical depth from the eye to u.
+            const VF tau_u = hn::Mul(
+                hn::Mul(s, u), hn::MulAdd(k_r0, ExponentialAverage<M>(hn::Mul(a_r, u)),
+                                          hn::Mul(k_m0, ExponentialAverage<M>(hn::Mul(a_m, u)))));
+            const VF log_jacobian =
+                hn::Add(hn::MulAdd(a_fit, u, hn::Sub(tau_fit, tau_u)), log_scale);
+            const VF w_r = M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hr), log_jacobian), K(80.0f)));
+            const VF w_m = M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hm), log_jacobian), K(80.0f)));
+            VF sun[3];
+            Transmittance<M>(k, h, hn::MulAdd(hn::Sub(lr1, lr0), u, lr0),
+                             hn::MulAdd(hn::Sub(lm1, lm0), u, lm0), sun);
+            const MF lit = hn::AndNot(shadow, active);
+            for (int c = 0; c < 3; ++c) {
+                const VF weighted =
+                    hn::IfThenElseZero(lit, hn::Mul(K(simd::kSunWeights[n]), sun[c]));
+                sunlit_r[c] = hn::MulAdd(w_r, weighted, sunlit_r[c]);
+                sunlit_m[c] = hn::MulAdd(w_m, weighted, sunlit_m[c]);
+            }
+        }
+    }
+
+    // Per channel: phases, the closed-form path factor s phi(tau_c) / phi(tau_G), L_in.
+    VF phase_r, phase_m;
+    Phases<M>(k, seg.dx, seg.dy, seg.dz, s, phase_r, phase_m);
+    VF path[3];
+    for (int c = 0; c < 3; ++c) {
+        const VF minus_tau = hn::Neg(tau[c]);
+        path[c] = ExpAverageFrom(minus_tau, Expm1GivenExp(minus_tau, extinction[c]));
+    }
+    const VF inv_green = hn::Div(s, hn::Max(path[1], K(kTiny)));
+    for (int c = 0; c < 3; ++c) {
+        const VF scattering =
+            hn::MulAdd(hn::Mul(K(k.rayleigh[c]), phase_r), sunlit_r[c],
+                       hn::Mul(hn::Mul(K(k.mie_scattering[c]), phase_m), sunlit_m[c]));
+        const VF value = hn::Mul(hn::Mul(scattering, K(k.sun_top[c])), hn::Mul(path[c], inv_green));
+        out.InScattering(c, hn::IfThenElseZero(seg.valid, value));
+    }
+    return seg.valid;
+}
+
 template <class M, bool kInScattering, bool kSunIrradiance>
 std::size_t ShadeHeight(const FrameConstants& k, const KernelBlock& b) {
     return ForEachVector(b, [&k](VF x, VF y, VF z, const VectorOut& out) {
-        const DF d;
-        const VF zero = hn::Zero(d);
-        const Segment seg = MakeSegment(k, x, y, z);
-        const VF s = seg.s;
-        const VF min_h = K(k.min_altitude_m);
-        const VF h0 = K(k.eye_altitude_m);
-        // Altitude of the vertex above the sphere (altitude_above_sphere).
-        const VF along_up = Dot(seg.px, seg.py, seg.pz, K(k.up[0]), K(k.up[1]), K(k.up[2]));
-        const VF numerator = hn::MulAdd(K(k.two_radius_m), along_up,
-                                        Dot(seg.px, seg.py, seg.pz, seg.px, seg.py, seg.pz));
-        const VF to_centre = hn::Sqrt(hn::Max(hn::Add(numerator, K(k.radius_sq_m2)), zero));
-        const VF h1 = hn::Max(hn::Div(numerator, hn::Add(to_centre, K(k.radius_m))), min_h);
-        const VF rise = hn::Sub(h1, h0);
-        const VF sag = hn::Mul(hn::Mul(s, s), K(k.inv_two_radius));
-        const VF h_low = hn::Max(hn::NegMulAdd(sag, K(1.0f / 6.0f), hn::Min(h0, h1)), min_h);
+        return HeightVector<M, kInScattering, kSunIrradiance>(k, x, y, z, out);
+    });
+}
 
-        // Path-averaged densities and the extinction.
-        const VF dh = hn::Abs(rise);
-        const VF rho_r = hn::Mul(M::Exp(hn::Mul(h_low, K(-k.inv_hr))),
-                                 ExponentialAverage<M>(hn::Mul(dh, K(k.inv_hr))));
-        const VF rho_m = hn::Mul(M::Exp(hn::Mul(h_low, K(-k.inv_hm))),
-                                 ExponentialAverage<M>(hn::Mul(dh, K(k.inv_hm))));
-        VF tau[3], extinction[3];
-        for (int c = 0; c < 3; ++c) {
-            const VF beta =
-                hn::MulAdd(K(k.rayleigh[c]), rho_r, hn::Mul(K(k.mie_extinction[c]), rho_m));
-            tau[c] = hn::Mul(beta, s);
-            extinction[c] = M::Exp(hn::Neg(tau[c]));
-            out.Extinction(c, hn::IfThenElse(seg.valid, extinction[c], K(1.0f)));
-        }
-        if constexpr (!kInScattering && !kSunIrradiance) return seg.valid;
+// ---- Straight to RGBA8: either model, F_ex, lit colour and L_in ------------------------------
 
-        // Sun at the vertex: log Chapman factors, and E_sun.
-        const VF cx = hn::MulAdd(K(k.up[0]), K(k.radius_m), seg.px);
-        const VF cy = hn::MulAdd(K(k.up[1]), K(k.radius_m), seg.py);
-        const VF cz = hn::MulAdd(K(k.up[2]), K(k.radius_m), seg.pz);
-        const VF centre_distance = hn::Sqrt(Dot(cx, cy, cz, cx, cy, cz));
-        const MF off_centre = hn::Gt(centre_distance, zero);
-        const VF mu1 =
-            hn::IfThenElse(off_centre,
-                           hn::Div(Dot(cx, cy, cz, K(k.sun[0]), K(k.sun[1]), K(k.sun[2])),
-                                   hn::IfThenElse(off_centre, centre_distance, K(1.0f))),
-                           K(1.0f));
-        VF lf_r1, lf_m1;
-        LogChapmanFactors<M>(k, h1, mu1, lf_r1, lf_m1);
-        if constexpr (kSunIrradiance) {
-            VF sun[3];
-            Transmittance<M>(k, h1, lf_r1, lf_m1, sun);
-            for (int c = 0; c < 3; ++c) {
-                out.SunIrradiance(c,
-                                  hn::IfThenElseZero(seg.valid, hn::Mul(K(k.sun_top[c]), sun[c])));
-            }
-        }
-        if constexpr (!kInScattering) return seg.valid;
+/// A vector sink (like VectorOut) that keeps the results in registers.
+struct RegisterOut {
+    VF* extinction;
+    VF* in_scattering;
+    VF* sun_irradiance;
+    HWY_INLINE void Extinction(int c, VF v) const { extinction[c] = v; }
+    HWY_INLINE void InScattering(int c, VF v) const { in_scattering[c] = v; }
+    HWY_INLINE void SunIrradiance(int c, VF v) const { sun_irradiance[c] = v; }
+};
 
-        // A blocked end borrows the other end's factor; the shadow is tested per node.
-        const MF lit1 =
-            hn::And(hn::Lt(lf_r1, K(kBlockedLogColumn)), hn::Lt(lf_m1, K(kBlockedLogColumn)));
-        const VF lr0 = k.eye_lit ? K(k.eye_log_chapman_r) : lf_r1;
-        const VF lm0 = k.eye_lit ? K(k.eye_log_chapman_m) : lf_m1;
-        const VF lr1 = hn::IfThenElse(lit1, lf_r1, lr0);
-        const VF lm1 = hn::IfThenElse(lit1, lf_m1, lm0);
-        const MF active = k.eye_lit ? hn::Eq(zero, zero) : lit1;
-
-        VF sunlit_r[3] = {zero, zero, zero};
-        VF sunlit_m[3] = {zero, zero, zero};
-        if (k.k_total > 0.0f && !hn::AllFalse(d, hn::And(active, seg.valid))) {
-            const VF k_r0 = K(k.k_r0), k_m0 = K(k.k_m0);
-            const VF a_r = hn::Mul(rise, K(k.inv_hr));
-            const VF a_m = hn::Mul(rise, K(k.inv_hm));
-            // G optical depth to the vertex and the extinction there, relative to the eye's.
-            const VF z_r = hn::Min(hn::Neg(a_r), K(80.0f));
-            const VF z_m = hn::Min(hn::Neg(a_m), K(80.0f));
-            const VF exp_r = M::Exp(z_r), exp_m = M::Exp(z_m);
-            const VF tau_total = hn::Mul(
-                s, hn::MulAdd(k_r0, ExpAverageFrom(z_r, Expm1GivenExp(z_r, exp_r)),
-                              hn::Mul(k_m0, ExpAverageFrom(z_m, Expm1GivenExp(z_m, exp_m)))));
-            const VF k_end = hn::MulAdd(k_r0, exp_r, hn::Mul(k_m0, exp_m));
-            const VF a_fit =
-                Clamp(hn::IfThenElse(hn::Gt(k_end, zero),
-                                     SafeLog<M>(hn::Min(hn::Div(K(k.k_total), k_end),
-                                                        K(std::numeric_limits<float>::max()))),
-                                     K(80.0f)),
-                      -80.0f, 80.0f);
-            // log_one_minus_exp_over_x(a_fit) + log_one_minus_exp_over_x(tau_total), as one log.
-            const VF expm1_fit = Expm1<M>(hn::Neg(a_fit));
-            const VF expm1_total = Expm1<M>(hn::Neg(tau_total));
-            const VF log_scale =
-                SafeLog<M>(hn::Mul(ExpAverageFrom(hn::Neg(a_fit), expm1_fit),
-                                   ExpAverageFrom(hn::Neg(tau_total), expm1_total)));
-            // Where tau_total < 1e-4 the fitted depth is linear in the node and the fraction is
-            // the node itself; elsewhere 1 / tau_total is safe (it overflows for subnormals).
-            const MF total_small = hn::Lt(tau_total, K(1e-4f));
-            const VF inv_total = hn::Div(K(1.0f), hn::Max(tau_total, K(1e-4f)));
-            const MF fit_small = hn::Lt(hn::Abs(a_fit), K(1e-4f));
-            const VF inv_fit = hn::Div(K(1.0f), hn::IfThenElse(fit_small, K(1.0f), a_fit));
-            // in_planet_shadow along the segment (FrameConstants::shadow_*), with the part of d
-            // across the sun taken as a vector: |d|^2 - (d.sun)^2 cancels when d is along it.
-            const VF sun_x = K(k.sun[0]), sun_y = K(k.sun[1]), sun_z = K(k.sun[2]);
-            const VF d_sun = Dot(seg.dx, seg.dy, seg.dz, sun_x, sun_y, sun_z);
-            const VF px = hn::NegMulAdd(sun_x, d_sun, seg.dx);
-            const VF py = hn::NegMulAdd(sun_y, d_sun, seg.dy);
-            const VF pz = hn::NegMulAdd(sun_z, d_sun, seg.dz);
-            const VF perpendicular_sq = Dot(px, py, pz, px, py, pz);
-            const VF across_d =
-                hn::Mul(K(2.0f), Dot(px, py, pz, K(k.shadow_across_eye[0]),
-                                     K(k.shadow_across_eye[1]), K(k.shadow_across_eye[2])));
-            for (int n = 0; n < 3; ++n) {
-                const VF node = K(simd::kSunNodes[n]);
-                // Fitted optical depth to the node, the fraction of the total, and the u where
-                // the one-exponential fit reaches it (exponential_quantile).
-                const VF tau_fit = hn::IfThenElse(total_small, hn::Mul(node, tau_total),
-                                                  hn::Neg(M::Log1p(hn::Mul(node, expm1_total))));
-                const VF fraction = hn::IfThenElse(total_small, node,
-                                                   Clamp(hn::Mul(tau_fit, inv_total), 0.0f, 1.0f));
-                const VF quantile_arg = hn::Mul(fraction, expm1_fit);
-                const VF quantile = hn::IfThenElse(
-                    hn::Le(hn::Add(quantile_arg, K(1.0f)), zero), K(1.0f),
-                    Clamp(hn::Mul(hn::Neg(M::Log1p(quantile_arg)), inv_fit), 0.0f, 1.0f));
-                const VF series =
-                    hn::NegMulAdd(hn::Mul(a_fit, fraction),
-                                  hn::Mul(hn::Sub(K(1.0f), fraction), K(0.5f)), fraction);
-                const VF u = hn::IfThenElse(fit_small, series, quantile);
-                // in_planet_shadow at eye + d u: on the night side, within the cylinder.
-                const VF along = hn::MulAdd(u, d_sun, K(k.shadow_along_eye));
-                const VF excess = hn::MulAdd(u, hn::MulAdd(u, perpendicular_sq, across_d),
-                                             K(k.shadow_excess_eye));
-                const MF shadow = hn::And(hn::Lt(along, zero), hn::Lt(excess, zero));
-                const VF h = hn::Max(
-                    hn::NegMulAdd(hn::Mul(sag, u), hn::Sub(K(1.0f), u), hn::MulAdd(rise, u, h0)),
-                    min_h);
-                // tau_to(u): G optical depth from the eye to u.
-                const VF tau_u =
-                    hn::Mul(hn::Mul(s, u),
-                            hn::MulAdd(k_r0, ExponentialAverage<M>(hn::Mul(a_r, u)),
-                                       hn::Mul(k_m0, ExponentialAverage<M>(hn::Mul(a_m, u)))));
-                const VF log_jacobian =
-                    hn::Add(hn::MulAdd(a_fit, u, hn::Sub(tau_fit, tau_u)), log_scale);
-                const VF w_r =
-                    M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hr), log_jacobian), K(80.0f)));
-                const VF w_m =
-                    M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hm), log_jacobian), K(80.0f)));
-                VF sun[3];
-                Transmittance<M>(k, h, hn::MulAdd(hn::Sub(lr1, lr0), u, lr0),
-                                 hn::MulAdd(hn::Sub(lm1, lm0), u, lm0), sun);
-                const MF lit = hn::AndNot(shadow, active);
+/// The 2002 model for the one-pass driver: kInterleave vectors at a time
+/// (HoffmanPreethamVectors), E_sun = E_eye on the valid lanes when kSun. F_ex = exp(-tau) is in
+/// [0, 1] (ExpAndExpm1 of x <= 0) and L_in >= 0, so their codes need fewer clamps.
+template <class M, bool kInScattering, bool kSun>
+struct HoffmanPreethamShader {
+    static constexpr int kN = kInterleave;
+    static constexpr bool kExtinctionInUnitInterval = true;
+    static constexpr bool kInScatteringNonNegative = true;
+    HWY_INLINE void operator()(const FrameConstants& k, const VF (&x)[kN], const VF (&y)[kN],
+                               const VF (&z)[kN], MF (&valid)[kN], VF (&extinction)[kN][3],
+                               VF (&in_scattering)[kN][3], VF (&sun)[kN][3]) const {
+        HoffmanPreethamVectors<M, kInScattering, kN>(k, x, y, z, valid, extinction, in_scattering);
+        if constexpr (kSun) {
+            for (int j = 0; j < kN; ++j) {
                 for (int c = 0; c < 3; ++c) {
-                    const VF weighted =
-                        hn::IfThenElseZero(lit, hn::Mul(K(simd::kSunWeights[n]), sun[c]));
-                    sunlit_r[c] = hn::MulAdd(w_r, weighted, sunlit_r[c]);
-                    sunlit_m[c] = hn::MulAdd(w_m, weighted, sunlit_m[c]);
+                    sun[j][c] = hn::IfThenElseZero(valid[j], K(k.sun_eye[c]));
                 }
             }
         }
+    }
+};
 
-        // Per channel: phases, the closed-form path factor s phi(tau_c) / phi(tau_G), L_in.
-        VF phase_r, phase_m;
-        Phases<M>(k, seg.dx, seg.dy, seg.dz, s, phase_r, phase_m);
-        VF path[3];
-        for (int c = 0; c < 3; ++c) {
-            const VF minus_tau = hn::Neg(tau[c]);
-            path[c] = ExpAverageFrom(minus_tau, Expm1GivenExp(minus_tau, extinction[c]));
+/// The height model for the one-pass driver, one vector at a time (HeightVector).
+template <class M, bool kInScattering, bool kSun>
+struct HeightShader {
+    static constexpr int kN = 1;
+    static constexpr bool kExtinctionInUnitInterval = false;
+    static constexpr bool kInScatteringNonNegative = false;
+    HWY_INLINE void operator()(const FrameConstants& k, const VF (&x)[1], const VF (&y)[1],
+                               const VF (&z)[1], MF (&valid)[1], VF (&extinction)[1][3],
+                               VF (&in_scattering)[1][3], VF (&sun)[1][3]) const {
+        valid[0] = HeightVector<M, kInScattering, kSun>(
+            k, x[0], y[0], z[0], RegisterOut{extinction[0], in_scattering[0], sun[0]});
+    }
+};
+
+/// From positions to the caller's RGBA8 arrays in one pass: positions loaded (deinterleaved
+/// when job.packed_xyz, else three arrays), F_ex, the lit colour (kLit) and L_in (kInScattering)
+/// computed in registers by the Shader and stored as codes, no float arrays in between; the last,
+/// partial step goes through zero-padded copies. `exposure` multiplies L_in and the lit colour
+/// before the clamp (ToneCurve::clamp). The codes are those of the float path (the block kernels,
+/// then batch.cpp's lit colour and the 8-bit rule), bit for bit: the same operations in the same
+/// order, no fused multiply-adds where batch.cpp has none.
+template <class M, class Shader, bool kInScattering, bool kLit>
+std::size_t ShadeRgba8(const FrameConstants& constants, const Rgba8Job& work) {
+    // Local copies: the byte stores below cannot alias them, so the constants stay in registers.
+    const FrameConstants k = constants;
+    const Rgba8Job job = work;
+    constexpr int kN = Shader::kN;
+    const DF d;
+    const VF zero = hn::Zero(d);
+    const std::size_t lanes = hn::Lanes(d);
+    const std::size_t step = kN * lanes;
+    const VF exposure = K(job.exposure);
+    // Codes of vector j of a step, n lanes of it stored from vertex `first`.
+    auto store = [&](const VF(&extinction)[3], const VF(&in_scattering)[3], const VF(&sun)[3],
+                     std::size_t first, std::size_t n) {
+        constexpr bool kUnit = Shader::kExtinctionInUnitInterval;
+        if (job.extinction) {
+            StoreWords(
+                PackWords(Unorm8<kUnit, kUnit>(extinction[0]), Unorm8<kUnit, kUnit>(extinction[1]),
+                          Unorm8<kUnit, kUnit>(extinction[2])),
+                job.extinction + first * job.extinction_stride, job.extinction_stride, n);
         }
-        const VF inv_green = hn::Div(s, hn::Max(path[1], K(kTiny)));
-        for (int c = 0; c < 3; ++c) {
-            const VF scattering =
-                hn::MulAdd(hn::Mul(K(k.rayleigh[c]), phase_r), sunlit_r[c],
-                           hn::Mul(hn::Mul(K(k.mie_scattering[c]), phase_m), sunlit_m[c]));
-            const VF value =
-                hn::Mul(hn::Mul(scattering, K(k.sun_top[c])), hn::Mul(path[c], inv_green));
-            out.InScattering(c, hn::IfThenElseZero(seg.valid, value));
+        if constexpr (kLit) {
+            // F_ex x albedo x (E_sun max(N.L, 0) + ambient), as batch.cpp's general path: N.L
+            // summed left to right, std::max's NaN rule (a NaN normal gives a NaN colour, 0).
+            HWY_ALIGN float normal[3][kMaxLanes] = {};
+            for (std::size_t q = 0; q < n; ++q) {
+                const auto* bytes = reinterpret_cast<const unsigned char*>(job.normals) +
+                                    (first + q) * job.normal_stride;
+                float xyz[3];
+                std::memcpy(xyz, bytes, sizeof(xyz));
+                normal[0][q] = xyz[0];
+                normal[1][q] = xyz[1];
+                normal[2][q] = xyz[2];
+            }
+            const VF n_dot_l_raw = hn::Add(hn::Add(hn::Mul(hn::Load(d, normal[0]), K(k.sun[0])),
+                                                   hn::Mul(hn::Load(d, normal[1]), K(k.sun[1]))),
+                                           hn::Mul(hn::Load(d, normal[2]), K(k.sun[2])));
+            const VF n_dot_l = hn::IfThenZeroElse(hn::Lt(n_dot_l_raw, zero), n_dot_l_raw);
+            hn::Vec<DI> code[3];
+            for (int c = 0; c < 3; ++c) {
+                const VF lit = hn::Mul(hn::Mul(extinction[c], K(job.albedo[c])),
+                                       hn::Add(hn::Mul(sun[c], n_dot_l), K(job.ambient[c])));
+                code[c] = Unorm8(hn::Mul(lit, exposure));
+            }
+            StoreWords(PackWords(code[0], code[1], code[2]), job.lit + first * job.lit_stride,
+                       job.lit_stride, n);
         }
-        return seg.valid;
-    });
+        if constexpr (kInScattering) {
+            constexpr bool kPositive = Shader::kInScatteringNonNegative;
+            StoreWords(PackWords(Unorm8<kPositive>(hn::Mul(in_scattering[0], exposure)),
+                                 Unorm8<kPositive>(hn::Mul(in_scattering[1], exposure)),
+                                 Unorm8<kPositive>(hn::Mul(in_scattering[2], exposure))),
+                       job.in_scattering + first * job.in_scattering_stride,
+                       job.in_scattering_stride, n);
+        }
+    };
+    std::size_t invalid = 0;
+    for (std::size_t i = 0; i < job.count; i += step) {
+        const std::size_t n = std::min(step, job.count - i);
+        VF x[kN], y[kN], z[kN];
+        if (HWY_LIKELY(n == step)) {
+            for (int j = 0; j < kN; ++j) {
+                const std::size_t at = i + j * lanes;
+                if (job.packed_xyz) {
+                    hn::LoadInterleaved3(d, job.x + 3 * at, x[j], y[j], z[j]);
+                } else {
+                    x[j] = hn::LoadU(d, job.x + at);
+                    y[j] = hn::LoadU(d, job.y + at);
+                    z[j] = hn::LoadU(d, job.z + at);
+                }
+            }
+        } else {
+            // The last step: the n vertices left, then zeros (the eye's neighbourhood, finite).
+            HWY_ALIGN float pad[3][kN * kMaxLanes] = {};
+            for (std::size_t q = 0; q < n; ++q) {
+                const std::size_t at = i + q;
+                pad[0][q] = job.packed_xyz ? job.x[3 * at] : job.x[at];
+                pad[1][q] = job.packed_xyz ? job.x[3 * at + 1] : job.y[at];
+                pad[2][q] = job.packed_xyz ? job.x[3 * at + 2] : job.z[at];
+            }
+            for (int j = 0; j < kN; ++j) {
+                x[j] = hn::Load(d, pad[0] + j * lanes);
+                y[j] = hn::Load(d, pad[1] + j * lanes);
+                z[j] = hn::Load(d, pad[2] + j * lanes);
+            }
+        }
+        MF valid[kN];
+        VF extinction[kN][3], in_scattering[kN][3], sun[kN][3];
+        Shader()(k, x, y, z, valid, extinction, in_scattering, sun);
+        for (int j = 0; j < kN && j * lanes < n; ++j) {
+            const std::size_t m = std::min(lanes, n - j * lanes);
+            invalid += hn::CountTrue(d, hn::AndNot(valid[j], hn::FirstN(d, m)));
+            store(extinction[j], in_scattering[j], sun[j], i + j * lanes, m);
+        }
+    }
+    return invalid;
+}
+
+/// The driver for the job's model, precision and outputs.
+template <class M>
+std::size_t ShadeRgba8For(const FrameConstants& k, Model model, const Rgba8Job& job) {
+    const bool in_scattering = job.in_scattering != nullptr;
+    const bool lit = job.lit != nullptr;
+    if (model == Model::hoffman_preetham) {
+        if (lit) {
+            return in_scattering
+                       ? ShadeRgba8<M, HoffmanPreethamShader<M, true, true>, true, true>(k, job)
+                       : ShadeRgba8<M, HoffmanPreethamShader<M, false, true>, false, true>(k, job);
+        }
+        return in_scattering
+                   ? ShadeRgba8<M, HoffmanPreethamShader<M, true, false>, true, false>(k, job)
+                   : ShadeRgba8<M, HoffmanPreethamShader<M, false, false>, false, false>(k, job);
+    }
+    if (lit) {
+        return in_scattering ? ShadeRgba8<M, HeightShader<M, true, true>, true, true>(k, job)
+                             : ShadeRgba8<M, HeightShader<M, false, true>, false, true>(k, job);
+    }
+    return in_scattering ? ShadeRgba8<M, HeightShader<M, true, false>, true, false>(k, job)
+                         : ShadeRgba8<M, HeightShader<M, false, false>, false, false>(k, job);
 }
 
 // ---- Per-target entry points ------------------------------------------------------------------
@@ -1026,25 +1115,11 @@ std::size_t ShadeBlockSimd(const Frame<float>& frame, const KernelBlock& block, 
                 : ShadeWith<AccurateMath>(k, frame.model, block);
 }
 
-std::size_t ShadeHoffmanPreethamRgba8Simd(const Frame<float>& frame, const Rgba8Job& job,
-                                          bool fast) {
+std::size_t ShadeRgba8Simd(const Frame<float>& frame, const Rgba8Job& job, bool fast) {
     if (job.count == 0) return 0;
     const FrameConstants k = simd::make_frame_constants(frame);
-    const bool in_scattering = job.in_scattering != nullptr;
-    if (fast) {
-        if (job.packed_xyz) {
-            return in_scattering ? ShadeHoffmanPreethamRgba8<FastMath, true, true>(k, job)
-                                 : ShadeHoffmanPreethamRgba8<FastMath, true, false>(k, job);
-        }
-        return in_scattering ? ShadeHoffmanPreethamRgba8<FastMath, false, true>(k, job)
-                             : ShadeHoffmanPreethamRgba8<FastMath, false, false>(k, job);
-    }
-    if (job.packed_xyz) {
-        return in_scattering ? ShadeHoffmanPreethamRgba8<AccurateMath, true, true>(k, job)
-                             : ShadeHoffmanPreethamRgba8<AccurateMath, true, false>(k, job);
-    }
-    return in_scattering ? ShadeHoffmanPreethamRgba8<AccurateMath, false, true>(k, job)
-                         : ShadeHoffmanPreethamRgba8<AccurateMath, false, false>(k, job);
+    return fast ? ShadeRgba8For<FastMath>(k, frame.model, job)
+                : ShadeRgba8For<AccurateMath>(k, frame.model, job);
 }
 
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
@@ -1133,7 +1208,7 @@ HWY_AFTER_NAMESPACE();
 namespace aerial::detail {
 
 HWY_EXPORT(ShadeBlockSimd);
-HWY_EXPORT(ShadeHoffmanPreethamRgba8Simd);
+HWY_EXPORT(ShadeRgba8Simd);
 HWY_EXPORT(TargetName);
 HWY_EXPORT(PackRgba8);
 HWY_EXPORT(Deinterleave3);
@@ -1149,10 +1224,8 @@ std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block
     return HWY_DYNAMIC_DISPATCH(ShadeBlockSimd)(frame, block, precision == KernelPrecision::fast);
 }
 
-std::size_t shade_hoffman_preetham_rgba8(const Frame<float>& frame, const Rgba8Job& job,
-                                         KernelPrecision precision) {
-    return HWY_DYNAMIC_DISPATCH(ShadeHoffmanPreethamRgba8Simd)(frame, job,
-                                                               precision == KernelPrecision::fast);
+std::size_t shade_rgba8(const Frame<float>& frame, const Rgba8Job& job, KernelPrecision precision) {
+    return HWY_DYNAMIC_DISPATCH(ShadeRgba8Simd)(frame, job, precision == KernelPrecision::fast);
 }
 
 const char* simd_target_name() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }

@@ -115,8 +115,9 @@ int main(int argc, char** argv) {
         "Benchmarks of the aerial module. --cpu-throughput: Mvertices/s of the CPU batch\n"
         "path (F_ex and L_in as RGBA8) with a plain std::exp loop (scalar), the SIMD\n"
         "kernels on one thread and on all, against a loop that only reads the same\n"
-        "positions and writes the same bytes (stream, the memory limit); best of\n"
-        "several repetitions, the variants interleaved, all in one run.\n"
+        "positions and writes the same bytes (stream, the memory limit; stream_threads:\n"
+        "the same on all hardware threads); best of several repetitions, the variants\n"
+        "interleaved, all in one run.\n"
         "--out DIR: speed against accuracy. Every method (gl-fog, fg-fog, cpu-hp, arb-hp,\n"
         "cpu-height, arb-height, lut-texture, perpixel-reference; the per-vertex ones on\n"
         "uniform and adaptive meshes of several sizes) renders each scene of --scenes on\n"
@@ -220,6 +221,30 @@ int main(int argc, char** argv) {
             l[i] = b ^ c;
         }
     };
+    // The memory limit of all hardware threads (what simd_threads can reach at best): the same
+    // loop, cut into one contiguous part per thread.
+    const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+    auto stream_part = [&](std::size_t first, std::size_t last) {
+        std::uint32_t* e = reinterpret_cast<std::uint32_t*>(extinction.data());
+        std::uint32_t* l = reinterpret_cast<std::uint32_t*>(in_scattering.data());
+        for (std::size_t i = first; i < last; ++i) {
+            std::uint32_t a, b, c;
+            std::memcpy(&a, &xyz[3 * i], 4);
+            std::memcpy(&b, &xyz[3 * i + 1], 4);
+            std::memcpy(&c, &xyz[3 * i + 2], 4);
+            e[i] = a ^ b;
+            l[i] = b ^ c;
+        }
+    };
+    auto stream_threads_loop = [&] {
+        std::vector<std::thread> helpers;
+        for (unsigned t = 1; t < hardware; ++t) {
+            helpers.emplace_back(stream_part, vertices * t / hardware,
+                                 vertices * (t + 1) / hardware);
+        }
+        stream_part(0, vertices / hardware);
+        for (auto& helper : helpers) helper.join();
+    };
     // Every variant once per repetition, in turn, so that a disturbance of the shared machine
     // hits them all alike; the best time of each is kept.
     const std::vector<std::function<void()>> variants = {stream_loop,
@@ -227,7 +252,8 @@ int main(int argc, char** argv) {
                                                          batch(aerial::Kernel::simd, 1),
                                                          batch(aerial::Kernel::simd_fast, 1),
                                                          batch(aerial::Kernel::simd, 0),
-                                                         batch(aerial::Kernel::simd_fast, 0)};
+                                                         batch(aerial::Kernel::simd_fast, 0),
+                                                         stream_threads_loop};
     const std::vector<double> best = best_of_interleaved(repetitions, variants);
     const double mverts = double(vertices) / 1e6;
     const double stream = mverts / best[0];
@@ -236,6 +262,7 @@ int main(int argc, char** argv) {
     const double simd_fast = mverts / best[3];
     const double simd_threads = mverts / best[4];
     const double simd_fast_threads = mverts / best[5];
+    const double stream_threads = mverts / best[6];
     std::printf("model=%s preset=%s vertices=%zu repetitions=%d simd_target=%s threads=%u\n",
                 model_text.c_str(), preset.c_str(), vertices, repetitions, aerial::simd_target(),
                 std::max(1u, std::thread::hardware_concurrency()));
@@ -247,5 +274,9 @@ int main(int argc, char** argv) {
         "fast exp: simd_fast=%.1f simd_fast_threads=%.1f ratio_fast_simd=%.2f "
         "ratio_threads_simd=%.2f\n",
         simd_fast, simd_fast_threads, simd_fast / simd, simd_threads / simd);
+    std::printf(
+        "memory: stream_threads=%.1f ratio_stream_threads_stream=%.2f "
+        "ratio_simd_threads_stream_threads=%.2f\n",
+        stream_threads, stream_threads / stream, simd_threads / stream_threads);
     return 0;
 }

@@ -81,6 +81,9 @@ struct FrameConstants {
     // its inverse (0 where the extinction is 0), E_eye.
     float hp_rayleigh[3], hp_mie[3], hp_extinction[3], hp_inv_extinction[3], sun_eye[3];
     float hp_minus_extinction[3], hp_minus_inv_extinction[3];  // their negatives
+    // -beta_R E_eye 3/(16 pi) / beta_ex and -beta_Ms E_eye hg_numerator / beta_ex (in double; 0
+    // where beta_ex is 0): L_in = (1 + c^2, base^(-3/2)) . (these) x expm1(-tau).
+    float hp_rayleigh_path[3], hp_mie_path[3];
     // height.
     float rayleigh[3], mie_scattering[3], mie_extinction[3], sun_top[3];
     float radius_m, radius_sq_m2, two_radius_m, inv_two_radius;
@@ -128,6 +131,13 @@ inline FrameConstants make_frame_constants(const Frame<float>& f) {
         k.hp_inv_extinction[c] = k.hp_extinction[c] > 0.0f ? 1.0f / k.hp_extinction[c] : 0.0f;
         k.hp_minus_extinction[c] = -k.hp_extinction[c];
         k.hp_minus_inv_extinction[c] = -k.hp_inv_extinction[c];
+        const double extinction = double(f.rayleigh_scattering[c]) + f.mie_extinction[c];
+        const double per_extinction =
+            extinction > 0.0 ? -double(f.sun_irradiance_eye[c]) / extinction : 0.0;
+        k.hp_rayleigh_path[c] =
+            float(3.0 / (16.0 * kPi) * f.rayleigh_scattering[c] * per_extinction);
+        k.hp_mie_path[c] = float((1.0 - abs_g) * (1.0 + abs_g) / (4.0 * kPi) * f.mie_scattering[c] *
+                                 per_extinction);
     }
     k.radius_m = f.planet_radius_m;
     k.radius_sq_m2 = f.planet_radius_m * f.planet_radius_m;
@@ -568,20 +578,19 @@ HWY_INLINE void HoffmanPreethamVectors(const FrameConstants& k, const VF (&x)[kN
                 hn::MulSub(hn::IfThenElseZero(valid[j], dz[j]), inv_s[j], K(k.hg_peak[2]));
             const VF one_minus_c = hn::Min(hn::Mul(Dot(cx, cy, cz, cx, cy, cz), K(0.5f)), K(2.0f));
             const VF c = hn::Sub(K(1.0f), one_minus_c);
-            rayleigh[j] = hn::Mul(K(k.rayleigh_phase_scale), hn::MulAdd(c, c, K(1.0f)));
+            rayleigh[j] = hn::MulAdd(c, c, K(1.0f));  // over 3 / (16 pi)
             const VF inv_root_base = RefinedRsqrt(hn::MulAdd(K(k.hg_b), one_minus_c, K(k.hg_a)));
-            mie[j] = hn::Mul(hn::Mul(K(k.hg_numerator), inv_root_base),
-                             hn::Mul(inv_root_base, inv_root_base));
+            mie[j] =
+                hn::Mul(inv_root_base, hn::Mul(inv_root_base, inv_root_base));  // over hg_numerator
         }
         for (int ch = 0; ch < 3; ++ch) {
             AERIAL_EACH {
-                // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), >= 0; s phi(tau) =
-                // -expm1(-tau) / beta_ex, where 1 / beta_ex is 0 where beta_ex is: then beta_R =
-                // beta_Ms = 0 and L_in is 0 anyway.
-                const VF angular =
-                    hn::MulAdd(K(k.hp_rayleigh[ch]), rayleigh[j], hn::Mul(K(k.hp_mie[ch]), mie[j]));
-                in_scattering[j][ch] =
-                    hn::Mul(angular, hn::Mul(length[j][ch], K(k.hp_minus_inv_extinction[ch])));
+                // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), >= 0, with s phi(tau) =
+                // -expm1(-tau) / beta_ex and the phase constants folded into hp_*_path (0 where
+                // beta_ex is 0: then beta_R = beta_Ms = 0 and L_in is 0 anyway).
+                in_scattering[j][ch] = hn::Mul(hn::MulAdd(K(k.hp_rayleigh_path[ch]), rayleigh[j],
+                                                          hn::Mul(K(k.hp_mie_path[ch]), mie[j])),
+                                               length[j][ch]);
             }
         }
     } else {

@@ -447,9 +447,11 @@ int main(int argc, char** argv) {
     int face_pixels = 0;
     std::string only;
     double where_split = 0.0;
-    app.add_option("--where", where_split,
-                   "Print the pixels the adaptive dome of this split threshold draws 2 or more "
-                   "steps off, and the estimate of the face under each (needs --scene)");
+    app.add_option(
+        "--where", where_split,
+        "Print the pixels the adaptive dome of this split threshold draws 2 or more "
+        "steps off, and the estimate of the face under each (dome scenes only: pick them "
+        "with --scene)");
     app.add_option("--scene", only, "Run only the scenes whose name contains this text");
     app.add_option("--face-pixels", face_pixels,
                    "Pixels a side of each of the six cube faces the GL grading renders "

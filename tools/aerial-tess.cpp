@@ -259,12 +259,18 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
         if (decimated) {
             // Offline: an adaptive mesh refined to half a step, decimated back to the bound.
             double ms = 0.0;
-            const Mesh fine = adaptive_mesh(scene, base, surface, 0.5, false, ms);
+            const bool q = settings.quantized_estimate;
+            const Mesh fine = adaptive_mesh(scene, base, surface, q ? 0.55 : 0.5, q, ms);
             sweep(
-                scene, "decimated", {1.0, 0.8, 0.65, 0.5},
+                scene, "decimated",
+                q ? std::vector<double>{1.0, 0.9, 0.8, 0.7}
+                  : std::vector<double>{1.0, 0.8, 0.65, 0.5},
                 [&](double bound, double& build_ms) {
                     aerial::mesh::DecimateOptions d;
                     d.colour = scene.colour;
+                    d.colour.quantized_vertices = q;
+                    d.colour.on_dome_sphere = q;
+                    d.colour.dome = scene.dome_options;
                     d.max_lsb = float(bound);
                     const auto start = Clock::now();
                     Mesh m = aerial::mesh::decimate(fine, scene.frame, d).value();
@@ -304,6 +310,76 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
             },
             settings, rows, integers_between);
     }
+}
+
+// --where: the pixels an adaptive dome mesh (split threshold `split_lsb`) draws 2 or more steps
+// off, with the face under each (found by casting the pixel's ray) and what the estimate says of
+// it: where the estimate under-reports. One line a pixel: elevation and azimuth (deg, the sun at
+// azimuth 0), drawn and reference red, the face's estimate and its longest edge (deg), the
+// pixel's barycentric weights, the interpolated 8-bit vertex colours and the exact colour there
+// (red, in steps).
+int where(const Scene& scene, double split_lsb, const Settings& settings) {
+    if (!scene.dome) return aerial::tools::fail(kTool, "--where: only dome scenes");
+    const auto surface = aerial::mesh::Surface::sphere(scene.dome_options);
+    const Mesh base = aerial::mesh::geodesic_dome(4, scene.dome_options).value();
+    double ms = 0.0;
+    const Mesh mesh = adaptive_mesh(scene, base, surface, split_lsb, true, ms);
+    std::vector<aerial::tess::GlGradeOptions::Pixel> pixels;
+    aerial::tess::GlGradeOptions grading = scene.grading;
+    grading.report = &pixels;
+    auto graded = settings.grader->grade(mesh, scene.frame, scene.colour, grading);
+    if (!graded) return aerial::tools::fail(kTool, "--where: " + graded.error().message);
+    std::printf("%s split %.2f: %zu vertices, max %d LSB, %zu pixels >= 2 steps\n",
+                scene.name.c_str(), split_lsb, aerial::mesh::live_vertices(mesh), graded->max_lsb,
+                pixels.size());
+    aerial::mesh::ColourOptions colour = scene.colour;
+    colour.quantized_vertices = true;
+    colour.on_dome_sphere = true;
+    colour.dome = scene.dome_options;
+    const glm::dvec3 eye = scene.frame.view.eye;
+    for (const auto& px : pixels) {
+        const glm::dvec3 d = glm::normalize(px.point - eye);
+        const double elevation = std::asin(d.z) * 180.0 / kPi;
+        const double azimuth = std::atan2(d.y, d.x) * 180.0 / kPi;
+        // The face the ray hits (Moller-Trumbore over every face).
+        for (auto f : mesh.faces()) {
+            glm::dvec3 p[3];
+            int k = 0;
+            for (auto v : mesh.fv_range(f)) {
+                const auto& q = mesh.point(v);
+                p[k++] = {q[0], q[1], q[2]};
+            }
+            const glm::dvec3 e1 = p[1] - p[0], e2 = p[2] - p[0], h = glm::cross(d, e2);
+            const double a = glm::dot(e1, h);
+            if (std::abs(a) < 1e-12) continue;
+            const glm::dvec3 s = eye - p[0];
+            const double u = glm::dot(s, h) / a;
+            const glm::dvec3 q = glm::cross(s, e1);
+            const double v = glm::dot(d, q) / a;
+            const double t = glm::dot(e2, q) / a;
+            if (u < -1e-9 || v < -1e-9 || u + v > 1 + 1e-9 || t <= 0) continue;
+            glm::vec3 c[3];
+            for (int i = 0; i < 3; ++i)
+                c[i] = aerial::mesh::display_colour(scene.frame, colour, p[i]);
+            const float estimate =
+                aerial::mesh::colour_error(scene.frame, colour, p[0], p[1], p[2], c[0], c[1], c[2]);
+            const double w[3] = {1 - u - v, u, v};
+            double interpolated = 0.0;
+            for (int i = 0; i < 3; ++i) interpolated += w[i] * std::round(255.0 * c[i].x);
+            const double exact =
+                255.0 * aerial::mesh::display_colour(scene.frame, colour, px.point).x;
+            const double longest =
+                std::max({glm::length(e1), glm::length(e2), glm::length(p[2] - p[1])}) /
+                scene.dome_options.radius_m * 180.0 / kPi;
+            std::printf(
+                "el %7.3f az %8.3f drawn %3d ref %3d est %.3f edge %.3f w %.2f %.2f %.2f "
+                "interp %.3f exact %.3f\n",
+                elevation, azimuth, px.drawn[0], px.reference[0], estimate, longest, w[0], w[1],
+                w[2], interpolated, exact);
+            break;
+        }
+    }
+    return 0;
 }
 
 // The median time of an update of a terrain of about 100k triangles seen from a camera flying at
@@ -370,6 +446,12 @@ int main(int argc, char** argv) {
                  "drawn) on the flat triangles");
     int face_pixels = 0;
     std::string only;
+    double where_split = 0.0;
+    app.add_option(
+        "--where", where_split,
+        "Print the pixels the adaptive dome of this split threshold draws 2 or more "
+        "steps off, and the estimate of the face under each (dome scenes only: pick them "
+        "with --scene)");
     app.add_option("--scene", only, "Run only the scenes whose name contains this text");
     app.add_option("--face-pixels", face_pixels,
                    "Pixels a side of each of the six cube faces the GL grading renders "
@@ -379,7 +461,8 @@ int main(int argc, char** argv) {
         return aerial::tools::fail(kTool,
                                    "--frames: expected 1 .. 100000, got " + std::to_string(frames));
     if (bench) return bench_update(frames);
-    if (out.empty()) return aerial::tools::fail(kTool, "--out: required (or --bench-update)");
+    if (out.empty() && !app.count("--where"))
+        return aerial::tools::fail(kTool, "--out: required (or --bench-update, --where)");
 
     Settings settings;
     settings.quick = quick;
@@ -409,6 +492,13 @@ int main(int argc, char** argv) {
                            [&](const Scene& s) { return s.name.find(only) == std::string::npos; }),
             scenes.end());
         if (scenes.empty()) return aerial::tools::fail(kTool, "--scene: no scene matches " + only);
+    }
+    if (app.count("--where")) {
+        if (!(where_split > 0.0))
+            return aerial::tools::fail(kTool, "--where: expected a split threshold > 0");
+        for (const Scene& s : scenes)
+            if (int status = where(s, where_split, settings)) return status;
+        return 0;
     }
     std::vector<Row> rows;
     const auto start = Clock::now();

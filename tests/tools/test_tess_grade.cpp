@@ -1,6 +1,9 @@
 // The GL grading of aerial-tess (tools/tess/gl_grade.hpp): the image through the fixed-function
 // path against the per-pixel reference.
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -52,6 +55,30 @@ TEST(GlGrade, CoarseDomeShowsLargeErrorsAndAFineOneIsWithinAStep) {
     EXPECT_GT(coarse->rmse_lsb, 2.0 * fine->rmse_lsb);
     EXPECT_LE(fine->max_lsb, 1) << "rmse " << fine->rmse_lsb;
     EXPECT_LE(fine->p99_lsb, fine->max_lsb);
+}
+
+TEST(GlGrade, ReportListsExactlyThePixelsOffByTheGivenStepsWithTheirSurfacePoints) {
+    auto created = aerial::tess::GlGrader::create(32);
+    ASSERT_TRUE(created.ok()) << created.error().message;
+    Dome d;
+    std::vector<aerial::tess::GlGradeOptions::Pixel> report;
+    d.options.report = &report;
+    d.options.report_lsb = 3;
+    const auto graded = created.value().grade(aerial::mesh::geodesic_dome(2, d.dome).value(),
+                                              d.frame, d.colour, d.options);
+    ASSERT_TRUE(graded.ok()) << graded.error().message;
+    // over2 counts the pixels off by more than 2 steps: those the report lists.
+    ASSERT_GT(graded->over2, 0.0) << "a 13-vertex dome should have pixels off by 3 steps";
+    EXPECT_EQ(double(report.size()), std::round(graded->over2 * double(graded->pixels)));
+    for (const auto& pixel : report) {
+        int lsb = 0;
+        for (int c = 0; c < 3; ++c)
+            lsb = std::max(lsb, std::abs(int(pixel.drawn[c]) - int(pixel.reference[c])));
+        EXPECT_GE(lsb, 3);
+        EXPECT_NEAR(glm::length(pixel.point - d.dome.centre), d.dome.radius_m,
+                    1e-5 * d.dome.radius_m)
+            << "the reference's point lies on the dome's sphere";
+    }
 }
 
 TEST(GlGrade, BadOptionsAreNamed) {

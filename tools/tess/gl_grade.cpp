@@ -182,7 +182,14 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
             for (std::size_t c = 0; c < 3; ++c)
                 reference[c] = to_unorm8(texel_value[c] * extinction[3 * i + c] +
                                          display_value(colour.display, in_scattering[3 * i + c]));
-            histogram.add(&rgba[4 * pixels[i]], reference);
+            const int lsb = histogram.add(&rgba[4 * pixels[i]], reference);
+            if (options.report && lsb >= options.report_lsb) {
+                GlGradeOptions::Pixel pixel;
+                pixel.point = {points[3 * i], points[3 * i + 1], points[3 * i + 2]};
+                std::copy(&rgba[4 * pixels[i]], &rgba[4 * pixels[i]] + 3, pixel.drawn);
+                std::copy(reference, reference + 3, pixel.reference);
+                options.report->push_back(pixel);
+            }
         }
     }
     const GLenum error = api.GetError();

@@ -16,8 +16,10 @@
 // in the pixel's view direction, on terrain the point reconstructed from the depth buffer.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "aerial/aerial.hpp"
 #include "aerial/mesh.hpp"
@@ -31,6 +33,14 @@ struct GlGradeOptions {
     std::optional<mesh::DomeOptions> dome;
     double near_m = 1.0;      ///< near clip plane, > 0 (depth precision on terrain)
     double far_m = 200000.0;  ///< far clip plane, > near_m
+    /// Where the image is wrong: when set, every pixel off by at least `report_lsb` steps is
+    /// appended here (aerial-tess --where).
+    struct Pixel {
+        glm::dvec3 point;  ///< the surface point under the pixel centre (the reference's)
+        std::uint8_t drawn[3], reference[3];
+    };
+    std::vector<Pixel>* report = nullptr;
+    int report_lsb = 2;
 };
 
 class GlGrader {

@@ -32,7 +32,7 @@ struct GameConfig {
     bool readout = true;
     SkyKind sky = SkyKind::cubemap;
     int cube_size = 32;  ///< texels along a cubemap face's side (the cubemap sky), 1 .. 512
-    SunSchedule sun;  ///< the day: date, place, noon and dusk
+    SunSchedule sun;     ///< the day: date, place, noon and dusk
     int width = 480;
     int height = 270;
 };

@@ -58,19 +58,19 @@ MemoryUse memory_use() {
 
 std::string SoakReport::summary() const {
     char line[768];
-    std::snprintf(line, sizeof line,
-                  "soak: %d frames rss_kib@%d=%zu hwm_kib@%d=%zu rss_kib@%d=%zu hwm_kib@%d=%zu "
-                  "growth_kib=%lld margin_kib=%zu memory=%s comparisons=%d worst_lsb=%d "
-                  "(frame %d) tolerance_lsb=%d frames=%s tess_max_vertices=%zu tess_budget=%zu "
-                  "tess_budget_frames=%d tess_max_slots=%zu tess_compactions=%d tessellation=%s "
-                  "mean_ms=%.2f",
-                  frames, baseline_frame, rss_baseline_kib, baseline_frame, hwm_baseline_kib,
-                  frames, rss_end_kib, frames, hwm_end_kib,
-                  (long long)rss_end_kib - (long long)rss_baseline_kib, rss_margin_kib,
-                  memory_flat() ? "flat" : "GROWING", comparisons, worst_lsb, worst_frame,
-                  tolerance_lsb, frames_match() ? "match" : "DIFFER", tessellation_max_vertices,
-                  tessellation_budget, tessellation_budget_frames,
-                  tessellation_max_slots, tessellation_compactions, tessellation_within_budget() ? "within" : "OVER", mean_ms);
+    std::snprintf(
+        line, sizeof line,
+        "soak: %d frames rss_kib@%d=%zu hwm_kib@%d=%zu rss_kib@%d=%zu hwm_kib@%d=%zu "
+        "growth_kib=%lld margin_kib=%zu memory=%s comparisons=%d worst_lsb=%d "
+        "(frame %d) tolerance_lsb=%d frames=%s tess_max_vertices=%zu tess_budget=%zu "
+        "tess_budget_frames=%d tess_max_slots=%zu tess_compactions=%d tessellation=%s "
+        "mean_ms=%.2f",
+        frames, baseline_frame, rss_baseline_kib, baseline_frame, hwm_baseline_kib, frames,
+        rss_end_kib, frames, hwm_end_kib, (long long)rss_end_kib - (long long)rss_baseline_kib,
+        rss_margin_kib, memory_flat() ? "flat" : "GROWING", comparisons, worst_lsb, worst_frame,
+        tolerance_lsb, frames_match() ? "match" : "DIFFER", tessellation_max_vertices,
+        tessellation_budget, tessellation_budget_frames, tessellation_max_slots,
+        tessellation_compactions, tessellation_within_budget() ? "within" : "OVER", mean_ms);
     return line;
 }
 

@@ -140,10 +140,11 @@ TEST(AdaptiveMeshCompaction, KeepsTheArraysBoundedAndGivesTheResultsOfNeverCompa
     }
     const Mesh& grown = reference.mesh();
     const std::size_t live = aerial::mesh::live_vertices(grown);
-    std::printf("compaction: %zu updates, %zu splits, %zu merges, %zu compactions; vertex slots "
-                "%zu with compaction, %zu without, %zu live\n",
-                std::size_t(kUpdates), splits, merges, compactions, automatic.mesh().n_vertices(),
-                grown.n_vertices(), live);
+    std::printf(
+        "compaction: %zu updates, %zu splits, %zu merges, %zu compactions; vertex slots "
+        "%zu with compaction, %zu without, %zu live\n",
+        std::size_t(kUpdates), splits, merges, compactions, automatic.mesh().n_vertices(),
+        grown.n_vertices(), live);
     EXPECT_GT(merges, 0u) << "nothing was coarsened: no garbage to collect";
     EXPECT_GE(compactions, 2u);
     EXPECT_GT(grown.n_vertices() - live, live / 2)

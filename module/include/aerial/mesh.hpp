@@ -210,7 +210,7 @@ struct UpdateStats {
     std::size_t vertices = 0;         ///< live vertices after the update
     std::size_t faces = 0;            ///< live faces after the update
     float max_error_lsb = 0.0f;       ///< largest estimate over splittable faces after the update
-    bool complete = true;  ///< false when the budget or the time slice stopped refinement
+    bool complete = true;    ///< false when the budget or the time slice stopped refinement
     bool compacted = false;  ///< the update ended with compact(): vertex handles renumbered
 };
 

@@ -613,8 +613,8 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
     auto too_much = [ratio](std::size_t stored, std::size_t live) {
         return double(stored - live) > ratio * double(live);
     };
-    if (ratio > 0.0 && (too_much(mesh_.n_vertices(), live_vertices_) ||
-                        too_much(mesh_.n_faces(), live_faces_))) {
+    if (ratio > 0.0 &&
+        (too_much(mesh_.n_vertices(), live_vertices_) || too_much(mesh_.n_faces(), live_faces_))) {
         compact();
         stats.compacted = true;
     }

@@ -23,7 +23,9 @@ aerial::Result<SkySetup> install_sky(aerial::scene::SceneRenderer& renderer,
                                      const aerial::gl::Api& api, const GameConfig& config) {
     SkySetup setup;
     if (config.sky == SkyKind::dome) return setup;
-    auto stats = aerial::scene::install_cubemap_sky(renderer, api);
+    aerial::scene::CubemapSkyOptions options;
+    options.cache.size = config.cube_size;
+    auto stats = aerial::scene::install_cubemap_sky(renderer, api, options);
     if (!stats) {
         if (stats.error().field == "cube_map") return setup;  // GL 1.1: the dome
         return stats.error();

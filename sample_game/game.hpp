@@ -31,7 +31,8 @@ struct GameConfig {
     double error_target_lsb = 2.0;
     bool readout = true;
     SkyKind sky = SkyKind::cubemap;
-    SunSchedule sun;  ///< the day: date, place, noon and dusk
+    int cube_size = 32;  ///< texels along a cubemap face's side (the cubemap sky), 1 .. 512
+    SunSchedule sun;     ///< the day: date, place, noon and dusk
     int width = 480;
     int height = 270;
 };

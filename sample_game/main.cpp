@@ -166,6 +166,7 @@ int main(int argc, char** argv) {
     app.add_flag("--no-readout", no_readout, "Leave out the on-screen readout (for goldens)");
     int soak_frames = 0, tile_resolution = sample::WorldOptions{}.tile_resolution;
     int tess_budget = int(sample::SoakOptions{}.tessellation_budget);
+    int cube_size = sample::GameConfig{}.cube_size;
     app.add_option("--soak", soak_frames,
                    "Soak test: render FRAMES frames (1..1000000) flying back and forth, no files; "
                    "print RSS and the difference to fresh renders; exit 1 when memory grows or a "
@@ -176,6 +177,9 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--tile-resolution", tile_resolution,
                    "Vertices along a terrain tile's side, 2..65 (fewer: a cheaper world)")
+        ->capture_default_str();
+    app.add_option("--cube-size", cube_size,
+                   "Texels along a face of the cubemap sky, 1..512 (fewer: a cheaper refresh)")
         ->capture_default_str();
     try {
         app.parse(argc, argv);
@@ -260,6 +264,9 @@ int main(int argc, char** argv) {
     if (tess_budget < 0 || tess_budget > 100000) {
         return fail("--tess-budget: expected 0..100000, got " + std::to_string(tess_budget));
     }
+    if (cube_size < 1 || cube_size > 512) {
+        return fail("--cube-size: expected 1..512, got " + std::to_string(cube_size));
+    }
     if (tile_resolution < 2 || tile_resolution > 65) {
         return fail("--tile-resolution: expected 2..65, got " + std::to_string(tile_resolution));
     }
@@ -283,6 +290,7 @@ int main(int argc, char** argv) {
     config.sun = *schedule;
     config.width = width;
     config.height = height;
+    config.cube_size = cube_size;
     if (app.count("--soak") > 0) {
         sample::SoakOptions soak;
         soak.frames = soak_frames;

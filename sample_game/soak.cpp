@@ -14,8 +14,6 @@
 namespace sample {
 namespace {
 
-constexpr int kCompactEvery = 50;  ///< frames between AdaptiveMesh::compact() calls
-
 /// The value in KiB of a "Name:   1234 kB" line of /proc/self/status.
 std::size_t status_kib(const std::string& text, const char* name) {
     const std::size_t at = text.find(name);
@@ -59,19 +57,20 @@ MemoryUse memory_use() {
 }
 
 std::string SoakReport::summary() const {
-    char line[512];
-    std::snprintf(line, sizeof line,
-                  "soak: %d frames rss_kib@%d=%zu hwm_kib@%d=%zu rss_kib@%d=%zu hwm_kib@%d=%zu "
-                  "growth_kib=%lld margin_kib=%zu memory=%s comparisons=%d worst_lsb=%d "
-                  "(frame %d) tolerance_lsb=%d frames=%s tess_max_vertices=%zu tess_budget=%zu "
-                  "tess_budget_frames=%d tessellation=%s mean_ms=%.2f",
-                  frames, baseline_frame, rss_baseline_kib, baseline_frame, hwm_baseline_kib,
-                  frames, rss_end_kib, frames, hwm_end_kib,
-                  (long long)rss_end_kib - (long long)rss_baseline_kib, rss_margin_kib,
-                  memory_flat() ? "flat" : "GROWING", comparisons, worst_lsb, worst_frame,
-                  tolerance_lsb, frames_match() ? "match" : "DIFFER", tessellation_max_vertices,
-                  tessellation_budget, tessellation_budget_frames,
-                  tessellation_within_budget() ? "within" : "OVER", mean_ms);
+    char line[768];
+    std::snprintf(
+        line, sizeof line,
+        "soak: %d frames rss_kib@%d=%zu hwm_kib@%d=%zu rss_kib@%d=%zu hwm_kib@%d=%zu "
+        "growth_kib=%lld margin_kib=%zu memory=%s comparisons=%d worst_lsb=%d "
+        "(frame %d) tolerance_lsb=%d frames=%s tess_max_vertices=%zu tess_budget=%zu "
+        "tess_budget_frames=%d tess_max_slots=%zu tess_compactions=%d tessellation=%s "
+        "mean_ms=%.2f",
+        frames, baseline_frame, rss_baseline_kib, baseline_frame, hwm_baseline_kib, frames,
+        rss_end_kib, frames, hwm_end_kib, (long long)rss_end_kib - (long long)rss_baseline_kib,
+        rss_margin_kib, memory_flat() ? "flat" : "GROWING", comparisons, worst_lsb, worst_frame,
+        tolerance_lsb, frames_match() ? "match" : "DIFFER", tessellation_max_vertices,
+        tessellation_budget, tessellation_budget_frames, tessellation_max_slots,
+        tessellation_compactions, tessellation_within_budget() ? "within" : "OVER", mean_ms);
     return line;
 }
 
@@ -139,10 +138,10 @@ aerial::Result<SoakReport> run_soak(const World& world, GameConfig config,
             report.tessellation_max_vertices =
                 std::max(report.tessellation_max_vertices, stats.vertices);
             if (!stats.complete) ++report.tessellation_budget_frames;
-            // AdaptiveMesh keeps deleted elements until compact(): an engine compacts now and
-            // then, or the mesh's arrays grow with every split and merge (at the budget, RSS
-            // grew by 20 MiB in 108 frames without this).
-            if ((i + 1) % kCompactEvery == 0) dome->compact();
+            // No compact() here: the update compacts the mesh itself (compact_garbage_ratio).
+            report.tessellation_max_slots =
+                std::max(report.tessellation_max_slots, dome->mesh().n_vertices());
+            report.tessellation_compactions += stats.compacted;
         }
         if (sky->stats && !sky->stats->error.empty()) {
             return aerial::Error{"sky", "frame " + std::to_string(i) + ": " + sky->stats->error};

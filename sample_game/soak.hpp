@@ -49,6 +49,10 @@ struct SoakReport {
     std::size_t tessellation_budget = 0;        ///< SoakOptions::tessellation_budget
     std::size_t tessellation_max_vertices = 0;  ///< most live vertices after any update
     int tessellation_budget_frames = 0;         ///< frames where the budget stopped refinement
+    /// Most vertex slots of the dome's mesh (live and deleted) after any update, and the updates
+    /// that compacted it (AdaptiveMesh compacts itself).
+    std::size_t tessellation_max_slots = 0;
+    int tessellation_compactions = 0;
     bool memory_flat() const { return rss_end_kib <= rss_baseline_kib + rss_margin_kib; }
     bool frames_match() const { return worst_lsb <= tolerance_lsb; }
     bool tessellation_within_budget() const {

@@ -496,6 +496,7 @@ Pops sun_move_pops(int morph_updates) {
     const DomeScene low(5.0, 0.9);
     AdaptiveSettings settings = dome_settings(low);
     settings.morph_updates = morph_updates;
+    settings.compact_garbage_ratio = 0.0f;  // vertices are followed by handle across updates
     AdaptiveMesh m = refined_dome(low, settings);
     for (int i = 0; i <= morph_updates; ++i) m.update(low.frame);
     DomeScene high(60.0, 0.9, 180.0);

@@ -148,6 +148,7 @@ CASES = [
     (S, ["--tile-resolution", "1"], "", ["--tile-resolution"]),
     (S, ["--tess-budget", "-1"], "", ["--tess-budget"]),
     (S, ["--tile-resolution", "1e3"], "", ["--tile-resolution"]),
+    (S, ["--cube-size", "0"], "", ["--cube-size"]),
     ("aerial-scene-bench", ["--frames", "1"], "", ["--frames"]),
     ("aerial-scene-bench", ["--size", "axb"], "", ["--size"]),
     ("aerial-scene-bench", ["--model", "fast"], "", ["--model"]),

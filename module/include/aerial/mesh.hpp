@@ -9,8 +9,10 @@
 //      `adaptive->update(*frame);` splits triangles whose colour error exceeds
 //      settings.split_lsb (longest-edge bisection, Rivara's LEPP) within a vertex budget and a time
 //      slice, and undoes splits whose parent triangle is back under split_lsb / merge_ratio.
-//   4. Draw `adaptive->mesh()` (an OpenMesh TriMesh with double positions; it keeps deleted
-//      elements until `compact()`, so skip faces with `status(f).deleted()` or call compact()).
+//   4. Draw `adaptive->mesh()` (an OpenMesh TriMesh with double positions; skip faces with
+//      `status(f).deleted()`). Deleted elements are removed by the update itself once they
+//      exceed settings.compact_garbage_ratio of the live ones (UpdateStats::compacted says when:
+//      vertex handles then change their numbers, keeping their order).
 //   Offline: `decimate(mesh, frame, options)` removes vertices while the colour error stays below
 //   a bound (an OpenMesh Decimater with a colour-error module).
 //
@@ -191,6 +193,12 @@ struct AdaptiveSettings {
     /// undoes first fades its vertex out over as many (see AdaptiveMesh::morph_into), so that
     /// nothing pops. In 0 .. 1000.
     int morph_updates = 0;
+    /// Splits and merges leave deleted elements in the mesh's arrays. An update ends with
+    /// compact() when the deleted vertices or faces exceed this fraction of the live ones, so the
+    /// arrays stay within (1 + ratio) x the live mesh; compaction costs O(arrays) once per
+    /// ratio x live deletions (amortised O(1 + 1 / ratio) per deletion) and changes no result.
+    /// 0: never (call compact() yourself). Finite, >= 0.
+    float compact_garbage_ratio = 0.5f;
 };
 
 std::optional<Error> validate(const AdaptiveSettings& settings);
@@ -202,7 +210,8 @@ struct UpdateStats {
     std::size_t vertices = 0;         ///< live vertices after the update
     std::size_t faces = 0;            ///< live faces after the update
     float max_error_lsb = 0.0f;       ///< largest estimate over splittable faces after the update
-    bool complete = true;  ///< false when the budget or the time slice stopped refinement
+    bool complete = true;    ///< false when the budget or the time slice stopped refinement
+    bool compacted = false;  ///< the update ended with compact(): vertex handles renumbered
 };
 
 class AdaptiveMesh {
@@ -220,7 +229,9 @@ class AdaptiveMesh {
     std::size_t base_vertices() const { return base_vertices_; }
     /// The last estimate of a face's colour error (8-bit steps).
     float face_error(OpenMesh::FaceHandle face) const;
-    /// Removes deleted elements and renumbers handles; the undo records follow.
+    /// Removes deleted elements, renumbering the live ones in their order; the undo records, the
+    /// morph state and the index of estimates follow, so later updates give exactly what they
+    /// would have given without it. update() calls it (settings.compact_garbage_ratio).
     void compact();
     /// Marks every colour and estimate stale: call it when anything but the eye and the sun
     /// changed (atmosphere, model, display).
@@ -254,6 +265,9 @@ class AdaptiveMesh {
         double born = 0.0;         ///< update its weight counts from (weight 0 then)
         double fade_start = -1.0;  ///< update its fade-out began; < 0: not fading
         float fade_weight = 1.0f;  ///< its weight when the fade-out began
+        /// A vertex of the ring it was born with is gone (compact() dropped it): never undone,
+        /// as its ring cannot be the one it was born with again.
+        bool ring_lost = false;
     };
     float record_weight(const Split& s) const;
     bool undo_allowed(std::size_t index, UpdateStats& stats, float& error_c, float& error_d);

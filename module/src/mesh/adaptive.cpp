@@ -68,6 +68,10 @@ std::optional<Error> validate(const AdaptiveSettings& settings) {
     if (settings.morph_updates < 0 || settings.morph_updates > 1000)
         return Error{"morph_updates", "morph_updates: expected 0 .. 1000, got " +
                                           std::to_string(settings.morph_updates)};
+    if (!(settings.compact_garbage_ratio >= 0.0f) || !std::isfinite(settings.compact_garbage_ratio))
+        return Error{"compact_garbage_ratio",
+                     "compact_garbage_ratio: expected a finite value >= 0, got " +
+                         std::to_string(settings.compact_garbage_ratio)};
     return std::nullopt;
 }
 
@@ -338,7 +342,7 @@ void AdaptiveMesh::bisect(OpenMesh::EdgeHandle e, UpdateStats& stats) {
 bool AdaptiveMesh::undo_allowed(std::size_t index, UpdateStats& stats, float& error_c,
                                 float& error_d) {
     const Split s = splits_[index];
-    if (!s.vertex.is_valid() || mesh_.status(s.vertex).deleted()) return false;
+    if (!s.vertex.is_valid() || mesh_.status(s.vertex).deleted() || s.ring_lost) return false;
     const float merge_lsb = settings_.split_lsb / settings_.merge_ratio;
     // The ring must be the one the vertex was born with.
     std::size_t expected = 2 + (s.c.is_valid() ? 1 : 0) + (s.d.is_valid() ? 1 : 0);
@@ -603,11 +607,20 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
         rebuild_index();  // once every face has an estimate (after a complete first sweep)
     }
     recording_ = false;
+    frame_ = nullptr;
 
+    const double ratio = settings_.compact_garbage_ratio;
+    auto too_much = [ratio](std::size_t stored, std::size_t live) {
+        return double(stored - live) > ratio * double(live);
+    };
+    if (ratio > 0.0 &&
+        (too_much(mesh_.n_vertices(), live_vertices_) || too_much(mesh_.n_faces(), live_faces_))) {
+        compact();
+        stats.compacted = true;
+    }
     stats.vertices = live_vertices_;
     stats.faces = live_faces_;
     stats.max_error_lsb = std::max(estimated_max_, unrefined_max);
-    frame_ = nullptr;
     return stats;
 }
 
@@ -669,24 +682,69 @@ void AdaptiveMesh::morph_into(std::uint8_t* values, std::size_t components,
 }
 
 void AdaptiveMesh::compact() {
+    const CompactMaps maps = compact_keeping_order(mesh_);
+    auto vertex = [&](OpenMesh::VertexHandle& v) {
+        if (!v.is_valid()) return true;
+        v = OpenMesh::VertexHandle(maps.vertex[std::size_t(v.idx())]);
+        return v.is_valid();
+    };
+    auto face = [&](int f) { return maps.face[std::size_t(f)]; };
+
+    // Undo records of live vertices, in their order (parents before children, newest last).
+    std::vector<int> record(splits_.size(), -1);
     std::vector<Split> live;
-    for (const Split& s : splits_)
-        if (s.vertex.is_valid() && !mesh_.status(s.vertex).deleted()) live.push_back(s);
-    splits_ = std::move(live);
-    fading_.clear();
-    for (std::size_t i = 0; i < splits_.size(); ++i)
-        if (splits_[i].fade_start >= 0.0) fading_.push_back(int(i));
-    std::vector<OpenMesh::VertexHandle*> vertex_handles;
-    for (Split& s : splits_)
+    for (std::size_t i = 0; i < splits_.size(); ++i) {
+        Split s = splits_[i];
+        if (!s.vertex.is_valid() || maps.vertex[std::size_t(s.vertex.idx())] < 0) continue;
         for (OpenMesh::VertexHandle* h : {&s.vertex, &s.a, &s.b, &s.c, &s.d})
-            if (h->is_valid()) vertex_handles.push_back(h);
-    std::vector<OpenMesh::HalfedgeHandle*> halfedge_handles;
-    std::vector<OpenMesh::FaceHandle*> face_handles;
-    mesh_.garbage_collection(vertex_handles, halfedge_handles, face_handles);
+            if (!vertex(*h)) s.ring_lost = true;
+        record[i] = int(live.size());
+        live.push_back(s);
+    }
+    splits_ = std::move(live);
     for (std::size_t i = 0; i < splits_.size(); ++i)
         mesh_.property(record_, splits_[i].vertex) = int(i);
-    cursor_ = 0;
-    index_valid_ = false;
+    std::size_t kept = 0;
+    for (const int r : fading_)
+        if (record[std::size_t(r)] >= 0) fading_[kept++] = record[std::size_t(r)];
+    fading_.resize(kept);
+    touched_.clear();
+
+    // The round-robin sweep goes on at the first live face from where it was.
+    std::size_t cursor = 0;
+    for (std::size_t f = 0; f < cursor_ && f < maps.face.size(); ++f) cursor += face(int(f)) >= 0;
+    cursor_ = mesh_.n_faces() ? cursor % mesh_.n_faces() : 0;
+
+    // The index of estimates: entries of deleted faces could never be visited again.
+    if (!index_valid_) return;
+    for (StampGroup& g : groups_) {
+        std::size_t n = 0;
+        for (std::size_t i = g.head; i < g.faces.size(); ++i) {
+            const int f = face(g.faces[i].second);
+            if (f >= 0) g.faces[n++] = {g.faces[i].first, f};
+        }
+        g.faces.resize(n);
+        g.head = 0;
+    }
+    std::vector<std::uint64_t> face_group(mesh_.n_faces(), 0);
+    std::vector<char> in_above(mesh_.n_faces(), 0);
+    for (std::size_t i = 0; i < maps.face.size(); ++i) {
+        const int f = face(int(i));
+        if (f < 0) continue;
+        if (i < face_group_.size()) face_group[std::size_t(f)] = face_group_[i];
+        if (i < in_above_.size()) in_above[std::size_t(f)] = in_above_[i];
+    }
+    face_group_ = std::move(face_group);
+    in_above_ = std::move(in_above);
+    kept = 0;
+    for (const int f : above_)
+        if (face(f) >= 0) above_[kept++] = face(f);
+    above_.resize(kept);
+    kept = 0;
+    for (const auto& [e, f] : below_)
+        if (face(f) >= 0) below_[kept++] = {e, face(f)};
+    below_.resize(kept);
+    std::make_heap(below_.begin(), below_.end());
 }
 
 }  // namespace aerial::mesh

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -20,5 +21,18 @@ inline bool finite(const glm::dvec3& v) {
 float colour_error_skipping(const Frame<float>& frame, const ColourOptions& options,
                             const glm::dvec3 (&p)[3], const glm::vec3 (&c)[3],
                             const bool (&skip_edge)[3]);
+
+}  // namespace aerial::mesh
+
+namespace aerial::mesh {
+
+/// New index of each old vertex and face after compact_keeping_order (-1: it was deleted).
+struct CompactMaps {
+    std::vector<int> vertex, face;
+};
+
+/// Removes the deleted vertices, edges and faces like Mesh::garbage_collection(), but the live
+/// elements of each kind keep their relative order (old index i < j gives new index i' < j').
+CompactMaps compact_keeping_order(Mesh& mesh);
 
 }  // namespace aerial::mesh

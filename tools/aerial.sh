@@ -45,8 +45,10 @@ SANITIZE_DIR=build-sanitize
 # What `sanitize` runs there: the suite but these (CTest -E): the GL tests on softpipe, on EGL and
 # with extensions hidden run the module's same code as on OSMesa llvmpipe (GL 1.3 and 1.1 stay:
 # they take the combiner and two-pass paths), and the golden images render through aerial-render
-# as test_aerial_render does. Plus each fuzzer for FUZZ_SMOKE_SECONDS.
-SANITIZE_EXCLUDE='\.(softpipe|no_ext)$|\.egl\.|GoldenImage\.|CrossBackend\.'
+# as test_aerial_render does; consumer.install_and_build links the installed (sanitized) static
+# libraries into a program built without the sanitizer runtime, which cannot link (the Release
+# suite checks the install). Plus each fuzzer for FUZZ_SMOKE_SECONDS.
+SANITIZE_EXCLUDE='\.(softpipe|no_ext)$|\.egl\.|GoldenImage\.|CrossBackend\.|^consumer\.install_and_build$'
 FUZZ_SMOKE_SECONDS=20
 # What `test` runs in $SANITIZE_DIR/ after the Release suite (CI's budget does not hold the whole
 # sanitizer build): the test executables of the core, the C interface, the mesh and the ARB

@@ -1,6 +1,7 @@
 // Stability sweep: over a million combinations of extreme atmospheres, views and points, in float
 // and in double, every model output is finite and physical (0 <= F_ex <= 1, L_in >= 0,
-// E_sun >= 0). Seeded, so a failure names a reproducible case.
+// E_sun >= 0). Seeded, so a failure names a reproducible case. AERIAL_TEST_SCALE (test_scale.hpp)
+// runs the first part of each sweep.
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -11,6 +12,7 @@
 
 #include "aerial/aerial.hpp"
 #include "extreme_sampler.hpp"
+#include "test_scale.hpp"
 
 namespace {
 
@@ -45,7 +47,8 @@ std::string describe(const aerial::Scattering<T>& s) {
 
 /// Runs `frames` random (atmosphere, view) pairs with `points` random points each.
 template <class T>
-void sweep(Model model, unsigned seed, int frames, int points) {
+void sweep(Model model, unsigned seed, int full_frames, int points) {
+    const int frames = aerial::testing::scaled_count(full_frames, "frames");
     aerial::testing::ExtremeSampler sampler(seed);
     long long evaluated = 0, bad = 0;
     for (int f = 0; f < frames; ++f) {

@@ -1,6 +1,7 @@
-// libFuzzer target: meshes read by OpenMesh IO, then the module's work on them. The first byte
-// picks the format (OFF, OBJ, PLY), the rest is the file. The bytes go through
-// aerial::scene::load_mesh_file (OpenMesh IO behind the module's checks, from a file): an
+// libFuzzer target: mesh files read by the module, then the module's work on them. The first
+// byte picks the format (OFF, OBJ, PLY), the rest is the file. The bytes go through
+// aerial::scene::load_mesh_file (the module's OFF reader; OpenMesh IO behind the module's checks
+// for OBJ and PLY; from a file): an
 // accepted MeshData passes validate() and is finite. Its triangles then become an
 // aerial::mesh::Mesh, checked by validate_mesh; an accepted mesh goes into AdaptiveMesh::create,
 // two updates (eye moved in between) and dense_error: every position stays finite and every error

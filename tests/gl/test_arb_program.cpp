@@ -1,6 +1,7 @@
 // The ARB vertex program of the hoffman-preetham model: its size, its resources and limits, its
 // parameter layout, its options (local/env, texcoords, position invariance), and its output run
 // on the CPU interpreter against aerial::scatter, exactly and with old-hardware precision.
+// The longest grids run in part under AERIAL_TEST_SCALE (test_scale.hpp).
 #include <sys/wait.h>
 #include <algorithm>
 #include <cmath>
@@ -15,6 +16,7 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/arb_program.hpp"
+#include "test_scale.hpp"
 
 namespace {
 
@@ -677,6 +679,7 @@ TEST(ArbProgram, PerturbedApproximationsStayWithin1LsbPlusTheExtinctionBound) {
     double lin_at_worst = 0.0;
     std::string worst_where;
     long vertices = 0;
+    aerial::testing::GridSample sample("vertices");
     for (const std::string& name : aerial::atmosphere_preset_names()) {
         const Atmosphere a = preset(name);
         for (const glm::dvec3& eye :
@@ -690,6 +693,7 @@ TEST(ArbProgram, PerturbedApproximationsStayWithin1LsbPlusTheExtinctionBound) {
                     display.exposure = exposure;
                     for (double d : kDistancesM) {
                         for (const glm::dvec3& dir : dirs) {
+                            if (!sample.keep()) continue;
                             const glm::vec3 v = glm::vec3(eye + d * dir);
                             const aerial::Scattering<float> cpu = aerial::scatter(f, v);
                             ++vertices;
@@ -760,6 +764,7 @@ TEST(ArbProgram, GuardedProgramStaysWithin1LsbWithCoarseApproximationsAtAnyExpos
     int worst_exact = 0, worst_perturbed = 0;
     std::string where;
     long vertices = 0;
+    aerial::testing::GridSample sample("vertices");
     for (const std::string& name : aerial::atmosphere_preset_names()) {
         const Atmosphere a = preset(name);
         for (const glm::dvec3& eye : {glm::dvec3(0, 0, 2), glm::dvec3(0, 0, 3000)}) {
@@ -772,6 +777,7 @@ TEST(ArbProgram, GuardedProgramStaysWithin1LsbWithCoarseApproximationsAtAnyExpos
                     display.exposure = exposure;
                     for (double d = 1.0; d < 6e4; d *= 1.5) {
                         for (const glm::dvec3& dir : dirs) {
+                            if (!sample.keep()) continue;
                             const glm::vec3 v = glm::vec3(eye + d * dir);
                             const aerial::Scattering<float> cpu = aerial::scatter(f, v);
                             ++vertices;
@@ -1563,12 +1569,14 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
             return seed;
         };
         height::Worst fex, lin, lin_exact;
+        aerial::testing::GridSample sample("vertices");
         for (const std::string& name : aerial::atmosphere_preset_names()) {
             for (const glm::dvec3& eye : grid.eyes) {
                 for (double sun : grid.sun_elevations) {
                     const height::Case k = height::make_case(name, eye, sun, grid);
                     const aerial::ArbMachine m = machine_with(::parameters(k.frame, k.exposure, o));
                     for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
+                        if (!sample.keep()) continue;
                         const aerial::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
                         const height::Lsb exact = height::lsb_against(
                             aerial::run_arb_program(program, m, v), k.cpu[i], k.exposure);

@@ -216,7 +216,10 @@ TEST(MeshFile, RefusesWhatOpenMeshWouldMisread) {
          "declares 100000000 vertex elements"},
         {"endless.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_`eader\n",
          "not a PLY keyword"},
-        {"format.ply", "ply\nformat ascii \xcc\xd1ent vertex 3\nend_header\n", "format ascii"},
+        {"format.ply",
+         "ply\nformat ascii \xcc\xd1"
+         "ent vertex 3\nend_header\n",
+         "format ascii"},
         {"index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 4/1 1/1 2/1\n", "face index '4/1'"},
         {"unread.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n", "face index '3/1'"},
         {"header.off", "OFF(  0\x11 2 \xc9\n", "OFF header word"},

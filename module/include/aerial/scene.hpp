@@ -61,10 +61,11 @@ struct MeshData {
 /// another vertex count, an index count not a multiple of 3, an index out of range.
 std::optional<Error> validate(const MeshData& mesh);
 
-/// Reads a triangle mesh with OpenMesh: OBJ, OFF or PLY (by extension), polygons triangulated,
-/// vertex normals computed when the file has none, texture coordinates kept when it has them.
-/// Errors name the path: a missing or unreadable file, an unknown extension, a file OpenMesh
-/// cannot parse, a mesh without triangles.
+/// Reads a triangle mesh: OBJ or PLY with OpenMesh, ASCII OFF ([ST][C][N]OFF) with the module's
+/// own strict reader (by extension), polygons triangulated, vertex normals computed when the
+/// file has none, texture coordinates kept when it has them. Errors name the path: a missing or
+/// unreadable file, an unknown extension, a file that cannot be parsed (OFF: and its line), a
+/// mesh without triangles.
 Result<MeshData> load_mesh_file(const std::string& path);
 
 /// A square grid of heights sampled from a function: one terrain tile.

@@ -5,6 +5,7 @@
 #include <EGL/eglext.h>
 #include <GL/osmesa.h>
 #include <dlfcn.h>
+#include <link.h>
 
 #include <cstring>
 #include <utility>
@@ -22,6 +23,27 @@ std::optional<Backend> parse_backend(std::string_view name) {
 namespace {
 
 constexpr int kMaxSize = 8192;
+
+/// Keeps the Mesa drivers that eglInitialize loaded (the DRI driver under .../dri/ and the gallium
+/// library) mapped after eglTerminate, as OSMesa is (RTLD_NODELETE): Mesa's drivers are not built
+/// to be unloaded, and an unloaded library's allocations lose their stack frames, so that
+/// LeakSanitizer could no longer tell Mesa's own leaks (suppressed) from the module's.
+void keep_mesa_drivers_loaded() {
+    dl_iterate_phdr(
+        [](dl_phdr_info* info, std::size_t, void*) {
+            const char* path = info->dlpi_name;
+            if (path != nullptr &&
+                (std::strstr(path, "/dri/") || std::strstr(path, "libgallium"))) {
+                // Already loaded: RTLD_NOLOAD only marks it; the handle is released at once and
+                // the library stays.
+                if (void* handle = dlopen(path, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE)) {
+                    dlclose(handle);
+                }
+            }
+            return 0;
+        },
+        nullptr);
+}
 
 // The OSMesa entry points the context uses (libOSMesa.so.8).
 struct OsmesaLibrary {
@@ -128,8 +150,12 @@ struct Context::Impl {
     }
 
     std::optional<Error> create_osmesa() {
-        osmesa.handle = dlopen("libOSMesa.so.8", RTLD_NOW | RTLD_LOCAL);
-        if (!osmesa.handle) osmesa.handle = dlopen("libOSMesa.so", RTLD_NOW | RTLD_LOCAL);
+        // RTLD_NODELETE: dlclose leaves Mesa mapped. Mesa's drivers are not built to be
+        // unloaded, and an unloaded library's allocations lose their stack frames, so that
+        // LeakSanitizer could no longer tell Mesa's own leaks (suppressed) from the module's.
+        constexpr int kFlags = RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE;
+        osmesa.handle = dlopen("libOSMesa.so.8", kFlags);
+        if (!osmesa.handle) osmesa.handle = dlopen("libOSMesa.so", kFlags);
         if (!osmesa.handle) {
             return Error{"libOSMesa",
                          "libOSMesa: cannot open libOSMesa.so.8 (install Debian's libosmesa6)"};
@@ -201,6 +227,7 @@ struct Context::Impl {
             return Error{"eglInitialize", "eglInitialize: the surfaceless display failed (" +
                                               egl_error_text(egl.GetError()) + ")"};
         }
+        keep_mesa_drivers_loaded();
         const char* display_extensions = egl.QueryString(egl_display, EGL_EXTENSIONS);
         if (!display_extensions ||
             !std::strstr(display_extensions, "EGL_KHR_surfaceless_context")) {

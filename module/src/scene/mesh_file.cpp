@@ -1,4 +1,5 @@
-// Mesh files through OpenMesh (OBJ, OFF, PLY): triangulated, with normals and texcoords.
+// Mesh files through OpenMesh (OBJ, PLY) and the module's OFF reader: triangulated, with normals
+// and texcoords.
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -7,14 +8,15 @@
 #include <iterator>
 #include <new>
 #include <optional>
-#include <regex>
 #include <sstream>
 #include <string>
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/ImporterT.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include "aerial/scene.hpp"
+#include "off_reader.hpp"
 
 namespace aerial::scene {
 namespace {
@@ -80,13 +82,14 @@ std::optional<std::string> bad_obj_index(const std::string& path) {
     return std::nullopt;
 }
 
-/// What would make OpenMesh misread the file, or nothing. OFF and PLY headers declare element
-/// counts, and OpenMesh reserves memory for them before it reads an element: a 100-byte file
-/// declaring 10^8 vertices makes it allocate gigabytes. Every element takes at least one byte of
-/// the file, so a count above the file's size is a lie. OBJ: see bad_obj_index.
+/// What would make OpenMesh misread the file, or nothing. PLY headers declare element counts, and
+/// OpenMesh reserves memory for them before it reads an element: a 100-byte file declaring 10^8
+/// vertices makes it allocate gigabytes. Every element takes at least one byte of the file, so a
+/// count above the file's size is a lie. OBJ: see bad_obj_index. OFF never reaches OpenMesh's
+/// reader (see off_reader.hpp).
 std::optional<std::string> check_before_openmesh(const std::string& path, const std::string& ext) {
     if (ext == "obj") return bad_obj_index(path);
-    if (ext != "off" && ext != "ply") return std::nullopt;
+    if (ext != "ply") return std::nullopt;
     std::ifstream file(path, std::ios::binary | std::ios::ate);
     const auto size = static_cast<long long>(file.tellg());
     file.seekg(0);
@@ -96,7 +99,7 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
     std::istringstream lines(head);
     std::string line;
     auto too_many = [&](long double count) { return count < 0 || count > (long double)size; };
-    if (ext == "ply") {
+    {
         // OpenMesh's PLY reader also loops forever on some malformed headers (found by
         // fuzz_mesh_io): only a header of known lines that ends in end_header goes to it.
         int number = 0;
@@ -162,44 +165,7 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
         }
         return std::string("its header has no end_header line in its first 64 KiB");
     }
-    // OFF: the header word ([ST][C][N][4][n]OFF), then "vertices faces edges" on the same line
-    // or the next non-comment one. OpenMesh reserves whatever it reads there, and reads a
-    // malformed header differently from this (found by fuzz_mesh_io), so anything else is
-    // refused. Binary OFF is refused too.
-    bool header = false;
-    int number = 0;
-    while (std::getline(lines, line)) {
-        ++number;
-        const auto start = line.find_first_not_of(" \t\r");
-        if (start == std::string::npos || line[start] == '#') continue;
-        std::istringstream words(line.substr(start));
-        if (!header) {
-            std::string word;
-            words >> word;
-            static const std::regex keyword("S?T?C?N?4?n?OFF");
-            if (!std::regex_match(word, keyword)) {
-                return "it does not start with an OFF header word, got '" + word.substr(0, 40) +
-                       "'";
-            }
-            header = true;
-            std::string rest;
-            if (!(words >> rest)) continue;  // the counts are on the next line
-            if (rest == "BINARY") return std::string("binary OFF is not supported");
-            words.clear();
-            words.str(rest + " " + std::string(std::istreambuf_iterator<char>(words), {}));
-        }
-        long long vertices = -1, faces = -1;
-        std::string extra;
-        if (!(words >> vertices >> faces) || vertices < 0 || faces < 0) {
-            return "line " + std::to_string(number) + ": expected the vertex and face counts";
-        }
-        if (too_many(vertices) || too_many(faces)) {
-            return "its header declares " + std::to_string(vertices) + " vertices and " +
-                   std::to_string(faces) + " faces in a file of " + std::to_string(size) + " bytes";
-        }
-        return std::nullopt;
-    }
-    return std::string("it has no vertex and face counts");
+    return std::nullopt;
 }
 
 }  // namespace
@@ -220,22 +186,36 @@ Result<MeshData> load_mesh_file(const std::string& path) {
     OpenMesh::IO::Options options;
     options += OpenMesh::IO::Options::VertexNormal;
     options += OpenMesh::IO::Options::VertexTexCoord;
-    // OpenMesh reports parse errors on its own error stream; the Result says what failed.
     if (auto lie = check_before_openmesh(path, ext)) {
         return Error{path, path + ": not a valid ." + ext + " file: " + *lie};
     }
-    omerr().disable();
+    // OpenMesh reports problems on its own error stream; the Result says what failed.
+    struct QuietOpenMesh {
+        QuietOpenMesh() { omerr().disable(); }
+        ~QuietOpenMesh() { omerr().enable(); }
+    } quiet;
     bool read = false;
     try {
-        read = OpenMesh::IO::read_mesh(mesh, path, options);
+        if (ext == "off") {
+            // The module's reader builds the mesh through OpenMesh's importer (off_reader.hpp).
+            std::ifstream file(path, std::ios::binary);
+            OpenMesh::IO::ImporterT<FileMesh> importer(mesh);
+            detail::OffContents contents;
+            if (auto problem = detail::read_off(file, importer, contents)) {
+                return Error{path, path + ": not a valid .off file: " + *problem};
+            }
+            options = OpenMesh::IO::Options();
+            if (contents.normals) options += OpenMesh::IO::Options::VertexNormal;
+            if (contents.texcoords) options += OpenMesh::IO::Options::VertexTexCoord;
+            read = true;
+        } else {
+            read = OpenMesh::IO::read_mesh(mesh, path, options);
+        }
     } catch (const std::bad_alloc&) {
-        omerr().enable();
-        return Error{path, path + ": out of memory while OpenMesh read it"};
+        return Error{path, path + ": out of memory while reading it"};
     } catch (const std::exception& e) {
-        omerr().enable();
         return Error{path, path + ": OpenMesh failed reading it: " + e.what()};
     }
-    omerr().enable();
     if (!read) return Error{path, path + ": OpenMesh could not read it as ." + ext};
     if (mesh.n_faces() == 0) return Error{path, path + ": the file has no faces"};
     if (!options.check(OpenMesh::IO::Options::VertexNormal)) {

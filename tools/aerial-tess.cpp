@@ -66,6 +66,10 @@ struct Settings {
     int face_pixels = 128;  ///< per cube face: 90 deg / 128 = 0.012 rad per pixel
     double lod_exponent = 2.0;
     bool quantized_estimate = true;  ///< adaptive domes: 8-bit vertex colours, sphere samples
+    /// Adaptive meshes: AdaptiveSettings::colour_edge (-1: the library's default, 0 off, 1 on)
+    /// and its angle bound (< 0: the default).
+    int colour_edge = -1;
+    double colour_edge_angle = -1.0;
     aerial::tess::GlGrader* grader = nullptr;
 };
 
@@ -195,8 +199,11 @@ std::vector<double> thresholds_between(double coarse, double fine) {
 }
 
 Mesh adaptive_mesh(const Scene& scene, const Mesh& base, const aerial::mesh::Surface& surface,
-                   double split_lsb, bool quantized, double& build_ms) {
+                   double split_lsb, bool quantized, const Settings& settings, double& build_ms) {
     aerial::mesh::AdaptiveSettings a;
+    if (settings.colour_edge >= 0) a.colour_edge = settings.colour_edge == 1;
+    if (settings.colour_edge_angle >= 0.0)
+        a.colour_edge_min_angle_deg = float(settings.colour_edge_angle);
     a.colour = scene.colour;
     // 8-bit vertex colours: exact for the dome (L_in only); on terrain the GL path rounds F_ex and
     // L_in apart, so the float estimate is kept there.
@@ -235,7 +242,8 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
         sweep(
             scene, "adaptive", splits,
             [&](double split, double& ms) {
-                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate, ms);
+                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate,
+                                     settings, ms);
             },
             settings, rows, thresholds_between);
         sweep(
@@ -260,7 +268,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
             // Offline: an adaptive mesh refined to half a step, decimated back to the bound.
             double ms = 0.0;
             const bool q = settings.quantized_estimate;
-            const Mesh fine = adaptive_mesh(scene, base, surface, q ? 0.55 : 0.5, q, ms);
+            const Mesh fine = adaptive_mesh(scene, base, surface, q ? 0.55 : 0.5, q, settings, ms);
             sweep(
                 scene, "decimated",
                 q ? std::vector<double>{1.0, 0.9, 0.8, 0.7}
@@ -285,7 +293,8 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
         sweep(
             scene, "adaptive", splits,
             [&](double split, double& ms) {
-                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate, ms);
+                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate,
+                                     settings, ms);
             },
             settings, rows, thresholds_between);
         sweep(
@@ -323,7 +332,7 @@ int where(const Scene& scene, double split_lsb, const Settings& settings) {
     const auto surface = aerial::mesh::Surface::sphere(scene.dome_options);
     const Mesh base = aerial::mesh::geodesic_dome(4, scene.dome_options).value();
     double ms = 0.0;
-    const Mesh mesh = adaptive_mesh(scene, base, surface, split_lsb, true, ms);
+    const Mesh mesh = adaptive_mesh(scene, base, surface, split_lsb, true, settings, ms);
     std::vector<aerial::tess::GlGradeOptions::Pixel> pixels;
     aerial::tess::GlGradeOptions grading = scene.grading;
     grading.report = &pixels;
@@ -452,6 +461,14 @@ int main(int argc, char** argv) {
         "Print the pixels the adaptive dome of this split threshold draws 2 or more "
         "steps off, and the estimate of the face under each (dome scenes only: pick them "
         "with --scene)");
+    int colour_edge = -1;
+    double colour_edge_angle = -1.0;
+    app.add_option("--colour-edge", colour_edge,
+                   "Adaptive meshes start each bisection path from the edge with the largest "
+                   "midpoint colour error (1) or the longest edge (0); default: the library's");
+    app.add_option("--colour-edge-angle", colour_edge_angle,
+                   "The smallest angle (degrees, 0 .. 60) the new triangles of a colour-chosen "
+                   "edge must keep; default: the library's");
     app.add_option("--scene", only, "Run only the scenes whose name contains this text");
     app.add_option("--face-pixels", face_pixels,
                    "Pixels a side of each of the six cube faces the GL grading renders "
@@ -473,6 +490,18 @@ int main(int argc, char** argv) {
             return aerial::tools::fail(
                 kTool, "--face-pixels: expected 16 .. 2048, got " + std::to_string(face_pixels));
         settings.face_pixels = face_pixels;
+    }
+    if (app.count("--colour-edge")) {
+        if (colour_edge != 0 && colour_edge != 1)
+            return aerial::tools::fail(
+                kTool, "--colour-edge: expected 0 or 1, got " + std::to_string(colour_edge));
+        settings.colour_edge = colour_edge;
+    }
+    if (app.count("--colour-edge-angle")) {
+        if (!(colour_edge_angle >= 0.0 && colour_edge_angle <= 60.0))
+            return aerial::tools::fail(kTool, "--colour-edge-angle: expected 0 .. 60, got " +
+                                                  std::to_string(colour_edge_angle));
+        settings.colour_edge_angle = colour_edge_angle;
     }
     auto grader = aerial::tess::GlGrader::create(settings.face_pixels);
     if (!grader) return aerial::tools::fail(kTool, "GL grading: " + grader.error().message);

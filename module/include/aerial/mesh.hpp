@@ -199,6 +199,12 @@ struct AdaptiveSettings {
     /// ratio x live deletions (amortised O(1 + 1 / ratio) per deletion) and changes no result.
     /// 0: never (call compact() yourself). Finite, >= 0.
     float compact_garbage_ratio = 0.5f;
+    /// The edge a refinement step starts its longest-edge propagation path from: false, the
+    /// face's longest edge (Rivara); true, the face's edge with the largest colour error at its
+    /// midpoint among those whose bisection leaves every new triangle with a smallest angle of at
+    /// least colour_edge_min_angle_deg (the longest edge when none does).
+    bool colour_edge = true;
+    float colour_edge_min_angle_deg = 15.0f;  ///< 0 .. 60
 };
 
 std::optional<Error> validate(const AdaptiveSettings& settings);
@@ -278,6 +284,7 @@ class AdaptiveMesh {
     bool splittable(OpenMesh::FaceHandle f) const;
     bool edge_locked(OpenMesh::EdgeHandle e) const;
     OpenMesh::EdgeHandle longest_edge(OpenMesh::FaceHandle f) const;
+    OpenMesh::EdgeHandle colour_edge(OpenMesh::FaceHandle f);
     void bisect(OpenMesh::EdgeHandle e, UpdateStats& stats);
     bool try_undo(std::size_t record, UpdateStats& stats);
     void stamp(OpenMesh::FaceHandle f, float error);

@@ -72,6 +72,11 @@ std::optional<Error> validate(const AdaptiveSettings& settings) {
         return Error{"compact_garbage_ratio",
                      "compact_garbage_ratio: expected a finite value >= 0, got " +
                          std::to_string(settings.compact_garbage_ratio)};
+    if (!(settings.colour_edge_min_angle_deg >= 0.0f &&
+          settings.colour_edge_min_angle_deg <= 60.0f))
+        return Error{"colour_edge_min_angle_deg",
+                     "colour_edge_min_angle_deg: expected 0 .. 60, got " +
+                         std::to_string(settings.colour_edge_min_angle_deg)};
     return std::nullopt;
 }
 
@@ -308,6 +313,51 @@ OpenMesh::EdgeHandle AdaptiveMesh::longest_edge(OpenMesh::FaceHandle f) const {
     return best;
 }
 
+namespace {
+
+// The smallest angle (rad) of the triangle p, q, r.
+double min_angle(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& r) {
+    auto angle = [](const glm::dvec3& apex, const glm::dvec3& u, const glm::dvec3& v) {
+        const glm::dvec3 a = u - apex, b = v - apex;
+        return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+    };
+    return std::min({angle(p, q, r), angle(q, r, p), angle(r, p, q)});
+}
+
+}  // namespace
+
+OpenMesh::EdgeHandle AdaptiveMesh::colour_edge(OpenMesh::FaceHandle f) {
+    // The edge with the largest midpoint error whose bisection keeps both faces' halves at
+    // least colour_edge_min_angle_deg in every angle; ties and no candidate: the longest edge.
+    const double bound =
+        double(settings_.colour_edge_min_angle_deg) * 3.14159265358979323846 / 180.0;
+    const OpenMesh::EdgeHandle longest = longest_edge(f);
+    OpenMesh::EdgeHandle best;
+    float best_error = -1.0f;
+    for (auto h : mesh_.fh_range(f)) {
+        const auto e = mesh_.edge_handle(h);
+        if (edge_locked(e) || !(mesh_.calc_edge_sqr_length(e) > 0.0)) continue;
+        const auto va = mesh_.from_vertex_handle(h), vb = mesh_.to_vertex_handle(h);
+        const glm::dvec3 a = to_glm(mesh_.point(va)), b = to_glm(mesh_.point(vb));
+        const glm::dvec3 m = surface_.project(0.5 * (a + b));
+        bool shaped = true;
+        for (auto side : {h, mesh_.opposite_halfedge_handle(h)}) {
+            if (mesh_.is_boundary(side)) continue;
+            const glm::dvec3 apex =
+                to_glm(mesh_.point(mesh_.to_vertex_handle(mesh_.next_halfedge_handle(side))));
+            if (min_angle(a, m, apex) < bound || min_angle(m, b, apex) < bound) shaped = false;
+        }
+        if (!shaped) continue;
+        const float error = edge_midpoint_error(*frame_, settings_.colour, a, b, vertex_colour(va),
+                                                vertex_colour(vb));
+        if (error > best_error || (error == best_error && e == longest)) {
+            best = e;
+            best_error = error;
+        }
+    }
+    return best.is_valid() ? best : longest;
+}
+
 bool AdaptiveMesh::splittable(OpenMesh::FaceHandle f) const {
     // A face whose longest edge is locked stays: bisecting its other edges would only make
     // slivers along the locked edge without reducing the error there.
@@ -526,8 +576,13 @@ UpdateStats AdaptiveMesh::update(const Frame<float>& frame) {
             unrefined_max = std::max(unrefined_max, top.error);
             continue;
         }
-        const auto e0 = longest_edge(f0);
+        const auto e0 = settings_.colour_edge ? colour_edge(f0) : longest_edge(f0);
         for (bool done = false; !done && live_vertices_ < settings_.max_vertices;) {
+            // A path from a shorter edge can come back to f0 and split it: then f0 is estimated
+            // again (and queued if still above the target) and this path ends.
+            if (mesh_.face_handle(mesh_.halfedge_handle(e0, 0)) != f0 &&
+                mesh_.face_handle(mesh_.halfedge_handle(e0, 1)) != f0)
+                break;
             // Walk the longest-edge propagation path to its terminal edge and split that.
             OpenMesh::FaceHandle f = f0;
             OpenMesh::EdgeHandle e = e0;

@@ -131,6 +131,17 @@ float colour_error_skipping(const Frame<float>& frame, const ColourOptions& opti
     return worst;
 }
 
+float edge_midpoint_error(const Frame<float>& frame, const ColourOptions& options,
+                          const glm::dvec3& a, const glm::dvec3& b, const glm::vec3& ca,
+                          const glm::vec3& cb) {
+    glm::vec3 shown[2] = {ca, cb};
+    if (options.quantized_vertices)
+        for (glm::vec3& v : shown) v = glm::round(glm::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
+    const glm::dvec3 q = 0.5 * (a + b);
+    return channel_error_lsb(0.5f * (shown[0] + shown[1]),
+                             display_colour(frame, options, shown_point(frame, options, q)));
+}
+
 float colour_error(const Frame<float>& frame, const ColourOptions& options, const glm::dvec3& p0,
                    const glm::dvec3& p1, const glm::dvec3& p2, const glm::vec3& c0,
                    const glm::vec3& c1, const glm::vec3& c2) {

@@ -22,6 +22,11 @@ float colour_error_skipping(const Frame<float>& frame, const ColourOptions& opti
                             const glm::dvec3 (&p)[3], const glm::vec3 (&c)[3],
                             const bool (&skip_edge)[3]);
 
+/// The error at the midpoint of the edge a-b alone (the same sample colour_error takes there).
+float edge_midpoint_error(const Frame<float>& frame, const ColourOptions& options,
+                          const glm::dvec3& a, const glm::dvec3& b, const glm::vec3& ca,
+                          const glm::vec3& cb);
+
 }  // namespace aerial::mesh
 
 namespace aerial::mesh {

@@ -220,6 +220,10 @@ TEST(MeshFile, RefusesWhatOpenMeshWouldMisread) {
          "ply\nformat ascii \xcc\xd1"
          "ent vertex 3\nend_header\n",
          "format ascii"},
+        {"orphan.ply",
+         "ply\nformat ascii 1.0\ncomment vertex 3\nproperty float x\nelement face 0\n"
+         "property list uchar int vertex_indices\nend_header\n",
+         "header line 4: a property before any 'element' line"},
         {"index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 4/1 1/1 2/1\n", "face index '4/1'"},
         {"unread.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n", "face index '3/1'"},
         {"header.off", "OFF(  0\x11 2 \xc9\n", "OFF header word"},

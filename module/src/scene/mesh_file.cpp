@@ -103,6 +103,7 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
         // OpenMesh's PLY reader also loops forever on some malformed headers (found by
         // fuzz_mesh_io): only a header of known lines that ends in end_header goes to it.
         int number = 0;
+        bool element_seen = false;
         while (std::getline(lines, line)) {
             if (!line.empty() && line.back() == '\r') line.pop_back();
             std::istringstream words(line);
@@ -140,6 +141,10 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
                 }
             }
             if (keyword == "property") {
+                // OpenMesh's reader writes a property into its current element: before any
+                // element line there is none (a write through a wild pointer, found by
+                // fuzz_mesh_io).
+                if (!element_seen) return bad("a property before any 'element' line");
                 std::string first, second, third;
                 words >> first;
                 const bool list = first == "list";
@@ -153,6 +158,7 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
                 }
             }
             long double count = 0;
+            element_seen = element_seen || keyword == "element";
             if (keyword == "element" &&
                 (!(words >> name >> count) || words >> extra || count != std::floor(count))) {
                 return bad("expected 'element NAME COUNT'");

@@ -225,7 +225,12 @@ TEST(MeshFile, RefusesWhatOpenMeshWouldMisread) {
          "property list uchar int vertex_indices\nend_header\n",
          "header line 4: a property before any 'element' line"},
         {"index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 4/1 1/1 2/1\n", "face index '4/1'"},
-        {"unread.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n", "face index '3/1'"},
+        {"unread.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n",
+         "line 2: expected 'v X Y Z"},
+        {"control.obj", "v 0 0 0\nv 1 \x01 0\nv 0 1 0\nf 1 2 3\n",
+         "line 2: a control character (byte 1)"},
+        {"texcoord.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 x\nf 1/1 2/1 3/1\n",
+         "line 4: expected 'vt U V [W]'"},
         {"header.off", "OFF(  0\x11 2 \xc9\n", "OFF header word"},
         {"huge.off", "OFF\n90000000 1 0\n0 0 0\n", "declares 90000000 vertices"},
     };

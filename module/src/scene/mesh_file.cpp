@@ -49,20 +49,38 @@ std::optional<std::string> bad_obj_index(const std::string& path) {
         if (!line.empty() && line.back() == '\\') {
             return "line " + std::to_string(number) + ": line continuations are not supported";
         }
+        // Control characters make OpenMesh's count of vertex lines differ from any we could
+        // make (a heap overflow again, found by fuzz_mesh_io): refused.
+        for (const char c : line) {
+            if ((unsigned char)c < 0x20 && c != '\t') {
+                return "line " + std::to_string(number) + ": a control character (byte " +
+                       std::to_string(int((unsigned char)c)) + ")";
+            }
+        }
         std::istringstream words(line);
         std::string keyword;
         words >> keyword;
-        // Counted as OpenMesh counts them: only when the coordinates read as numbers.
-        const auto reads = [&words](int n) {
-            float value = 0.0f;
-            for (int i = 0; i < n; ++i) {
-                if (!(words >> value)) return false;
+        // Vertex, texture coordinate and normal lines must be numbers only, as many as the
+        // format allows: then OpenMesh's count of them is ours.
+        const auto numbers = [&](int least, int most,
+                                 const char* form) -> std::optional<std::string> {
+            int n = 0;
+            for (std::string word; words >> word; ++n) {
+                char* end = nullptr;
+                const float value = std::strtof(word.c_str(), &end);
+                if (end == word.c_str() || *end != '\0' || !std::isfinite(value) || n == most) {
+                    n = -1;
+                    break;
+                }
             }
-            return true;
+            if (n >= least) return std::nullopt;
+            return "line " + std::to_string(number) + ": expected '" + form + "'";
         };
-        if (keyword == "v" && reads(3)) ++counts[0];
-        if (keyword == "vt" && reads(2)) ++counts[1];
-        if (keyword == "vn" && reads(3)) ++counts[2];
+        std::optional<std::string> wrong;
+        if (keyword == "v" && !(wrong = numbers(3, 7, "v X Y Z [W] or v X Y Z R G B"))) ++counts[0];
+        if (keyword == "vt" && !(wrong = numbers(2, 3, "vt U V [W]"))) ++counts[1];
+        if (keyword == "vn" && !(wrong = numbers(3, 3, "vn X Y Z"))) ++counts[2];
+        if (wrong) return wrong;
         if (keyword != "f") continue;
         for (std::string corner; words >> corner;) {
             std::istringstream parts(corner);

@@ -214,6 +214,10 @@ TEST(MeshFile, RefusesWhatOpenMeshWouldMisread) {
         {"huge.ply",
          "ply\nformat ascii 1.0\nelement vertex 100000000\nproperty float x\nend_header\n",
          "declares 100000000 vertex elements"},
+        {"huger.ply",
+         "ply\nformat ascii 1.0\nelement vertex 88888888888888888888888888\nproperty float "
+         "x\nend_header\n",
+         "declares over 10^18 vertex elements"},
         {"endless.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_`eader\n",
          "not a PLY keyword"},
         {"format.ply",

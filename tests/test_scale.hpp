@@ -1,5 +1,5 @@
 // How much of its seeded sweeps a long test runs: AERIAL_TEST_SCALE, a fraction in (0, 1]
-// (default 1, the whole sweep). The sanitizer stage of `tools/aerial.sh test` sets 0.1, where
+// (default 1, the whole sweep). The sanitizer stage of `tools/aerial.sh test` sets 0.05, where
 // every operation costs about ten times more; the sweeps keep their seeds, so a scaled run checks
 // the first cases of the full one. A test that scales prints how many cases it ran.
 #pragma once

@@ -334,8 +334,9 @@ main() {
         build_sanitize "${SANITIZE_CI_TESTS[@]}" $(fuzz_targets)
         local labels
         labels="^($(IFS='|'; echo "${SANITIZE_CI_TESTS[*]}")|fuzz)\$"
-        # A fixed fuzzer seed: the smoke tries the same inputs on every run (longer runs, with
-        # new seeds, are `fuzz`).
+        # A fixed fuzzer seed: the smoke tries the same inputs in the same order on every run, as
+        # far as its time reaches (a faster machine gets further); longer runs, with new seeds,
+        # are `fuzz`.
         AERIAL_FUZZ_SECONDS=$FUZZ_SMOKE_SECONDS AERIAL_FUZZ_SEED=1 AERIAL_TEST_SCALE=$SANITIZE_CI_SCALE \
             ctest --test-dir "$SANITIZE_DIR" -L "$labels" -E "$SANITIZE_CI_EXCLUDE" \
             --output-on-failure -j2

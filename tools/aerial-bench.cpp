@@ -208,22 +208,8 @@ int main(int argc, char** argv) {
             if (!stats) std::fprintf(stderr, "%s\n", stats.error().message.c_str());
         };
     };
-    // The memory limit: read the same positions, write the same 8 bytes per vertex.
-    auto stream_loop = [&] {
-        std::uint32_t* e = reinterpret_cast<std::uint32_t*>(extinction.data());
-        std::uint32_t* l = reinterpret_cast<std::uint32_t*>(in_scattering.data());
-        for (std::size_t i = 0; i < vertices; ++i) {
-            std::uint32_t a, b, c;
-            std::memcpy(&a, &xyz[3 * i], 4);
-            std::memcpy(&b, &xyz[3 * i + 1], 4);
-            std::memcpy(&c, &xyz[3 * i + 2], 4);
-            e[i] = a ^ b;
-            l[i] = b ^ c;
-        }
-    };
-    // The memory limit of all hardware threads (what simd_threads can reach at best): the same
-    // loop, cut into one contiguous part per thread.
-    const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+    // The memory limit: read the same positions, write the same 8 bytes per vertex (vertices
+    // first .. last).
     auto stream_part = [&](std::size_t first, std::size_t last) {
         std::uint32_t* e = reinterpret_cast<std::uint32_t*>(extinction.data());
         std::uint32_t* l = reinterpret_cast<std::uint32_t*>(in_scattering.data());
@@ -236,6 +222,10 @@ int main(int argc, char** argv) {
             l[i] = b ^ c;
         }
     };
+    auto stream_loop = [&] { stream_part(0, vertices); };
+    // The memory limit of all hardware threads (what simd_threads can reach at best): the same
+    // loop, cut into one contiguous part per thread.
+    const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
     auto stream_threads_loop = [&] {
         std::vector<std::thread> helpers;
         for (unsigned t = 1; t < hardware; ++t) {

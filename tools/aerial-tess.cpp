@@ -70,6 +70,7 @@ struct Settings {
     /// and its angle bound (< 0: the default).
     int colour_edge = -1;
     double colour_edge_angle = -1.0;
+    int relocate = -1;  ///< AdaptiveSettings::relocate (-1: the library's default, 0 off, 1 on)
     aerial::tess::GlGrader* grader = nullptr;
 };
 
@@ -204,6 +205,7 @@ Mesh adaptive_mesh(const Scene& scene, const Mesh& base, const aerial::mesh::Sur
     if (settings.colour_edge >= 0) a.colour_edge = settings.colour_edge == 1;
     if (settings.colour_edge_angle >= 0.0)
         a.colour_edge_min_angle_deg = float(settings.colour_edge_angle);
+    if (settings.relocate >= 0) a.relocate = settings.relocate == 1;
     a.colour = scene.colour;
     // 8-bit vertex colours: exact for the dome (L_in only); on terrain the GL path rounds F_ex and
     // L_in apart, so the float estimate is kept there.
@@ -469,6 +471,11 @@ int main(int argc, char** argv) {
     app.add_option("--colour-edge-angle", colour_edge_angle,
                    "The smallest angle (degrees, 0 .. 60) the new triangles of a colour-chosen "
                    "edge must keep; default: the library's");
+    int relocate = -1;
+    app.add_option("--relocate", relocate,
+                   "Adaptive meshes move each new vertex within its one-ring to lower its faces' "
+                   "largest colour error (1) or leave it at the edge midpoint (0); default: the "
+                   "library's");
     app.add_option("--scene", only, "Run only the scenes whose name contains this text");
     app.add_option("--face-pixels", face_pixels,
                    "Pixels a side of each of the six cube faces the GL grading renders "
@@ -496,6 +503,12 @@ int main(int argc, char** argv) {
             return aerial::tools::fail(
                 kTool, "--colour-edge: expected 0 or 1, got " + std::to_string(colour_edge));
         settings.colour_edge = colour_edge;
+    }
+    if (app.count("--relocate")) {
+        if (relocate != 0 && relocate != 1)
+            return aerial::tools::fail(
+                kTool, "--relocate: expected 0 or 1, got " + std::to_string(relocate));
+        settings.relocate = relocate;
     }
     if (app.count("--colour-edge-angle")) {
         if (!(colour_edge_angle >= 0.0 && colour_edge_angle <= 60.0))

@@ -205,6 +205,17 @@ struct AdaptiveSettings {
     /// least colour_edge_min_angle_deg (the longest edge when none does).
     bool colour_edge = true;
     float colour_edge_min_angle_deg = 15.0f;  ///< 0 .. 60
+    /// After a bisection that leaves faces above split_lsb, move the new vertex along the surface
+    /// within its one-ring to where the fewest of its faces are above split_lsb, then where the
+    /// sum of their errors is smallest (a pattern search in the tangent plane, projected onto the
+    /// surface). Base vertices and boundary vertices never move; a move that turns a face over
+    /// or leaves a face with a smallest angle below min(relocate_min_angle_deg, the smallest at
+    /// the midpoint) is refused. With it every estimate samples each edge at least 4 times (at
+    /// most colour.max_samples_per_edge), so that a vertex is not moved to where only the edge
+    /// midpoints and the centroid look good. Undo (a collapse into an end of the split edge) and
+    /// morphing (from the parents' mean) do not depend on where the vertex went.
+    bool relocate = true;
+    float relocate_min_angle_deg = 15.0f;  ///< 0 .. 60
 };
 
 std::optional<Error> validate(const AdaptiveSettings& settings);
@@ -216,8 +227,9 @@ struct UpdateStats {
     std::size_t vertices = 0;         ///< live vertices after the update
     std::size_t faces = 0;            ///< live faces after the update
     float max_error_lsb = 0.0f;       ///< largest estimate over splittable faces after the update
-    bool complete = true;    ///< false when the budget or the time slice stopped refinement
-    bool compacted = false;  ///< the update ended with compact(): vertex handles renumbered
+    bool complete = true;       ///< false when the budget or the time slice stopped refinement
+    bool compacted = false;     ///< the update ended with compact(): vertex handles renumbered
+    std::size_t relocated = 0;  ///< new vertices moved off their edge (settings.relocate)
 };
 
 class AdaptiveMesh {
@@ -283,9 +295,11 @@ class AdaptiveMesh {
     float estimate(OpenMesh::FaceHandle f);
     bool splittable(OpenMesh::FaceHandle f) const;
     bool edge_locked(OpenMesh::EdgeHandle e) const;
+    int min_samples_per_edge() const;
     OpenMesh::EdgeHandle longest_edge(OpenMesh::FaceHandle f) const;
     OpenMesh::EdgeHandle colour_edge(OpenMesh::FaceHandle f);
     void bisect(OpenMesh::EdgeHandle e, UpdateStats& stats);
+    void relocate(OpenMesh::VertexHandle v, UpdateStats& stats);
     bool try_undo(std::size_t record, UpdateStats& stats);
     void stamp(OpenMesh::FaceHandle f, float error);
     bool face_stale(OpenMesh::FaceHandle f) const;

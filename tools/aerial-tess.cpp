@@ -199,13 +199,16 @@ std::vector<double> thresholds_between(double coarse, double fine) {
     return out;
 }
 
+// `relocate`: AdaptiveSettings::relocate (-1: --relocate, else the library's default).
 Mesh adaptive_mesh(const Scene& scene, const Mesh& base, const aerial::mesh::Surface& surface,
-                   double split_lsb, bool quantized, const Settings& settings, double& build_ms) {
+                   double split_lsb, bool quantized, const Settings& settings, double& build_ms,
+                   int relocate = -1) {
     aerial::mesh::AdaptiveSettings a;
     if (settings.colour_edge >= 0) a.colour_edge = settings.colour_edge == 1;
     if (settings.colour_edge_angle >= 0.0)
         a.colour_edge_min_angle_deg = float(settings.colour_edge_angle);
-    if (settings.relocate >= 0) a.relocate = settings.relocate == 1;
+    if (relocate < 0) relocate = settings.relocate;
+    if (relocate >= 0) a.relocate = relocate == 1;
     a.colour = scene.colour;
     // 8-bit vertex colours: exact for the dome (L_in only); on terrain the GL path rounds F_ex and
     // L_in apart, so the float estimate is kept there.
@@ -246,6 +249,14 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
             [&](double split, double& ms) {
                 return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate,
                                      settings, ms);
+            },
+            settings, rows, thresholds_between);
+        // The same runtime mesh with AdaptiveSettings::relocate (off by default).
+        sweep(
+            scene, "adaptive-relocate", splits,
+            [&](double split, double& ms) {
+                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate,
+                                     settings, ms, 1);
             },
             settings, rows, thresholds_between);
         sweep(

@@ -26,7 +26,7 @@ def main():
     cols = min(4, len(scenes))
     lines = math.ceil(len(scenes) / cols)
     fig, axes = plt.subplots(lines, cols, figsize=(4 * cols, 3.2 * lines), squeeze=False)
-    styles = {"adaptive": "o-", "uniform-geodesic": "s--", "uniform-latlong": "^:",
+    styles = {"adaptive": "o-", "adaptive-relocate": "P-", "uniform-geodesic": "s--", "uniform-latlong": "^:",
               "uniform-grid": "s--", "uniform-distance-lod": "v:", "decimated": "d-."}
     for i, scene in enumerate(scenes):
         ax = axes[i // cols][i % cols]

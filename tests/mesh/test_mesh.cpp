@@ -495,9 +495,18 @@ struct Pops {
     float settled_error = 0.0f;  ///< at the end: |shown - exact| over live vertices
 };
 
-Pops sun_move_pops(int morph_updates) {
+// `quantized_relocating`: the estimate aerial-tess grades domes with (8-bit vertex colours,
+// samples on the sphere) and AdaptiveSettings::relocate, at 2 steps.
+Pops sun_move_pops(int morph_updates, bool quantized_relocating = false) {
     const DomeScene low(5.0, 0.9);
     AdaptiveSettings settings = dome_settings(low);
+    if (quantized_relocating) {
+        settings.colour.quantized_vertices = true;
+        settings.colour.on_dome_sphere = true;
+        settings.colour.dome = low.dome;
+        settings.relocate = true;
+        settings.split_lsb = 2.0f;  // a smaller mesh: relocation tries up to 48 positions a vertex
+    }
     settings.morph_updates = morph_updates;
     settings.compact_garbage_ratio = 0.0f;  // vertices are followed by handle across updates
     AdaptiveMesh m = refined_dome(low, settings);
@@ -781,4 +790,103 @@ TEST(AdaptiveMesh, ColourEdgeChoiceKeepsTheGuaranteesAndTheShape) {
         AdaptiveMesh::create(base.value(), aerial::mesh::Surface::sphere(scene.dome), settings);
     ASSERT_FALSE(bad.ok());
     EXPECT_EQ(bad.error().field, "colour_edge_min_angle_deg");
+}
+
+// Relocation (AdaptiveSettings::relocate) moves new vertices within their one-ring: every
+// guarantee of the refinement still holds, and it needs fewer vertices for the same target.
+TEST(AdaptiveMesh, RelocationKeepsTheGuaranteesAndNeedsFewerVertices) {
+    const DomeScene scene(10.0, 0.9);
+    AdaptiveSettings settings = dome_settings(scene);
+    settings.colour.quantized_vertices = true;
+    settings.colour.on_dome_sphere = true;
+    settings.colour.dome = scene.dome;
+    settings.split_lsb = 2.0f;  // a smaller mesh: relocation tries up to 48 positions a vertex
+    AdaptiveSettings fixed = settings;
+    settings.relocate = true;
+    auto base = aerial::mesh::geodesic_dome(4, scene.dome);
+    ASSERT_TRUE(base.ok());
+    const std::vector<glm::dvec3> original = positions(base.value());
+    auto made =
+        AdaptiveMesh::create(base.value(), aerial::mesh::Surface::sphere(scene.dome), settings);
+    ASSERT_TRUE(made.ok()) << made.error().message;
+    AdaptiveMesh m = std::move(made).value();
+    const auto first = m.update(scene.frame);
+    const Mesh& mesh = m.mesh();
+    // Vertices off their split edge's projected midpoint (a vertex moves only when it is born).
+    const auto sphere = aerial::mesh::Surface::sphere(scene.dome);
+    std::size_t moved = 0;
+    for (auto v : mesh.vertices()) {
+        const glm::dvec3 p = to_glm(mesh.point(v));
+        EXPECT_NEAR(glm::length(p - scene.dome.centre), scene.dome.radius_m, 1e-6);
+        if (std::size_t(v.idx()) < original.size()) {
+            EXPECT_EQ(p, original[std::size_t(v.idx())])
+                << "original vertex " << v.idx() << " moved";
+            continue;
+        }
+        const auto [a, b] = m.parents(v);
+        const glm::dvec3 mid =
+            sphere.project(0.5 * (to_glm(mesh.point(a)) + to_glm(mesh.point(b))));
+        if (glm::length(p - mid) > 1e-6 * scene.dome.radius_m) ++moved;
+        if (mesh.is_boundary(v)) EXPECT_LT(glm::length(p - mid), 1e-6 * scene.dome.radius_m);
+    }
+    EXPECT_GT(moved, 0u) << "no vertex was relocated";
+    EXPECT_LE(moved, first.relocated);
+    // The target, recomputed from scratch on every face, and a second update changes nothing.
+    EXPECT_LE(max_face_error(mesh, scene.frame, settings.colour), settings.split_lsb);
+    const auto again = m.update(scene.frame);
+    EXPECT_TRUE(again.complete);
+    EXPECT_EQ(again.splits + again.merges, 0u);
+    EXPECT_LE(again.max_error_lsb, settings.split_lsb);
+    expect_conforming(mesh, [&](const glm::dvec3& p) {
+        return std::abs(p.z - scene.dome.centre.z) < 1e-6 * scene.dome.radius_m;
+    });
+    expect_not_flipped(mesh, [&](const glm::dvec3& c) { return c - scene.dome.centre; });
+    EXPECT_GE(smallest_angle_deg(mesh), 0.5 * double(std::min(settings.colour_edge_min_angle_deg,
+                                                              settings.relocate_min_angle_deg)));
+    const std::size_t relocated = aerial::mesh::live_vertices(mesh);
+    const std::size_t midpoints = aerial::mesh::live_vertices(refined_dome(scene, fixed).mesh());
+    std::printf("relocation: %zu vertices (%zu moved) against %zu at the edge midpoints\n",
+                relocated, moved, midpoints);
+    EXPECT_LT(relocated, midpoints);
+    EXPECT_TRUE(positions(mesh) == positions(refined_dome(scene, settings).mesh()))
+        << "two runs of the same input gave different meshes";
+
+    // Coarsening undoes relocated bisections (the collapse restores the parents wherever the
+    // vertex went) and settles.
+    DomeScene high(60.0, 0.9, 180.0);
+    high.colour = scene.colour;
+    const auto turned = m.update(high.frame);
+    EXPECT_GT(turned.merges, 0u);
+    EXPECT_LE(max_face_error(mesh, high.frame, settings.colour), settings.split_lsb);
+    const auto settled = m.update(high.frame);
+    EXPECT_EQ(settled.splits + settled.merges, 0u);
+    expect_not_flipped(mesh, [&](const glm::dvec3& c) { return c - scene.dome.centre; });
+
+    // The budget.
+    settings.max_vertices = 200;
+    AdaptiveMesh small = refined_dome(scene, settings);
+    EXPECT_LE(aerial::mesh::live_vertices(small.mesh()), 200u);
+    EXPECT_FALSE(small.update(scene.frame).complete);
+
+    settings.relocate_min_angle_deg = 61.0f;
+    const auto bad =
+        AdaptiveMesh::create(base.value(), aerial::mesh::Surface::sphere(scene.dome), settings);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_EQ(bad.error().field, "relocate_min_angle_deg");
+}
+
+TEST(AdaptiveMesh, RelocatedVerticesMorphInAndOutWithoutPops) {
+    const Pops instant = sun_move_pops(0, true);
+    ASSERT_GT(instant.births, 0u) << "the sun move refined nothing";
+    ASSERT_GT(instant.largest, 2.0f) << "without morphing nothing popped: the test shows nothing";
+    constexpr int kUpdates = 8;
+    const Pops morphed = sun_move_pops(kUpdates, true);
+    EXPECT_GT(morphed.removals, 0u) << "no faded vertex was removed";
+    EXPECT_LE(morphed.largest, instant.largest / 4.0f);
+    EXPECT_LE(morphed.largest, 1.01f * morphed.birth_gap / kUpdates + 0.01f)
+        << "birth gap " << morphed.birth_gap;
+    std::printf("relocated morph: largest change per update %.2f LSB (at once %.2f)\n",
+                morphed.largest, instant.largest);
+    EXPECT_LT(morphed.vertices_at_end, morphed.vertices_after_move) << "coarsening never ended";
+    EXPECT_LE(morphed.settled_error, 1e-3f) << "morphs did not finish";
 }

@@ -210,11 +210,14 @@ struct AdaptiveSettings {
     /// sum of their errors is smallest (a pattern search in the tangent plane, projected onto the
     /// surface). Base vertices and boundary vertices never move; a move that turns a face over
     /// or leaves a face with a smallest angle below min(relocate_min_angle_deg, the smallest at
-    /// the midpoint) is refused. With it every estimate samples each edge at least 4 times (at
-    /// most colour.max_samples_per_edge), so that a vertex is not moved to where only the edge
-    /// midpoints and the centroid look good. Undo (a collapse into an end of the split edge) and
-    /// morphing (from the parents' mean) do not depend on where the vertex went.
-    bool relocate = true;
+    /// the midpoint) is refused. With it the estimates take twice the samples per edge that
+    /// colour_error takes (a grid containing them), so that faces where only the edge midpoints
+    /// and the centroid look good are refined. Undo (a collapse into an end of the split edge)
+    /// and morphing (from the parents' mean) do not depend on where the vertex went. Off by
+    /// default: it tries up to 48 positions per new vertex (a dome's refinement takes about 20x
+    /// as long), and on terrain it saved little (one scene needed more vertices) while a moving
+    /// eye made it refine much more per update.
+    bool relocate = false;
     float relocate_min_angle_deg = 15.0f;  ///< 0 .. 60
 };
 
@@ -295,7 +298,7 @@ class AdaptiveMesh {
     float estimate(OpenMesh::FaceHandle f);
     bool splittable(OpenMesh::FaceHandle f) const;
     bool edge_locked(OpenMesh::EdgeHandle e) const;
-    int min_samples_per_edge() const;
+    int sample_multiple() const;
     OpenMesh::EdgeHandle longest_edge(OpenMesh::FaceHandle f) const;
     OpenMesh::EdgeHandle colour_edge(OpenMesh::FaceHandle f);
     void bisect(OpenMesh::EdgeHandle e, UpdateStats& stats);

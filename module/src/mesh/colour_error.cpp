@@ -32,11 +32,10 @@ double angular_size(const Frame<float>& frame, const glm::dvec3 (&p)[3]) {
 // Samples per edge for the estimate: the Mie lobe's width (about 1 - g rad for the normalised
 // Henyey-Greenstein phase) is sampled at least twice across.
 int estimate_samples_per_edge(const Frame<float>& frame, const ColourOptions& options,
-                              const glm::dvec3 (&p)[3], int min_samples) {
+                              const glm::dvec3 (&p)[3], int multiple) {
     const double lobe_rad = std::max(1.0 - std::abs(double(frame.mie_g)), 0.02);
     const double n = std::ceil(angular_size(frame, p) / (0.5 * lobe_rad));
-    const double most = double(options.max_samples_per_edge);
-    return int(std::clamp(n, std::min(double(min_samples), most), most));
+    return int(std::clamp(n, 2.0, double(options.max_samples_per_edge))) * multiple;
 }
 
 template <class Visit>
@@ -107,8 +106,8 @@ glm::dvec3 shown_point(const Frame<float>& frame, const ColourOptions& options,
 
 float colour_error_skipping(const Frame<float>& frame, const ColourOptions& options,
                             const glm::dvec3 (&p)[3], const glm::vec3 (&c)[3],
-                            const bool (&skip_edge)[3], int min_samples_per_edge) {
-    const int n = estimate_samples_per_edge(frame, options, p, min_samples_per_edge);
+                            const bool (&skip_edge)[3], int sample_multiple) {
+    const int n = estimate_samples_per_edge(frame, options, p, sample_multiple);
     glm::vec3 shown[3] = {c[0], c[1], c[2]};
     if (options.quantized_vertices)
         for (glm::vec3& v : shown) v = glm::round(glm::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;

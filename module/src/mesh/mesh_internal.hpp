@@ -18,10 +18,11 @@ inline bool finite(const glm::dvec3& v) {
 
 /// colour_error with the midpoints of the edges flagged in `skip_edge` left out (edge i runs from
 /// vertex i to vertex i + 1): the adaptive mesh does not count locked edges it cannot split.
-/// `min_samples_per_edge` raises the estimate's sampling (at most options.max_samples_per_edge).
+/// `sample_multiple` times the samples per edge colour_error takes (a grid that contains its
+/// samples).
 float colour_error_skipping(const Frame<float>& frame, const ColourOptions& options,
                             const glm::dvec3 (&p)[3], const glm::vec3 (&c)[3],
-                            const bool (&skip_edge)[3], int min_samples_per_edge = 2);
+                            const bool (&skip_edge)[3], int sample_multiple = 1);
 
 /// The error at the midpoint of the edge a-b alone (the same sample colour_error takes there).
 float edge_midpoint_error(const Frame<float>& frame, const ColourOptions& options,

@@ -406,10 +406,11 @@ int where(const Scene& scene, double split_lsb, const Settings& settings) {
 
 // The median time of an update of a terrain of about 100k triangles seen from a camera flying at
 // 20 m/s, 60 frames per second, 40 m above the ground (after the first, full refinement).
-int bench_update(int frames) {
+int bench_update(int frames, int relocate) {
     Scene scene = terrain_scene(40.0, 10.0);
     const Mesh base = aerial::mesh::terrain_grid(scene.field, 224, 224).value();
     aerial::mesh::AdaptiveSettings a;
+    if (relocate >= 0) a.relocate = relocate == 1;
     a.colour = scene.colour;
     a.lock_boundary = false;
     aerial::mesh::AdaptiveMesh adaptive =
@@ -495,7 +496,12 @@ int main(int argc, char** argv) {
     if (frames < 1 || frames > 100000)
         return aerial::tools::fail(kTool,
                                    "--frames: expected 1 .. 100000, got " + std::to_string(frames));
-    if (bench) return bench_update(frames);
+    if (bench) {
+        if (app.count("--relocate") && relocate != 0 && relocate != 1)
+            return aerial::tools::fail(
+                kTool, "--relocate: expected 0 or 1, got " + std::to_string(relocate));
+        return bench_update(frames, app.count("--relocate") ? relocate : -1);
+    }
     if (out.empty() && !app.count("--where"))
         return aerial::tools::fail(kTool, "--out: required (or --bench-update, --where)");
 

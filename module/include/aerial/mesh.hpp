@@ -214,9 +214,9 @@ struct AdaptiveSettings {
     /// colour_error takes (a grid containing them), so that faces where only the edge midpoints
     /// and the centroid look good are refined. Undo (a collapse into an end of the split edge)
     /// and morphing (from the parents' mean) do not depend on where the vertex went. Off by
-    /// default: it tries up to 48 positions per new vertex (a dome's refinement takes about 20x
-    /// as long), and on terrain it saved little (one scene needed more vertices) while a moving
-    /// eye made it refine much more per update.
+    /// default: it tries up to 48 positions per new vertex (a dome's refinement takes 10 to 30
+    /// times as long), and on terrain it saved little (one scene needed more vertices) while the
+    /// updates for a moving eye took about 3 times as long. Meant for sky domes.
     bool relocate = false;
     float relocate_min_angle_deg = 15.0f;  ///< 0 .. 60
 };

@@ -8,10 +8,10 @@
 // Both take expm1(z) from its Taylor series for |z| < 1/2 and from an exp already computed
 // beyond it where there is one (F_ex), which keeps the per-vertex cost at one exp per channel.
 // The 2002 model, whose cost is all in the exponentials, has its own (ExpAndExpm1): exp and
-// expm1 from one range reduction, a degree-7 (accurate) or degree-5 (fast) polynomial, and the
-// distance and the Henyey–Greenstein power from refined reciprocal square roots; it also runs
-// from positions straight to RGBA8 codes in one pass (ShadeRgba8, which takes the height model
-// and the lit colour too).
+// expm1 from one range reduction, a table of 2^(j/8) and a degree-4 (accurate) or degree-3
+// (fast) polynomial, and the distance and the Henyey–Greenstein power from refined reciprocal
+// square roots; it also runs from positions straight to RGBA8 codes in one pass
+// (ShadeRgba8HoffmanPreetham; ShadeRgba8 takes the height model and the lit colour).
 // The scaled complementary error function of the Chapman factor is the rational form of
 // Numerical Recipes (erfcc, fractional error below 1.2e-7 for every y >= 0), kept in log form so
 // that log(H Ch) costs one log and no exp.
@@ -65,11 +65,22 @@ constexpr float kSunNodes[3] = {0.11270166537925831148f, 0.5f, 0.887298334620741
 constexpr float kSunWeights[3] = {5.0f / 18.0f, 8.0f / 18.0f, 5.0f / 18.0f};
 
 /// 2^(j/8) for j = 0..7, twice (ExpAndExpm1; AVX-512 lookups read four index bits).
-alignas(64) constexpr float kExp2Eighths[16] = {
-    1.0f, 1.0905077326652577f, 1.189207115002721f, 1.2968395546510096f,
-    1.4142135623730951f, 1.5422108254079407f, 1.681792830507429f, 1.8340080864093424f,
-    1.0f, 1.0905077326652577f, 1.189207115002721f, 1.2968395546510096f,
-    1.4142135623730951f, 1.5422108254079407f, 1.681792830507429f, 1.8340080864093424f};
+alignas(64) constexpr float kExp2Eighths[16] = {1.0f,
+                                                1.0905077326652577f,
+                                                1.189207115002721f,
+                                                1.2968395546510096f,
+                                                1.4142135623730951f,
+                                                1.5422108254079407f,
+                                                1.681792830507429f,
+                                                1.8340080864093424f,
+                                                1.0f,
+                                                1.0905077326652577f,
+                                                1.189207115002721f,
+                                                1.2968395546510096f,
+                                                1.4142135623730951f,
+                                                1.5422108254079407f,
+                                                1.681792830507429f,
+                                                1.8340080864093424f};
 
 /// Everything the kernels need from a Frame<float>, computed once per block, in float like the
 /// scalar models except where noted.
@@ -273,14 +284,18 @@ HWY_INLINE VF Exp2Eighths(hn::Vec<DI> bits) {
 
 /// exp(x) and expm1(x) for x <= 0 (minus an optical depth) from one range reduction: x =
 /// (8 m + j) ln2 / 8 + r with 8 m + j = round(8 x / ln2), j in 0..7, |r| <= ln2 / 16 (ln2 / 8
-/// in two parts, Cody–Waite), q = e^r - 1 by its Taylor polynomial of degree kDegree
+/// in two parts, Cody–Waite, for degree 4; in one for degree 3), q = e^r - 1 by its Taylor
+/// polynomial of degree kDegree
 /// (truncation relative to q at |r| = ln2 / 16: 2.9e-8 for degree 4, 3.4e-6 for degree 3), and
 /// s = 2^m 2^(j/8) from a table of eight floats and the exponent bits; then exp(x) = s q + s and
 /// expm1(x) = s q + (s - 1). The rounding of the table entry (at most 6e-8 relative) grows in
-/// s - 1 where it cancels against s q, to at most 1.3e-6 relative to expm1 near x = -ln2 / 16
-/// (the tests measure both errors). Below -87.33 both are their values there (1.2e-38 and -1:
-/// 0 and -1 to 8 bits and to any use of them here). 2^m and j come from the bits of the
-/// rounding constant: no float-int conversions. NaN gives the values at -87.33.
+/// s - 1 where it cancels against s q near x = -ln2 / 16. Measured over [-87.3, 0]
+/// (test_core_batch_kernels): relative error 1.1e-7 (exp) and 1.9e-7 (expm1) for degree 4,
+/// 4.1e-6 and 3.4e-6 for degree 3. Against the degree-7 and degree-5 polynomials on |r| <= ln2 / 2
+/// this saves three fused multiply-adds per channel for a lane permutation. Below -87.33 both are
+/// their values there (1.2e-38 and -1: 0 and -1 to 8 bits and to any use of them here). 2^m and j
+/// come from the bits of the rounding constant: no float-int conversions. NaN gives the values at
+/// -87.33.
 template <int kDegree>
 HWY_INLINE void ExpAndExpm1(VF x, VF& exp_x, VF& expm1_x) {
     static_assert(kDegree == 3 || kDegree == 4, "degree 3 (fast) or 4 (accurate)");
@@ -293,7 +308,14 @@ HWY_INLINE void ExpAndExpm1(VF x, VF& exp_x, VF& expm1_x) {
     // Adding 1.5 * 2^23 rounds to an integer n = 8 m + j and leaves it in the low mantissa bits.
     const VF shifted = hn::MulAdd(clamped, K(8.0f * 1.44269504088896340736f), K(12582912.0f));
     const VF n = hn::Sub(shifted, K(12582912.0f));
-    const VF r = hn::NegMulAdd(n, K(kLn2Lo), hn::NegMulAdd(n, K(kLn2Hi), clamped));
+    VF r;
+    if constexpr (kDegree == 4) {
+        r = hn::NegMulAdd(n, K(kLn2Lo), hn::NegMulAdd(n, K(kLn2Hi), clamped));
+    } else {
+        // One step: ln2 / 8 rounded to float is off by 3.7e-9 at most, |n| <= 1008 times that
+        // in r, below the degree-3 truncation wherever exp(x) reaches 1 / 255.
+        r = hn::NegMulAdd(n, K(0.69314718055994530942f / 8.0f), clamped);
+    }
     VF p;
     if constexpr (kDegree == 4) {
         p = hn::MulAdd(r, K(1.0f / 24.0f), K(1.0f / 6.0f));
@@ -613,14 +635,14 @@ HWY_INLINE void ForEachChannel(const F& f) {
 /// vectors before the next step, which puts independent work next to each other in program
 /// order. Each lane's operations are the same for any kN: the results are bit for bit those of
 /// kN = 1.
-template <class M, bool kInScattering, int kN, class Sink>
-HWY_INLINE void HoffmanPreethamVectors(const HoffmanPreethamConstants& k, const VF (&x)[kN],
-                                       const VF (&y)[kN], const VF (&z)[kN], MF (&valid)[kN],
-                                       const Sink& sink) {
+template <bool kInScattering, int kN>
+HWY_INLINE void HoffmanPreethamGeometry(const HoffmanPreethamConstants& k, const VF (&x)[kN],
+                                        const VF (&y)[kN], const VF (&z)[kN], MF (&valid)[kN],
+                                        VF (&s)[kN], VF (&rayleigh)[kN], VF (&mie)[kN]) {
     // Offset from the eye in engine units, then scaled: the difference is exact near the eye
     // (Sterbenz), where scaling first would round both terms at the size of the distance to the
     // origin; and no fused operation, so that every target rounds alike.
-    VF dx[kN], dy[kN], dz[kN], s2[kN], inv_s[kN], s[kN];
+    VF dx[kN], dy[kN], dz[kN], s2[kN], inv_s[kN];
 #define AERIAL_EACH _Pragma("GCC unroll 8") for (int j = 0; j < kN; ++j)
     AERIAL_EACH {
         dx[j] = hn::Sub(x[j], k.eye_units[0]);
@@ -643,7 +665,6 @@ HWY_INLINE void HoffmanPreethamVectors(const HoffmanPreethamConstants& k, const 
     // elsewhere, and d / s finite.
     AERIAL_EACH inv_s[j] = RefinedRsqrt(hn::Max(s2[j], K(kTiny)));
     AERIAL_EACH s[j] = hn::Mul(s2[j], inv_s[j]);
-    VF rayleigh[kN], mie[kN];
     if constexpr (kInScattering) {
         // Phases (see Phases): 1 - c' from the chord |d/s - sign(g) sun|^2 / 2, at most 2 but
         // for rounding; the direction of invalid lanes is taken as 0 (their L_in is 0).
@@ -658,10 +679,21 @@ HWY_INLINE void HoffmanPreethamVectors(const HoffmanPreethamConstants& k, const 
             mie[j] =
                 hn::Mul(inv_root_base, hn::Mul(inv_root_base, inv_root_base));  // over hg_numerator
         }
+    } else {
+        (void)rayleigh;
+        (void)mie;
     }
-    ForEachChannel([&](auto channel) {
-        constexpr int c = decltype(channel)::value;
-        AERIAL_EACH {
+#undef AERIAL_EACH
+}
+
+/// The channels of HoffmanPreethamVectors from its geometry: per vector, per channel.
+template <class M, bool kInScattering, int kN, class Sink>
+HWY_INLINE void HoffmanPreethamChannels(const HoffmanPreethamConstants& k, const VF (&s)[kN],
+                                        const VF (&rayleigh)[kN], const VF (&mie)[kN],
+                                        const Sink& sink) {
+    _Pragma("GCC unroll 8") for (int j = 0; j < kN; ++j) {
+        ForEachChannel([&](auto channel) {
+            constexpr int c = decltype(channel)::value;
             VF extinction, length;
             ExpAndExpm1<M::kExpDegree>(hn::Mul(k.minus_extinction[c], s[j]), extinction, length);
             if constexpr (kInScattering) {
@@ -674,11 +706,22 @@ HWY_INLINE void HoffmanPreethamVectors(const HoffmanPreethamConstants& k, const 
                              length));
             } else {
                 (void)length;
+                (void)rayleigh;
+                (void)mie;
                 sink(j, channel, extinction, hn::Zero(DF()));
             }
-        }
-    });
-#undef AERIAL_EACH
+        });
+    }
+}
+
+/// HoffmanPreethamGeometry, then HoffmanPreethamChannels.
+template <class M, bool kInScattering, int kN, class Sink>
+HWY_INLINE void HoffmanPreethamVectors(const HoffmanPreethamConstants& k, const VF (&x)[kN],
+                                       const VF (&y)[kN], const VF (&z)[kN], MF (&valid)[kN],
+                                       const Sink& sink) {
+    VF s[kN], rayleigh[kN], mie[kN];
+    HoffmanPreethamGeometry<kInScattering, kN>(k, x, y, z, valid, s, rayleigh, mie);
+    HoffmanPreethamChannels<M, kInScattering, kN>(k, s, rayleigh, mie, sink);
 }
 
 /// Vectors the one-pass kernel shades together (see HoffmanPreethamVectors).
@@ -1034,8 +1077,8 @@ struct HoffmanPreethamShader {
     const HoffmanPreethamConstants hp;
     explicit HoffmanPreethamShader(const FrameConstants& frame) : k(frame), hp(frame) {}
     HWY_INLINE void operator()(const VF (&x)[kN], const VF (&y)[kN], const VF (&z)[kN],
-                               MF (&valid)[kN], VF (&extinction)[kN][3],
-                               VF (&in_scattering)[kN][3], VF (&sun)[kN][3]) const {
+                               MF (&valid)[kN], VF (&extinction)[kN][3], VF (&in_scattering)[kN][3],
+                               VF (&sun)[kN][3]) const {
         HoffmanPreethamVectors<M, kInScattering, kN>(
             hp, x, y, z, valid, [&](int j, auto channel, VF f_ex, VF l_in) {
                 extinction[j][decltype(channel)::value] = f_ex;
@@ -1059,8 +1102,8 @@ struct HeightShader {
     static constexpr bool kInScatteringNonNegative = false;
     const FrameConstants& k;
     explicit HeightShader(const FrameConstants& frame) : k(frame) {}
-    HWY_INLINE void operator()(const VF (&x)[1], const VF (&y)[1], const VF (&z)[1],
-                               MF (&valid)[1], VF (&extinction)[1][3], VF (&in_scattering)[1][3],
+    HWY_INLINE void operator()(const VF (&x)[1], const VF (&y)[1], const VF (&z)[1], MF (&valid)[1],
+                               VF (&extinction)[1][3], VF (&in_scattering)[1][3],
                                VF (&sun)[1][3]) const {
         valid[0] = HeightVector<M, kInScattering, kSun>(
             k, x[0], y[0], z[0], RegisterOut{extinction[0], in_scattering[0], sun[0]});
@@ -1356,6 +1399,20 @@ void FastExp2Array(const float* in, float* out, std::size_t n) {
 void FastLog2Array(const float* in, float* out, std::size_t n) {
     ApplyToArray(in, out, n, [](VF x) { return FastLog2(x); });
 }
+void ExpAndExpm1Array(const float* in, float* exp_out, float* expm1_out, std::size_t n, bool fast) {
+    ApplyToArray(in, exp_out, n, [fast](VF x) {
+        VF e, m;
+        fast ? ExpAndExpm1<FastMath::kExpDegree>(x, e, m)
+             : ExpAndExpm1<AccurateMath::kExpDegree>(x, e, m);
+        return e;
+    });
+    ApplyToArray(in, expm1_out, n, [fast](VF x) {
+        VF e, m;
+        fast ? ExpAndExpm1<FastMath::kExpDegree>(x, e, m)
+             : ExpAndExpm1<AccurateMath::kExpDegree>(x, e, m);
+        return m;
+    });
+}
 
 /// RGBA8 words (R in the lowest byte, A = 255) of three channels, each scaled by `scale` then
 /// coded by the batch API's 8-bit rule floor(clamp(v, 0, 1) * 255 + 0.5), with the same float
@@ -1424,6 +1481,7 @@ HWY_EXPORT(Deinterleave3);
 HWY_EXPORT(ErfcxArray);
 HWY_EXPORT(FastExp2Array);
 HWY_EXPORT(FastLog2Array);
+HWY_EXPORT(ExpAndExpm1Array);
 
 std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block,
                              KernelPrecision precision) {
@@ -1458,6 +1516,10 @@ void simd_fast_exp2(const float* x, float* out, std::size_t n) {
 }
 void simd_fast_log2(const float* x, float* out, std::size_t n) {
     HWY_DYNAMIC_DISPATCH(FastLog2Array)(x, out, n);
+}
+void simd_exp_and_expm1(const float* x, float* exp_out, float* expm1_out, std::size_t n,
+                        bool fast) {
+    HWY_DYNAMIC_DISPATCH(ExpAndExpm1Array)(x, exp_out, expm1_out, n, fast);
 }
 
 // Test hooks: the targets compiled here that this CPU runs, and forcing one of them (an empty

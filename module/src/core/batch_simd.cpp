@@ -349,6 +349,9 @@ HWY_INLINE VF RefinedRsqrt(VF x) {
 /// Highway's functions (about 1 ulp).
 struct AccurateMath {
     static constexpr int kExpDegree = 4;  ///< of ExpAndExpm1
+    /// Vectors ShadeRgba8HoffmanPreetham shades side by side (measured: 2 beats 1 by 15 % and
+    /// 3 by 3 %; with the shorter exp of FastMath, 3 beats 2 by 4 %).
+    static constexpr int kInterleave = 2;
     static HWY_INLINE VF Exp(VF x) { return hn::Exp(DF(), x); }
     static HWY_INLINE VF Log(VF x) { return hn::Log(DF(), x); }
     static HWY_INLINE VF Expm1Far(VF x) { return hn::Expm1(DF(), x); }
@@ -362,6 +365,7 @@ struct AccurateMath {
 /// log1p with the rounding of 1 + x added back.
 struct FastMath {
     static constexpr int kExpDegree = 3;  ///< of ExpAndExpm1
+    static constexpr int kInterleave = 3;  ///< see AccurateMath
     static HWY_INLINE VF Exp(VF x) { return FastExp2(hn::Mul(x, K(kLog2E))); }
     static HWY_INLINE VF Log(VF x) { return hn::Mul(FastLog2(x), K(kLn2)); }
     static HWY_INLINE VF Expm1Far(VF x) { return hn::Sub(Exp(x), K(1.0f)); }
@@ -1331,10 +1335,10 @@ std::size_t ShadeRgba8For(const FrameConstants& k, Model model, const Rgba8Job& 
                        : ShadeRgba8<M, HoffmanPreethamShader<M, false, true>, false, true>(k, job);
         }
         if (!in_scattering) {
-            return ShadeRgba8HoffmanPreetham<M, true, false, kInterleave>(k, job);
+            return ShadeRgba8HoffmanPreetham<M, true, false, M::kInterleave>(k, job);
         }
-        return job.extinction ? ShadeRgba8HoffmanPreetham<M, true, true, kInterleave>(k, job)
-                              : ShadeRgba8HoffmanPreetham<M, false, true, kInterleave>(k, job);
+        return job.extinction ? ShadeRgba8HoffmanPreetham<M, true, true, M::kInterleave>(k, job)
+                              : ShadeRgba8HoffmanPreetham<M, false, true, M::kInterleave>(k, job);
     }
     if (lit) {
         return in_scattering ? ShadeRgba8<M, HeightShader<M, true, true>, true, true>(k, job)

@@ -349,8 +349,8 @@ HWY_INLINE VF RefinedRsqrt(VF x) {
 /// Highway's functions (about 1 ulp).
 struct AccurateMath {
     static constexpr int kExpDegree = 4;  ///< of ExpAndExpm1
-    /// Vectors ShadeRgba8HoffmanPreetham shades side by side (measured: 2 beats 1 by 15 % and
-    /// 3 by 3 %; with the shorter exp of FastMath, 3 beats 2 by 4 %).
+    /// Vectors ShadeRgba8HoffmanPreetham shades side by side (measured: 2 beats 1 by 12-15 %
+    /// and 3 by 2-5 %; with the shorter exp of FastMath, 3 beats 2 by 3-5 %).
     static constexpr int kInterleave = 2;
     static HWY_INLINE VF Exp(VF x) { return hn::Exp(DF(), x); }
     static HWY_INLINE VF Log(VF x) { return hn::Log(DF(), x); }
@@ -364,7 +364,7 @@ struct AccurateMath {
 /// Polynomial exp2/log2; expm1 as exp - 1 beyond the series (relative error about 1e-5 there);
 /// log1p with the rounding of 1 + x added back.
 struct FastMath {
-    static constexpr int kExpDegree = 3;  ///< of ExpAndExpm1
+    static constexpr int kExpDegree = 3;   ///< of ExpAndExpm1
     static constexpr int kInterleave = 3;  ///< see AccurateMath
     static HWY_INLINE VF Exp(VF x) { return FastExp2(hn::Mul(x, K(kLog2E))); }
     static HWY_INLINE VF Log(VF x) { return hn::Mul(FastLog2(x), K(kLn2)); }
@@ -639,6 +639,9 @@ HWY_INLINE void ForEachChannel(const F& f) {
 /// vectors before the next step, which puts independent work next to each other in program
 /// order. Each lane's operations are the same for any kN: the results are bit for bit those of
 /// kN = 1.
+///
+/// In two halves: HoffmanPreethamGeometry gives the valid lanes, s and the phases (over their
+/// constants); HoffmanPreethamChannels the channels from them; HoffmanPreethamVectors calls both.
 template <bool kInScattering, int kN>
 HWY_INLINE void HoffmanPreethamGeometry(const HoffmanPreethamConstants& k, const VF (&x)[kN],
                                         const VF (&y)[kN], const VF (&z)[kN], MF (&valid)[kN],

@@ -258,10 +258,12 @@ class WorkerPool {
     }
 
     /// Runs task(first, last) over the items [0, items) in contiguous pieces, on the calling
-    /// thread and up to min(threads, items) - 1 workers; returns the number of threads that
-    /// took part. Pieces are guided: each is the items left over twice the threads (at least
-    /// min_piece), so the first pieces are large and the last ones small, and the threads
-    /// finish together whenever one of them started late or was slowed down.
+    /// thread and up to min(threads, items) - 1 workers; returns the number of threads the work
+    /// was offered to. Pieces are guided: each is the items left over twice the threads (at
+    /// least min_piece), so the first pieces are large and the last ones small, and the threads
+    /// finish together whenever one of them started late or was slowed down. A worker that has
+    /// not woken up by the time every piece is taken is not waited for: on a machine whose other
+    /// cores are busy the caller does the work alone instead of waiting for a time slice.
     unsigned run(unsigned threads, std::size_t items, std::size_t min_piece,
                  const std::function<void(std::size_t, std::size_t)>& task) {
         std::unique_lock<std::mutex> batch(batch_mutex_, std::try_to_lock);
@@ -287,6 +289,10 @@ class WorkerPool {
         wake_.notify_all();
         work();
         std::unique_lock<std::mutex> lock(mutex_);
+        // Every piece is taken: seats not yet taken are withdrawn, only workers at work are
+        // waited for.
+        running_ -= seats_;
+        seats_ = 0;
         done_.wait(lock, [this] { return running_ == 0; });
         task_ = nullptr;
         return helpers + 1;

@@ -112,8 +112,9 @@ struct BatchSettings {
     Kernel kernel = Kernel::simd;
     /// Worker threads, including the caller's: 0 = all hardware threads, 1 = the caller only.
     /// The workers are created on first need and kept (joined at exit); a split batch is cut
-    /// into about 8 chunks per thread, taken by whichever thread is free. One batch at a time
-    /// uses them: a call made while another application thread's batch has them runs alone.
+    /// into contiguous pieces, each the part left over twice the threads (large first, small
+    /// last), taken by whichever thread is free. One batch at a time uses them: a call made
+    /// while another application thread's batch has them runs alone.
     unsigned threads = 0;
     /// Batches smaller than this many vertices per thread are not split (no thread overhead).
     std::size_t min_vertices_per_thread = 32768;

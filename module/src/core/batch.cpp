@@ -243,8 +243,8 @@ std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
     return invalid;
 }
 
-/// Chunks per thread of a split batch.
-constexpr std::size_t kChunksPerThread = 8;
+/// Smallest piece of a split batch, in blocks (2048 vertices, a few microseconds of work).
+constexpr std::size_t kMinPieceBlocks = 8;
 
 /// Threads that outlive the calls: a batch split over threads pays for no thread creation. One
 /// batch at a time uses them; a call that finds them busy (another thread of the application is
@@ -257,23 +257,30 @@ class WorkerPool {
         return pool;
     }
 
-    /// Runs task(0) ... task(tasks - 1) on the calling thread and up to threads - 1 workers;
-    /// returns the number of threads that took part.
-    unsigned run(unsigned threads, std::size_t tasks,
-                 const std::function<void(std::size_t)>& task) {
+    /// Runs task(first, last) over the items [0, items) in contiguous pieces, on the calling
+    /// thread and up to min(threads, items) - 1 workers; returns the number of threads the work
+    /// was offered to. Pieces are guided: each is the items left over twice the threads (at
+    /// least min_piece), so the first pieces are large and the last ones small, and the threads
+    /// finish together whenever one of them started late or was slowed down. A worker that has
+    /// not woken up by the time every piece is taken is not waited for: on a machine whose other
+    /// cores are busy the caller does the work alone instead of waiting for a time slice.
+    unsigned run(unsigned threads, std::size_t items, std::size_t min_piece,
+                 const std::function<void(std::size_t, std::size_t)>& task) {
         std::unique_lock<std::mutex> batch(batch_mutex_, std::try_to_lock);
         // In a child of fork() the workers are gone: it works alone.
-        const bool usable = batch.owns_lock() && tasks > 1 && same_process();
+        const bool usable = batch.owns_lock() && items > 1 && same_process();
         unsigned helpers = usable ? grow(std::min(threads - 1, kMaxWorkers)) : 0u;
-        helpers = static_cast<unsigned>(std::min<std::size_t>(helpers, tasks - 1));
+        helpers = static_cast<unsigned>(std::min<std::size_t>(helpers, items - 1));
         if (helpers == 0) {
-            for (std::size_t t = 0; t < tasks; ++t) task(t);
+            if (items > 0) task(0, items);
             return 1;
         }
         {
             std::lock_guard<std::mutex> lock(mutex_);
             task_ = &task;
-            tasks_ = tasks;
+            items_ = items;
+            min_piece_ = std::max<std::size_t>(min_piece, 1);
+            parts_ = 2 * (std::size_t(helpers) + 1);
             next_.store(0, std::memory_order_relaxed);
             seats_ = helpers;
             running_ = helpers;
@@ -282,6 +289,10 @@ class WorkerPool {
         wake_.notify_all();
         work();
         std::unique_lock<std::mutex> lock(mutex_);
+        // Every piece is taken: seats not yet taken are withdrawn, only workers at work are
+        // waited for.
+        running_ -= seats_;
+        seats_ = 0;
         done_.wait(lock, [this] { return running_ == 0; });
         task_ = nullptr;
         return helpers + 1;
@@ -323,8 +334,16 @@ class WorkerPool {
     }
 
     void work() {
-        for (std::size_t t; (t = next_.fetch_add(1, std::memory_order_relaxed)) < tasks_;) {
-            (*task_)(t);
+        std::size_t first = next_.load(std::memory_order_relaxed);
+        for (;;) {
+            std::size_t last;
+            do {
+                if (first >= items_) return;
+                const std::size_t left = items_ - first;
+                last = first + std::min(left, std::max(min_piece_, left / parts_));
+            } while (!next_.compare_exchange_weak(first, last, std::memory_order_relaxed));
+            (*task_)(first, last);
+            first = next_.load(std::memory_order_relaxed);
         }
     }
 
@@ -347,8 +366,10 @@ class WorkerPool {
     std::mutex mutex_;        // guards everything below
     std::condition_variable wake_, done_;
     std::vector<std::thread> workers_;
-    const std::function<void(std::size_t)>* task_ = nullptr;
-    std::size_t tasks_ = 0;
+    const std::function<void(std::size_t, std::size_t)>* task_ = nullptr;
+    std::size_t items_ = 0;
+    std::size_t min_piece_ = 1;
+    std::size_t parts_ = 2;
     std::atomic<std::size_t> next_{0};
     unsigned seats_ = 0;    // workers still to join the current batch
     unsigned running_ = 0;  // workers of the current batch not yet done
@@ -440,7 +461,8 @@ Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positi
 
     BatchStats stats;
     stats.vertices = positions.count;
-    const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+    // Asked once: glibc reads /sys on every call (about 10 us, as long as shading 3000 vertices).
+    static const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
     const unsigned wanted = settings.threads ? settings.threads : hardware;
     const std::size_t per_thread = std::max<std::size_t>(settings.min_vertices_per_thread, 1);
     const unsigned threads = static_cast<unsigned>(
@@ -450,17 +472,18 @@ Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positi
         stats.invalid_vertices = shade_range(plan, 0, positions.count);
         return stats;
     }
-    // About kChunksPerThread chunks of whole blocks per thread, taken in turn by whichever thread
-    // is free: a thread slowed down by other work on the machine takes fewer.
+    // Whole blocks in guided pieces (WorkerPool::run), taken by whichever thread is free: a
+    // thread that starts late or is slowed down by other work on the machine takes fewer.
     const std::size_t blocks = (positions.count + kBlockSize - 1) / kBlockSize;
-    const std::size_t chunks =
-        std::min<std::size_t>(blocks, std::size_t(threads) * kChunksPerThread);
+    const std::size_t min_piece =
+        std::clamp<std::size_t>(blocks / (std::size_t(threads) * 16), 1, kMinPieceBlocks);
     std::atomic<std::size_t> invalid{0};
-    stats.threads_used = WorkerPool::instance().run(threads, chunks, [&](std::size_t c) {
-        const std::size_t first = std::min(positions.count, blocks * c / chunks * kBlockSize);
-        const std::size_t last = std::min(positions.count, blocks * (c + 1) / chunks * kBlockSize);
-        invalid.fetch_add(shade_range(plan, first, last), std::memory_order_relaxed);
-    });
+    stats.threads_used = WorkerPool::instance().run(
+        threads, blocks, min_piece, [&](std::size_t first_block, std::size_t last_block) {
+            const std::size_t first = std::min(positions.count, first_block * kBlockSize);
+            const std::size_t last = std::min(positions.count, last_block * kBlockSize);
+            invalid.fetch_add(shade_range(plan, first, last), std::memory_order_relaxed);
+        });
     stats.invalid_vertices = invalid.load();
     return stats;
 }

@@ -21,10 +21,10 @@ inline constexpr std::size_t kBlockSize = 256;
 /// How the kernels compute exp/log.
 enum class KernelPrecision {
     /// Highway's Exp/Log/Expm1/Log1p (about 1 ulp); hoffman-preetham: exp and expm1 from one
-    /// range reduction and a degree-7 polynomial (relative error about 1e-7)
+    /// range reduction, a table of 2^(j/8) and a degree-4 polynomial (relative error 2e-7)
     accurate,
-    /// low-degree polynomial exp2/log2; hoffman-preetham: the same exp/expm1 with degree 5
-    /// (relative error 7e-6); errors measured by the tests, well below 1 LSB
+    /// low-degree polynomial exp2/log2; hoffman-preetham: the same exp/expm1 with degree 3
+    /// (relative error 4e-6); errors measured by the tests, well below 1 LSB
     fast,
 };
 

@@ -8,10 +8,10 @@
 // Both take expm1(z) from its Taylor series for |z| < 1/2 and from an exp already computed
 // beyond it where there is one (F_ex), which keeps the per-vertex cost at one exp per channel.
 // The 2002 model, whose cost is all in the exponentials, has its own (ExpAndExpm1): exp and
-// expm1 from one range reduction, a degree-7 (accurate) or degree-5 (fast) polynomial, and the
-// distance and the Henyey–Greenstein power from refined reciprocal square roots; it also runs
-// from positions straight to RGBA8 codes in one pass (ShadeRgba8, which takes the height model
-// and the lit colour too).
+// expm1 from one range reduction, a table of 2^(j/8) and a degree-4 (accurate) or degree-3
+// (fast) polynomial, and the distance and the Henyey–Greenstein power from refined reciprocal
+// square roots; it also runs from positions straight to RGBA8 codes in one pass
+// (ShadeRgba8HoffmanPreetham; ShadeRgba8 takes the height model and the lit colour).
 // The scaled complementary error function of the Chapman factor is the rational form of
 // Numerical Recipes (erfcc, fractional error below 1.2e-7 for every y >= 0), kept in log form so
 // that log(H Ch) costs one log and no exp.
@@ -26,6 +26,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -62,6 +63,24 @@ constexpr float kTiny = std::numeric_limits<float>::min();
 /// 3-point Gauss–Legendre on [0, 1] (scattering.cpp, height_model).
 constexpr float kSunNodes[3] = {0.11270166537925831148f, 0.5f, 0.88729833462074168852f};
 constexpr float kSunWeights[3] = {5.0f / 18.0f, 8.0f / 18.0f, 5.0f / 18.0f};
+
+/// 2^(j/8) for j = 0..7, twice (ExpAndExpm1; AVX-512 lookups read four index bits).
+alignas(64) constexpr float kExp2Eighths[16] = {1.0f,
+                                                1.0905077326652577f,
+                                                1.189207115002721f,
+                                                1.2968395546510096f,
+                                                1.4142135623730951f,
+                                                1.5422108254079407f,
+                                                1.681792830507429f,
+                                                1.8340080864093424f,
+                                                1.0f,
+                                                1.0905077326652577f,
+                                                1.189207115002721f,
+                                                1.2968395546510096f,
+                                                1.4142135623730951f,
+                                                1.5422108254079407f,
+                                                1.681792830507429f,
+                                                1.8340080864093424f};
 
 /// Everything the kernels need from a Frame<float>, computed once per block, in float like the
 /// scalar models except where noted.
@@ -186,6 +205,14 @@ using MF = hn::Mask<DF>;
 
 HWY_INLINE VF K(float value) { return hn::Set(DF(), value); }
 
+// Lambdas with a large body called once per loop iteration: GCC leaves them out of line (and
+// the loop's constants in memory behind the closure) unless told.
+#if defined(__GNUC__)
+#define AERIAL_INLINE_LAMBDA __attribute__((always_inline))
+#else
+#define AERIAL_INLINE_LAMBDA
+#endif
+
 // ---- Fast exp2 / log2 -------------------------------------------------------------------------
 
 /// 2^x: x = n + f with n = round(x), f in [-1/2, 1/2]; 2^f = 1 + f Q(f), Q cubic minimax for
@@ -229,38 +256,78 @@ HWY_INLINE VF FastLog2(VF x) {
 constexpr float kLog2E = 1.44269504088896340736f;
 constexpr float kLn2 = 0.69314718055994530942f;
 
-/// exp(x) and expm1(x) for x <= 0 (minus an optical depth) from one range reduction, both to
-/// full relative precision: x = n ln2 + r with n = round(x / ln2), |r| <= ln2 / 2 (ln2 in two
-/// parts, Cody–Waite), and q = e^r - 1 by its Taylor polynomial of degree kDegree (truncation
-/// relative to q at |r| = ln2 / 2: 1.5e-8 for degree 7, 6.6e-6 for degree 5); then exp(x) =
-/// 2^n q + 2^n and expm1(x) = 2^n q + (2^n - 1), which has no cancellation (for n = 0 it is q
-/// itself). Below -87.33 both are their values there (1.2e-38 and -1: 0 and -1 to 8 bits and
-/// to any use of them here). 2^n comes from the exponent bits of the rounding constant: no
-/// float-int conversions. NaN gives the values at -87.33.
+/// 2^(j/8) for the low three bits j of each lane (the other bits are ignored): one lane
+/// permutation on AVX2 and AVX-512 (whose 16-lane permutation reads four index bits: the table
+/// is there twice), two lookups and a select on 4-lane targets.
+HWY_INLINE VF Exp2Eighths(hn::Vec<DI> bits) {
+    const DF d;
+#if HWY_TARGET == HWY_SCALAR
+    return hn::Set(d, simd::kExp2Eighths[hn::GetLane(bits) & 7]);
+#elif HWY_ARCH_X86 && HWY_TARGET == HWY_AVX2
+    return VF{_mm256_permutevar8x32_ps(hn::Load(d, simd::kExp2Eighths).raw, bits.raw)};
+#elif HWY_ARCH_X86 && (HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL)
+    return VF{_mm512_permutexvar_ps(bits.raw, hn::Load(d, simd::kExp2Eighths).raw)};
+#else
+    const DI di;
+    if constexpr (hn::MaxLanes(d) >= 8) {
+        return hn::TableLookupLanes(hn::Load(d, simd::kExp2Eighths),
+                                    hn::IndicesFromVec(d, hn::And(bits, hn::Set(di, 7))));
+    } else {
+        const auto index = hn::IndicesFromVec(d, hn::And(bits, hn::Set(di, 3)));
+        const VF low = hn::TableLookupLanes(hn::Load(d, simd::kExp2Eighths), index);
+        const VF high = hn::TableLookupLanes(hn::Load(d, simd::kExp2Eighths + 4), index);
+        const MF upper = hn::RebindMask(d, hn::Ne(hn::And(bits, hn::Set(di, 4)), hn::Zero(di)));
+        return hn::IfThenElse(upper, high, low);
+    }
+#endif
+}
+
+/// exp(x) and expm1(x) for x <= 0 (minus an optical depth) from one range reduction: x =
+/// (8 m + j) ln2 / 8 + r with 8 m + j = round(8 x / ln2), j in 0..7, |r| <= ln2 / 16 (ln2 / 8
+/// in two parts, Cody–Waite, for degree 4; in one for degree 3), q = e^r - 1 by its Taylor
+/// polynomial of degree kDegree
+/// (truncation relative to q at |r| = ln2 / 16: 2.9e-8 for degree 4, 3.4e-6 for degree 3), and
+/// s = 2^m 2^(j/8) from a table of eight floats and the exponent bits; then exp(x) = s q + s and
+/// expm1(x) = s q + (s - 1). The rounding of the table entry (at most 6e-8 relative) grows in
+/// s - 1 where it cancels against s q near x = -ln2 / 16. Measured over [-87.3, 0]
+/// (test_core_batch_kernels): relative error 1.1e-7 (exp) and 1.9e-7 (expm1) for degree 4,
+/// 4.1e-6 and 3.4e-6 for degree 3. Against the degree-7 and degree-5 polynomials on |r| <= ln2 / 2
+/// this saves three fused multiply-adds per channel for a lane permutation. Below -87.33 both are
+/// their values there (1.2e-38 and -1: 0 and -1 to 8 bits and to any use of them here). 2^m and j
+/// come from the bits of the rounding constant: no float-int conversions. NaN gives the values at
+/// -87.33.
 template <int kDegree>
 HWY_INLINE void ExpAndExpm1(VF x, VF& exp_x, VF& expm1_x) {
-    static_assert(kDegree == 5 || kDegree == 7, "degree 5 (fast) or 7 (accurate)");
+    static_assert(kDegree == 3 || kDegree == 4, "degree 3 (fast) or 4 (accurate)");
     const DF d;
     const DI di;
-    constexpr float kLn2Hi = 0.693145751953125f;  // 15 bits: n kLn2Hi is exact for |n| <= 128
-    constexpr float kLn2Lo = 1.42860682030941723212e-6f;
+    // ln2 / 8 in two parts (Cephes' split of ln2): n kLn2Hi is exact for |n| < 2^15.
+    constexpr float kLn2Hi = 0.693359375f / 8.0f;
+    constexpr float kLn2Lo = -2.12194440e-4f / 8.0f;
     const VF clamped = hn::Max(x, K(-87.33f));
-    const VF shifted = hn::MulAdd(clamped, K(1.44269504088896340736f), K(12582912.0f));
+    // Adding 1.5 * 2^23 rounds to an integer n = 8 m + j and leaves it in the low mantissa bits.
+    const VF shifted = hn::MulAdd(clamped, K(8.0f * 1.44269504088896340736f), K(12582912.0f));
     const VF n = hn::Sub(shifted, K(12582912.0f));
-    const VF r = hn::NegMulAdd(n, K(kLn2Lo), hn::NegMulAdd(n, K(kLn2Hi), clamped));
-    VF p;
-    if constexpr (kDegree == 7) {
-        p = hn::MulAdd(r, K(1.0f / 5040.0f), K(1.0f / 720.0f));
-        p = hn::MulAdd(p, r, K(1.0f / 120.0f));
-        p = hn::MulAdd(p, r, K(1.0f / 24.0f));
+    VF r;
+    if constexpr (kDegree == 4) {
+        r = hn::NegMulAdd(n, K(kLn2Lo), hn::NegMulAdd(n, K(kLn2Hi), clamped));
     } else {
-        p = hn::MulAdd(r, K(1.0f / 120.0f), K(1.0f / 24.0f));
+        // One step: ln2 / 8 rounded to float is off by 3.7e-9 at most, |n| <= 1008 times that
+        // in r, below the degree-3 truncation wherever exp(x) reaches 1 / 255.
+        r = hn::NegMulAdd(n, K(0.69314718055994530942f / 8.0f), clamped);
     }
-    p = hn::MulAdd(p, r, K(1.0f / 6.0f));
-    p = hn::MulAdd(p, r, K(0.5f));
+    VF p;
+    if constexpr (kDegree == 4) {
+        p = hn::MulAdd(r, K(1.0f / 24.0f), K(1.0f / 6.0f));
+        p = hn::MulAdd(p, r, K(0.5f));
+    } else {
+        p = hn::MulAdd(r, K(1.0f / 6.0f), K(0.5f));
+    }
     const VF q = hn::MulAdd(hn::Mul(p, r), r, r);  // r + r^2 (1/2 + r/6 + ...)
-    const VF scale =
-        hn::BitCast(d, hn::ShiftLeft<23>(hn::Add(hn::BitCast(di, shifted), hn::Set(di, 127))));
+    const hn::Vec<DI> bits = hn::BitCast(di, shifted);
+    // m << 23 = (n & ~7) << 20: the constant's own bits leave the 32-bit lane.
+    const VF scale = hn::BitCast(d, hn::Add(hn::BitCast(di, Exp2Eighths(bits)),
+                                            hn::ShiftLeft<20>(hn::And(bits, hn::Set(di, ~7)))));
     exp_x = hn::MulAdd(scale, q, scale);
     expm1_x = hn::MulAdd(scale, q, hn::Sub(scale, K(1.0f)));
 }
@@ -281,7 +348,10 @@ HWY_INLINE VF RefinedRsqrt(VF x) {
 
 /// Highway's functions (about 1 ulp).
 struct AccurateMath {
-    static constexpr int kExpDegree = 7;  ///< of ExpAndExpm1
+    static constexpr int kExpDegree = 4;  ///< of ExpAndExpm1
+    /// Vectors ShadeRgba8HoffmanPreetham shades side by side (measured: 2 beats 1 by 12-15 %
+    /// and 3 by 2-5 %; with the shorter exp of FastMath, 3 beats 2 by 3-5 %).
+    static constexpr int kInterleave = 2;
     static HWY_INLINE VF Exp(VF x) { return hn::Exp(DF(), x); }
     static HWY_INLINE VF Log(VF x) { return hn::Log(DF(), x); }
     static HWY_INLINE VF Expm1Far(VF x) { return hn::Expm1(DF(), x); }
@@ -294,7 +364,8 @@ struct AccurateMath {
 /// Polynomial exp2/log2; expm1 as exp - 1 beyond the series (relative error about 1e-5 there);
 /// log1p with the rounding of 1 + x added back.
 struct FastMath {
-    static constexpr int kExpDegree = 5;  ///< of ExpAndExpm1
+    static constexpr int kExpDegree = 3;   ///< of ExpAndExpm1
+    static constexpr int kInterleave = 3;  ///< see AccurateMath
     static HWY_INLINE VF Exp(VF x) { return FastExp2(hn::Mul(x, K(kLog2E))); }
     static HWY_INLINE VF Log(VF x) { return hn::Mul(FastLog2(x), K(kLn2)); }
     static HWY_INLINE VF Expm1Far(VF x) { return hn::Sub(Exp(x), K(1.0f)); }
@@ -514,43 +585,86 @@ HWY_INLINE Segment MakeSegment(const FrameConstants& k, VF x, VF y, VF z) {
 
 // ---- hoffman-preetham -------------------------------------------------------------------------
 
+/// The 2002 model's per-frame constants as whole vectors, built once per call (or block): the
+/// loops take them as memory operands instead of broadcasting them again in every iteration.
+struct HoffmanPreethamConstants {
+    VF eye_units[3];
+    VF meters_per_unit;
+    VF max_distance_sq_m2;
+    VF hg_peak[3];
+    VF hg_a, hg_b;
+    VF minus_extinction[3];
+    VF rayleigh_path[3], mie_path[3];
+    bool unit_scale;
+
+    explicit HoffmanPreethamConstants(const FrameConstants& k)
+        : meters_per_unit(K(k.meters_per_unit)),
+          max_distance_sq_m2(K(k.max_distance_sq_m2)),
+          hg_a(K(k.hg_a)),
+          hg_b(K(k.hg_b)),
+          unit_scale(k.unit_scale) {
+        for (int i = 0; i < 3; ++i) {
+            eye_units[i] = K(k.eye_units[i]);
+            hg_peak[i] = K(k.hg_peak[i]);
+            minus_extinction[i] = K(k.hp_minus_extinction[i]);
+            rayleigh_path[i] = K(k.hp_rayleigh_path[i]);
+            mie_path[i] = K(k.hp_mie_path[i]);
+        }
+    }
+};
+
+/// Calls f(std::integral_constant<int, c>()) for the channels c = 0, 1, 2 (so that c can be a
+/// template argument, such as the shift of the channel's byte).
+template <class F>
+HWY_INLINE void ForEachChannel(const F& f) {
+    f(std::integral_constant<int, 0>());
+    f(std::integral_constant<int, 1>());
+    f(std::integral_constant<int, 2>());
+}
+
 /// The 2002 model for kN vectors of positions at once (engine units): F_ex, and L_in when
 /// kInScattering; invalid lanes (NaN, Inf, farther than kMaxDistanceM) get F_ex = 1, L_in = 0.
-/// Sets valid[j] to the valid lanes of vector j. The distance s and the direction d / s come
-/// from one refined reciprocal square root of |d|^2 (no square root, no division); per channel
-/// one ExpAndExpm1 gives F_ex = exp(-tau) and the path length s phi(tau) = -expm1(-tau) /
-/// beta_ex with tau = beta_ex s, exact down to tau = 0 without a series; the phases are computed
-/// once per vertex (the Henyey–Greenstein power with a second refined reciprocal square root).
+/// Sets valid[j] to the valid lanes of vector j and hands each channel's results to
+/// sink(j, std::integral_constant<int, c>, F_ex, L_in) as soon as they are computed (L_in is 0
+/// without kInScattering), so that the caller can turn them into codes before the next channel
+/// needs the registers. The distance s and the direction d / s come from one refined reciprocal
+/// square root of |d|^2 (no square root, no division); per channel one ExpAndExpm1 gives F_ex =
+/// exp(-tau) and the path length s phi(tau) = -expm1(-tau) / beta_ex with tau = beta_ex s, exact
+/// down to tau = 0 without a series; the phases are computed once per vertex (the
+/// Henyey–Greenstein power with a second refined reciprocal square root).
 ///
-/// Why kN vectors: one vector is about 120 instructions along a chain of dependent operations
-/// (square root, exponential polynomial, codes) as long as the out-of-order window of a core, so
-/// one vector at a time leaves most execution ports idle waiting on latency. Every step below is
-/// written for all kN vectors before the next step, which puts independent work next to each
-/// other in program order. Each lane's operations are the same for any kN: the results are bit
-/// for bit those of kN = 1.
-template <class M, bool kInScattering, int kN>
-HWY_INLINE void HoffmanPreethamVectors(const FrameConstants& k, const VF (&x)[kN],
-                                       const VF (&y)[kN], const VF (&z)[kN], MF (&valid)[kN],
-                                       VF (&extinction)[kN][3], VF (&in_scattering)[kN][3]) {
+/// Why kN vectors: one vector is a chain of dependent operations (square root, exponential
+/// polynomial, codes) about as long as the out-of-order window of a core, so one vector at a
+/// time leaves execution ports idle waiting on latency. Every step below is written for all kN
+/// vectors before the next step, which puts independent work next to each other in program
+/// order. Each lane's operations are the same for any kN: the results are bit for bit those of
+/// kN = 1.
+///
+/// In two halves: HoffmanPreethamGeometry gives the valid lanes, s and the phases (over their
+/// constants); HoffmanPreethamChannels the channels from them; HoffmanPreethamVectors calls both.
+template <bool kInScattering, int kN>
+HWY_INLINE void HoffmanPreethamGeometry(const HoffmanPreethamConstants& k, const VF (&x)[kN],
+                                        const VF (&y)[kN], const VF (&z)[kN], MF (&valid)[kN],
+                                        VF (&s)[kN], VF (&rayleigh)[kN], VF (&mie)[kN]) {
     // Offset from the eye in engine units, then scaled: the difference is exact near the eye
     // (Sterbenz), where scaling first would round both terms at the size of the distance to the
     // origin; and no fused operation, so that every target rounds alike.
-    VF dx[kN], dy[kN], dz[kN], s2[kN], inv_s[kN], s[kN];
+    VF dx[kN], dy[kN], dz[kN], s2[kN], inv_s[kN];
 #define AERIAL_EACH _Pragma("GCC unroll 8") for (int j = 0; j < kN; ++j)
     AERIAL_EACH {
-        dx[j] = hn::Sub(x[j], K(k.eye_units[0]));
-        dy[j] = hn::Sub(y[j], K(k.eye_units[1]));
-        dz[j] = hn::Sub(z[j], K(k.eye_units[2]));
+        dx[j] = hn::Sub(x[j], k.eye_units[0]);
+        dy[j] = hn::Sub(y[j], k.eye_units[1]);
+        dz[j] = hn::Sub(z[j], k.eye_units[2]);
     }
     if (!k.unit_scale) {
         AERIAL_EACH {
-            dx[j] = hn::Mul(dx[j], K(k.meters_per_unit));
-            dy[j] = hn::Mul(dy[j], K(k.meters_per_unit));
-            dz[j] = hn::Mul(dz[j], K(k.meters_per_unit));
+            dx[j] = hn::Mul(dx[j], k.meters_per_unit);
+            dy[j] = hn::Mul(dy[j], k.meters_per_unit);
+            dz[j] = hn::Mul(dz[j], k.meters_per_unit);
         }
     }
     AERIAL_EACH s2[j] = Dot(dx[j], dy[j], dz[j], dx[j], dy[j], dz[j]);
-    AERIAL_EACH valid[j] = hn::Le(s2[j], K(k.max_distance_sq_m2));  // false for NaN
+    AERIAL_EACH valid[j] = hn::Le(s2[j], k.max_distance_sq_m2);  // false for NaN
     // Invalid lanes are moved onto the eye, where F_ex = exp(0) = 1 and L_in = 0 exactly.
     AERIAL_EACH s2[j] = hn::IfThenElseZero(valid[j], s2[j]);
     // |d|^2 below the smallest normal float (|d| < 1.1e-19 m, 0 at the eye) is raised to it
@@ -558,60 +672,63 @@ HWY_INLINE void HoffmanPreethamVectors(const FrameConstants& k, const VF (&x)[kN
     // elsewhere, and d / s finite.
     AERIAL_EACH inv_s[j] = RefinedRsqrt(hn::Max(s2[j], K(kTiny)));
     AERIAL_EACH s[j] = hn::Mul(s2[j], inv_s[j]);
-    VF length[kN][3];
-    for (int c = 0; c < 3; ++c) {
-        AERIAL_EACH {
-            ExpAndExpm1<M::kExpDegree>(hn::Mul(K(k.hp_minus_extinction[c]), s[j]), extinction[j][c],
-                                       length[j][c]);
-        }
-    }
     if constexpr (kInScattering) {
         // Phases (see Phases): 1 - c' from the chord |d/s - sign(g) sun|^2 / 2, at most 2 but
         // for rounding; the direction of invalid lanes is taken as 0 (their L_in is 0).
-        VF rayleigh[kN], mie[kN];
         AERIAL_EACH {
-            const VF cx =
-                hn::MulSub(hn::IfThenElseZero(valid[j], dx[j]), inv_s[j], K(k.hg_peak[0]));
-            const VF cy =
-                hn::MulSub(hn::IfThenElseZero(valid[j], dy[j]), inv_s[j], K(k.hg_peak[1]));
-            const VF cz =
-                hn::MulSub(hn::IfThenElseZero(valid[j], dz[j]), inv_s[j], K(k.hg_peak[2]));
+            const VF cx = hn::MulSub(hn::IfThenElseZero(valid[j], dx[j]), inv_s[j], k.hg_peak[0]);
+            const VF cy = hn::MulSub(hn::IfThenElseZero(valid[j], dy[j]), inv_s[j], k.hg_peak[1]);
+            const VF cz = hn::MulSub(hn::IfThenElseZero(valid[j], dz[j]), inv_s[j], k.hg_peak[2]);
             const VF one_minus_c = hn::Min(hn::Mul(Dot(cx, cy, cz, cx, cy, cz), K(0.5f)), K(2.0f));
             const VF c = hn::Sub(K(1.0f), one_minus_c);
             rayleigh[j] = hn::MulAdd(c, c, K(1.0f));  // over 3 / (16 pi)
-            const VF inv_root_base = RefinedRsqrt(hn::MulAdd(K(k.hg_b), one_minus_c, K(k.hg_a)));
+            const VF inv_root_base = RefinedRsqrt(hn::MulAdd(k.hg_b, one_minus_c, k.hg_a));
             mie[j] =
                 hn::Mul(inv_root_base, hn::Mul(inv_root_base, inv_root_base));  // over hg_numerator
         }
-        for (int ch = 0; ch < 3; ++ch) {
-            AERIAL_EACH {
-                // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), >= 0, with s phi(tau) =
-                // -expm1(-tau) / beta_ex and the phase constants folded into hp_*_path (0 where
-                // beta_ex is 0: then beta_R = beta_Ms = 0 and L_in is 0 anyway).
-                in_scattering[j][ch] = hn::Mul(hn::MulAdd(K(k.hp_rayleigh_path[ch]), rayleigh[j],
-                                                          hn::Mul(K(k.hp_mie_path[ch]), mie[j])),
-                                               length[j][ch]);
-            }
-        }
     } else {
-        (void)in_scattering;
+        (void)rayleigh;
+        (void)mie;
     }
 #undef AERIAL_EACH
 }
 
-/// One vector of HoffmanPreethamVectors; returns the valid lanes.
-template <class M, bool kInScattering>
-HWY_INLINE MF HoffmanPreethamVector(const FrameConstants& k, VF x, VF y, VF z, VF (&extinction)[3],
-                                    VF (&in_scattering)[3]) {
-    const VF xs[1] = {x}, ys[1] = {y}, zs[1] = {z};
-    MF valid[1];
-    VF ext[1][3], ins[1][3];
-    HoffmanPreethamVectors<M, kInScattering, 1>(k, xs, ys, zs, valid, ext, ins);
-    for (int c = 0; c < 3; ++c) {
-        extinction[c] = ext[0][c];
-        if constexpr (kInScattering) in_scattering[c] = ins[0][c];
+/// The channels of HoffmanPreethamVectors from its geometry: per vector, per channel.
+template <class M, bool kInScattering, int kN, class Sink>
+HWY_INLINE void HoffmanPreethamChannels(const HoffmanPreethamConstants& k, const VF (&s)[kN],
+                                        const VF (&rayleigh)[kN], const VF (&mie)[kN],
+                                        const Sink& sink) {
+    _Pragma("GCC unroll 8") for (int j = 0; j < kN; ++j) {
+        ForEachChannel([&](auto channel) {
+            constexpr int c = decltype(channel)::value;
+            VF extinction, length;
+            ExpAndExpm1<M::kExpDegree>(hn::Mul(k.minus_extinction[c], s[j]), extinction, length);
+            if constexpr (kInScattering) {
+                // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), >= 0, with s phi(tau) =
+                // -expm1(-tau) / beta_ex and the phase constants folded into hp_*_path (0 where
+                // beta_ex is 0: then beta_R = beta_Ms = 0 and L_in is 0 anyway).
+                sink(j, channel, extinction,
+                     hn::Mul(hn::MulAdd(k.rayleigh_path[c], rayleigh[j],
+                                        hn::Mul(k.mie_path[c], mie[j])),
+                             length));
+            } else {
+                (void)length;
+                (void)rayleigh;
+                (void)mie;
+                sink(j, channel, extinction, hn::Zero(DF()));
+            }
+        });
     }
-    return valid[0];
+}
+
+/// HoffmanPreethamGeometry, then HoffmanPreethamChannels.
+template <class M, bool kInScattering, int kN, class Sink>
+HWY_INLINE void HoffmanPreethamVectors(const HoffmanPreethamConstants& k, const VF (&x)[kN],
+                                       const VF (&y)[kN], const VF (&z)[kN], MF (&valid)[kN],
+                                       const Sink& sink) {
+    VF s[kN], rayleigh[kN], mie[kN];
+    HoffmanPreethamGeometry<kInScattering, kN>(k, x, y, z, valid, s, rayleigh, mie);
+    HoffmanPreethamChannels<M, kInScattering, kN>(k, s, rayleigh, mie, sink);
 }
 
 /// Vectors the one-pass kernel shades together (see HoffmanPreethamVectors).
@@ -619,16 +736,21 @@ constexpr int kInterleave = 2;
 
 template <class M, bool kInScattering>
 std::size_t ShadeHoffmanPreetham(const FrameConstants& k, const KernelBlock& b) {
-    return ForEachVector(b, [&k](VF x, VF y, VF z, const VectorOut& out) {
-        VF extinction[3], in_scattering[3];
-        const MF valid =
-            HoffmanPreethamVector<M, kInScattering>(k, x, y, z, extinction, in_scattering);
+    const HoffmanPreethamConstants hp(k);
+    return ForEachVector(b, [&k, &hp](VF x, VF y, VF z, const VectorOut& out) {
+        const VF xs[1] = {x}, ys[1] = {y}, zs[1] = {z};
+        MF valid[1];
+        HoffmanPreethamVectors<M, kInScattering, 1>(
+            hp, xs, ys, zs, valid, [&out](int, auto channel, VF extinction, VF in_scattering) {
+                out.Extinction(decltype(channel)::value, extinction);
+                if constexpr (kInScattering) {
+                    out.InScattering(decltype(channel)::value, in_scattering);
+                }
+            });
         for (int c = 0; c < 3; ++c) {
-            out.Extinction(c, extinction[c]);
-            out.SunIrradiance(c, hn::IfThenElseZero(valid, K(k.sun_eye[c])));
-            if constexpr (kInScattering) out.InScattering(c, in_scattering[c]);
+            out.SunIrradiance(c, hn::IfThenElseZero(valid[0], K(k.sun_eye[c])));
         }
-        return valid;
+        return valid[0];
     });
 }
 
@@ -654,12 +776,25 @@ HWY_INLINE hn::Vec<DI> TruncateInRange(VF v) {
 /// contraction into fused multiply-adds), as 32-bit lanes. kNonNegative: v >= 0 is known (F_ex
 /// from an exponential, L_in a product of non-negative factors), the lower clamp is left out.
 /// kAtMostOne: v <= 1 is known too, the upper clamp is left out.
+///
+/// For v >= 0 the upper clamp is done on the integers, where it is cheaper: v > 1 gives
+/// v 255 >= 255 (the rounding is monotonic), v 255 + 0.5 >= 255.5, and a truncation of 255 or
+/// more (0x80000000 from the x86 conversion when it overflows, INT32_MAX from a saturating one:
+/// either above 255 as an unsigned number), so the unsigned minimum with 255 is the code of
+/// min(v, 1). Only for v that cannot be NaN (min(NaN, 1) is 1 in the float form, but the
+/// conversion of NaN is target-specific).
 template <bool kNonNegative = false, bool kAtMostOne = false>
 HWY_INLINE hn::Vec<DI> Unorm8(VF v) {
-    // Max first: it gives 0 for NaN (the second operand), as to_unorm8 does.
-    const VF lower = kNonNegative ? v : hn::Max(v, hn::Zero(DF()));
-    const VF clamped = kAtMostOne ? lower : hn::Min(lower, K(1.0f));
-    return TruncateInRange(hn::Add(hn::Mul(clamped, K(255.0f)), K(0.5f)));
+    if constexpr (kNonNegative && !kAtMostOne) {
+        const hn::RebindToUnsigned<DF> du;
+        const auto code = hn::BitCast(du, TruncateInRange(hn::Add(hn::Mul(v, K(255.0f)), K(0.5f))));
+        return hn::BitCast(DI(), hn::Min(code, hn::Set(du, 255u)));
+    } else {
+        // Max first: it gives 0 for NaN (the second operand), as to_unorm8 does.
+        const VF lower = kNonNegative ? v : hn::Max(v, hn::Zero(DF()));
+        const VF clamped = kAtMostOne ? lower : hn::Min(lower, K(1.0f));
+        return TruncateInRange(hn::Add(hn::Mul(clamped, K(255.0f)), K(0.5f)));
+    }
 }
 
 /// R, G, B codes and alpha 255 as little-endian RGBA8 words.
@@ -945,10 +1080,17 @@ struct HoffmanPreethamShader {
     static constexpr int kN = kInterleave;
     static constexpr bool kExtinctionInUnitInterval = true;
     static constexpr bool kInScatteringNonNegative = true;
-    HWY_INLINE void operator()(const FrameConstants& k, const VF (&x)[kN], const VF (&y)[kN],
-                               const VF (&z)[kN], MF (&valid)[kN], VF (&extinction)[kN][3],
-                               VF (&in_scattering)[kN][3], VF (&sun)[kN][3]) const {
-        HoffmanPreethamVectors<M, kInScattering, kN>(k, x, y, z, valid, extinction, in_scattering);
+    const FrameConstants& k;
+    const HoffmanPreethamConstants hp;
+    explicit HoffmanPreethamShader(const FrameConstants& frame) : k(frame), hp(frame) {}
+    HWY_INLINE void operator()(const VF (&x)[kN], const VF (&y)[kN], const VF (&z)[kN],
+                               MF (&valid)[kN], VF (&extinction)[kN][3], VF (&in_scattering)[kN][3],
+                               VF (&sun)[kN][3]) const {
+        HoffmanPreethamVectors<M, kInScattering, kN>(
+            hp, x, y, z, valid, [&](int j, auto channel, VF f_ex, VF l_in) {
+                extinction[j][decltype(channel)::value] = f_ex;
+                in_scattering[j][decltype(channel)::value] = l_in;
+            });
         if constexpr (kSun) {
             for (int j = 0; j < kN; ++j) {
                 for (int c = 0; c < 3; ++c) {
@@ -965,9 +1107,11 @@ struct HeightShader {
     static constexpr int kN = 1;
     static constexpr bool kExtinctionInUnitInterval = false;
     static constexpr bool kInScatteringNonNegative = false;
-    HWY_INLINE void operator()(const FrameConstants& k, const VF (&x)[1], const VF (&y)[1],
-                               const VF (&z)[1], MF (&valid)[1], VF (&extinction)[1][3],
-                               VF (&in_scattering)[1][3], VF (&sun)[1][3]) const {
+    const FrameConstants& k;
+    explicit HeightShader(const FrameConstants& frame) : k(frame) {}
+    HWY_INLINE void operator()(const VF (&x)[1], const VF (&y)[1], const VF (&z)[1], MF (&valid)[1],
+                               VF (&extinction)[1][3], VF (&in_scattering)[1][3],
+                               VF (&sun)[1][3]) const {
         valid[0] = HeightVector<M, kInScattering, kSun>(
             k, x[0], y[0], z[0], RegisterOut{extinction[0], in_scattering[0], sun[0]});
     }
@@ -985,6 +1129,7 @@ std::size_t ShadeRgba8(const FrameConstants& constants, const Rgba8Job& work) {
     // Local copies: the byte stores below cannot alias them, so the constants stay in registers.
     const FrameConstants k = constants;
     const Rgba8Job job = work;
+    const Shader shader(k);
     constexpr int kN = Shader::kN;
     const DF d;
     const VF zero = hn::Zero(d);
@@ -1068,12 +1213,115 @@ std::size_t ShadeRgba8(const FrameConstants& constants, const Rgba8Job& work) {
         }
         MF valid[kN];
         VF extinction[kN][3], in_scattering[kN][3], sun[kN][3];
-        Shader()(k, x, y, z, valid, extinction, in_scattering, sun);
+        shader(x, y, z, valid, extinction, in_scattering, sun);
         for (int j = 0; j < kN && j * lanes < n; ++j) {
             const std::size_t m = std::min(lanes, n - j * lanes);
             invalid += hn::CountTrue(d, hn::AndNot(valid[j], hn::FirstN(d, m)));
             store(extinction[j], in_scattering[j], sun[j], i + j * lanes, m);
         }
+    }
+    return invalid;
+}
+
+/// The 2002 model from positions to F_ex and L_in codes (no lit colour): ShadeRgba8's codes,
+/// bit for bit, with less work around the model. kN vectors per step (HoffmanPreethamVectors);
+/// each channel's codes go into the RGBA8 words as soon as the channel is computed, so that
+/// only the words stay live across channels; full steps store the words straight from
+/// registers, the last, partial step goes through zero-padded copies and StoreWords.
+/// kExtinction / kInScattering: which codes are wanted (at least one).
+template <class M, bool kExtinction, bool kInScattering, int kN>
+std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Job& work) {
+    static_assert(kExtinction || kInScattering, "no output");
+    // Local copies: the byte stores below cannot alias them, so the constants stay put.
+    const HoffmanPreethamConstants k(frame);
+    const Rgba8Job job = work;
+    const DF d;
+    const DI di;
+    const std::size_t lanes = hn::Lanes(d);
+    const std::size_t step = kN * lanes;
+    const VF exposure = K(job.exposure);
+    const bool packed_words = (!kExtinction || job.extinction_stride == 4) &&
+                              (!kInScattering || job.in_scattering_stride == 4);
+    std::size_t invalid = 0;
+    // Shades kN vectors of positions, the first n (<= step) vertices from `first` are stored.
+    auto shade = [&](const VF(&x)[kN], const VF(&y)[kN], const VF(&z)[kN], std::size_t first,
+                     std::size_t n) AERIAL_INLINE_LAMBDA {
+        const auto alpha = hn::Set(di, static_cast<int32_t>(0xFF000000u));
+        hn::Vec<DI> extinction_words[kN], in_scattering_words[kN];
+        for (int j = 0; j < kN; ++j) extinction_words[j] = in_scattering_words[j] = alpha;
+        MF valid[kN];
+        HoffmanPreethamVectors<M, kInScattering, kN>(
+            k, x, y, z, valid, [&](int j, auto channel, VF f_ex, VF l_in) {
+                constexpr int kShift = 8 * decltype(channel)::value;
+                if constexpr (kExtinction) {
+                    extinction_words[j] = hn::Or(extinction_words[j],
+                                                 hn::ShiftLeft<kShift>(Unorm8<true, true>(f_ex)));
+                }
+                if constexpr (kInScattering) {
+                    in_scattering_words[j] =
+                        hn::Or(in_scattering_words[j],
+                               hn::ShiftLeft<kShift>(Unorm8<true>(hn::Mul(l_in, exposure))));
+                }
+            });
+        for (int j = 0; j < kN; ++j) {
+            if (j * lanes >= n) break;
+            const std::size_t at = first + j * lanes;
+            const std::size_t m = std::min(lanes, n - j * lanes);
+            if (HWY_LIKELY(m == lanes && packed_words)) {
+                invalid += hn::CountTrue(d, hn::Not(valid[j]));
+                if constexpr (kExtinction) {
+                    hn::StoreU(extinction_words[j], di,
+                               reinterpret_cast<int32_t*>(job.extinction + 4 * at));
+                }
+                if constexpr (kInScattering) {
+                    hn::StoreU(in_scattering_words[j], di,
+                               reinterpret_cast<int32_t*>(job.in_scattering + 4 * at));
+                }
+            } else {
+                invalid += hn::CountTrue(d, hn::AndNot(valid[j], hn::FirstN(d, m)));
+                if constexpr (kExtinction) {
+                    StoreWords(extinction_words[j], job.extinction + at * job.extinction_stride,
+                               job.extinction_stride, m);
+                }
+                if constexpr (kInScattering) {
+                    StoreWords(in_scattering_words[j],
+                               job.in_scattering + at * job.in_scattering_stride,
+                               job.in_scattering_stride, m);
+                }
+            }
+        }
+    };
+    // One call of `shade` (inlined): full steps load the caller's positions, the last, partial
+    // step zero-padded copies (the eye's neighbourhood, finite).
+    for (std::size_t i = 0; i < job.count; i += step) {
+        const std::size_t n = std::min(step, job.count - i);
+        VF x[kN], y[kN], z[kN];
+        if (HWY_LIKELY(n == step)) {
+            for (int j = 0; j < kN; ++j) {
+                const std::size_t at = i + j * lanes;
+                if (job.packed_xyz) {
+                    hn::LoadInterleaved3(d, job.x + 3 * at, x[j], y[j], z[j]);
+                } else {
+                    x[j] = hn::LoadU(d, job.x + at);
+                    y[j] = hn::LoadU(d, job.y + at);
+                    z[j] = hn::LoadU(d, job.z + at);
+                }
+            }
+        } else {
+            HWY_ALIGN float pad[3][kN * kMaxLanes] = {};
+            for (std::size_t q = 0; q < n; ++q) {
+                const std::size_t at = i + q;
+                pad[0][q] = job.packed_xyz ? job.x[3 * at] : job.x[at];
+                pad[1][q] = job.packed_xyz ? job.x[3 * at + 1] : job.y[at];
+                pad[2][q] = job.packed_xyz ? job.x[3 * at + 2] : job.z[at];
+            }
+            for (int j = 0; j < kN; ++j) {
+                x[j] = hn::Load(d, pad[0] + j * lanes);
+                y[j] = hn::Load(d, pad[1] + j * lanes);
+                z[j] = hn::Load(d, pad[2] + j * lanes);
+            }
+        }
+        shade(x, y, z, i, n);
     }
     return invalid;
 }
@@ -1089,9 +1337,11 @@ std::size_t ShadeRgba8For(const FrameConstants& k, Model model, const Rgba8Job& 
                        ? ShadeRgba8<M, HoffmanPreethamShader<M, true, true>, true, true>(k, job)
                        : ShadeRgba8<M, HoffmanPreethamShader<M, false, true>, false, true>(k, job);
         }
-        return in_scattering
-                   ? ShadeRgba8<M, HoffmanPreethamShader<M, true, false>, true, false>(k, job)
-                   : ShadeRgba8<M, HoffmanPreethamShader<M, false, false>, false, false>(k, job);
+        if (!in_scattering) {
+            return ShadeRgba8HoffmanPreetham<M, true, false, M::kInterleave>(k, job);
+        }
+        return job.extinction ? ShadeRgba8HoffmanPreetham<M, true, true, M::kInterleave>(k, job)
+                              : ShadeRgba8HoffmanPreetham<M, false, true, M::kInterleave>(k, job);
     }
     if (lit) {
         return in_scattering ? ShadeRgba8<M, HeightShader<M, true, true>, true, true>(k, job)
@@ -1155,6 +1405,20 @@ void FastExp2Array(const float* in, float* out, std::size_t n) {
 }
 void FastLog2Array(const float* in, float* out, std::size_t n) {
     ApplyToArray(in, out, n, [](VF x) { return FastLog2(x); });
+}
+void ExpAndExpm1Array(const float* in, float* exp_out, float* expm1_out, std::size_t n, bool fast) {
+    ApplyToArray(in, exp_out, n, [fast](VF x) {
+        VF e, m;
+        fast ? ExpAndExpm1<FastMath::kExpDegree>(x, e, m)
+             : ExpAndExpm1<AccurateMath::kExpDegree>(x, e, m);
+        return e;
+    });
+    ApplyToArray(in, expm1_out, n, [fast](VF x) {
+        VF e, m;
+        fast ? ExpAndExpm1<FastMath::kExpDegree>(x, e, m)
+             : ExpAndExpm1<AccurateMath::kExpDegree>(x, e, m);
+        return m;
+    });
 }
 
 /// RGBA8 words (R in the lowest byte, A = 255) of three channels, each scaled by `scale` then
@@ -1224,6 +1488,7 @@ HWY_EXPORT(Deinterleave3);
 HWY_EXPORT(ErfcxArray);
 HWY_EXPORT(FastExp2Array);
 HWY_EXPORT(FastLog2Array);
+HWY_EXPORT(ExpAndExpm1Array);
 
 std::size_t shade_block_simd(const Frame<float>& frame, const KernelBlock& block,
                              KernelPrecision precision) {
@@ -1258,6 +1523,10 @@ void simd_fast_exp2(const float* x, float* out, std::size_t n) {
 }
 void simd_fast_log2(const float* x, float* out, std::size_t n) {
     HWY_DYNAMIC_DISPATCH(FastLog2Array)(x, out, n);
+}
+void simd_exp_and_expm1(const float* x, float* exp_out, float* expm1_out, std::size_t n,
+                        bool fast) {
+    HWY_DYNAMIC_DISPATCH(ExpAndExpm1Array)(x, exp_out, expm1_out, n, fast);
 }
 
 // Test hooks: the targets compiled here that this CPU runs, and forcing one of them (an empty

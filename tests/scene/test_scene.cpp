@@ -15,8 +15,14 @@ namespace {
 
 using namespace aerial::scene;
 
+/// `name` in the temporary directory, prefixed with the running test's suite and name: ctest
+/// runs tests as parallel processes that share the directory, and two tests writing the same
+/// name (test_scene and test_off_reader both have a huge.off) would read each other's
+/// half-written files.
 std::string temp_file(const std::string& name, const std::string& text) {
-    const std::string path = ::testing::TempDir() + name;
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    const std::string path =
+        ::testing::TempDir() + test->test_suite_name() + "." + test->name() + "." + name;
     std::ofstream(path) << text;
     return path;
 }

@@ -460,8 +460,9 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
         w.line("RCP colm.x, colm.x;");
         w.line("RCP colm.y, colm.y;", "t_i");
         w.line("MAD acc.xy, colm, erfa.x, erfa.y;");
-        for (const char* c : {"erfa.z", "erfa.w", "erfb.x", "erfb.y", "erfb.z", "erfb.w"}) {
-            w.line(std::string("MAD acc.xy, acc, colm, ") + c + ";");
+        for (const char* coefficient :
+             {"erfa.z", "erfa.w", "erfb.x", "erfb.y", "erfb.z", "erfb.w"}) {
+            w.line(std::string("MAD acc.xy, acc, colm, ") + coefficient + ";");
         }
         w.line("MAD acc.xy, acc, colm, chc.w;", "Q(t_i)");
         w.line("MUL acc.xy, acc, colm;", "erfcx(y_i)");

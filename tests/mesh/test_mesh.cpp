@@ -827,7 +827,9 @@ TEST(AdaptiveMesh, RelocationKeepsTheGuaranteesAndNeedsFewerVertices) {
         const glm::dvec3 mid =
             sphere.project(0.5 * (to_glm(mesh.point(a)) + to_glm(mesh.point(b))));
         if (glm::length(p - mid) > 1e-6 * scene.dome.radius_m) ++moved;
-        if (mesh.is_boundary(v)) EXPECT_LT(glm::length(p - mid), 1e-6 * scene.dome.radius_m);
+        if (mesh.is_boundary(v)) {
+            EXPECT_LT(glm::length(p - mid), 1e-6 * scene.dome.radius_m);
+        }
     }
     EXPECT_GT(moved, 0u) << "no vertex was relocated";
     EXPECT_LE(moved, first.relocated);

@@ -757,10 +757,12 @@ TEST(AdaptiveMesh, ColourEdgeChoiceKeepsTheGuaranteesAndTheShape) {
         EXPECT_TRUE(again.complete);
         EXPECT_LE(again.max_error_lsb, settings.split_lsb);
         EXPECT_LE(max_face_error(mesh, scene.frame, settings.colour), settings.split_lsb);
-        for (auto v : mesh.vertices())
-            if (!mesh.status(v).deleted())
+        for (auto v : mesh.vertices()) {
+            if (!mesh.status(v).deleted()) {
                 EXPECT_NEAR(glm::length(to_glm(mesh.point(v)) - scene.dome.centre),
                             scene.dome.radius_m, 1e-6);
+            }
+        }
         expect_conforming(mesh, [&](const glm::dvec3& p) {
             return std::abs(p.z - scene.dome.centre.z) < 1e-6 * scene.dome.radius_m;
         });

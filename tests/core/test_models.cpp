@@ -254,7 +254,6 @@ TEST(Models, FloatAgreesWithDouble) {
 
 TEST(Models, UnitsScaleConvertsEnginePositions) {
     // An engine in centimetres sets meters_per_unit = 0.01 and gets the same colours.
-    const Atmosphere a;
     View metres = view_at({0, 0, 30}, {0, 0.6, 0.8});
     View centimetres = metres;
     centimetres.eye *= 100.0;
@@ -271,7 +270,6 @@ TEST(Models, UnitsScaleConvertsEnginePositions) {
 
 TEST(Models, UpAxisIsAParameter) {
     // The same scene with +Y up gives the same colours as with +Z up.
-    const Atmosphere a;
     View z_up = view_at({0, 0, 30}, {0, 0.6, 0.8});
     View y_up = view_at({0, 30, 0}, {0, 0.8, 0.6});
     y_up.up = {0, 1, 0};

@@ -1582,11 +1582,12 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
                             aerial::run_arb_program(program, m, v), k.cpu[i], k.exposure);
                         height::Lsb worst;
                         for (int pattern = 0; pattern < 48; ++pattern) {
-                            aerial::ArbInterpreterOptions o;
-                            o.relative_error = kOldHardwareError;
-                            o.sign_pattern = pattern == 0 ? 0u : pattern == 1 ? ~0u : next();
+                            aerial::ArbInterpreterOptions rounding;
+                            rounding.relative_error = kOldHardwareError;
+                            rounding.sign_pattern = pattern == 0 ? 0u : pattern == 1 ? ~0u : next();
                             const height::Lsb e = height::lsb_against(
-                                aerial::run_arb_program(program, m, v, o), k.cpu[i], k.exposure);
+                                aerial::run_arb_program(program, m, v, rounding), k.cpu[i],
+                                k.exposure);
                             worst.extinction = std::max(worst.extinction, e.extinction);
                             worst.in_scattering = std::max(worst.in_scattering, e.in_scattering);
                         }

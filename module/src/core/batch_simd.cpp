@@ -1062,6 +1062,41 @@ std::size_t ShadeHeight(const FrameConstants& k, const KernelBlock& b) {
 
 // ---- Straight to RGBA8: either model, F_ex, lit colour and L_in ------------------------------
 
+/// The positions of vertices i .. i + n of the job as kN vectors: the caller's arrays when n fills
+/// them (deinterleaved when job.packed_xyz, else three arrays), else (the last, partial step) the
+/// n vertices left, then zeros (the eye's neighbourhood, finite).
+template <int kN>
+HWY_INLINE void LoadPositions(const Rgba8Job& job, std::size_t i, std::size_t n, VF (&x)[kN],
+                              VF (&y)[kN], VF (&z)[kN]) {
+    const DF d;
+    const std::size_t lanes = hn::Lanes(d);
+    if (HWY_LIKELY(n == kN * lanes)) {
+        for (int j = 0; j < kN; ++j) {
+            const std::size_t at = i + j * lanes;
+            if (job.packed_xyz) {
+                hn::LoadInterleaved3(d, job.x + 3 * at, x[j], y[j], z[j]);
+            } else {
+                x[j] = hn::LoadU(d, job.x + at);
+                y[j] = hn::LoadU(d, job.y + at);
+                z[j] = hn::LoadU(d, job.z + at);
+            }
+        }
+        return;
+    }
+    HWY_ALIGN float pad[3][kN * kMaxLanes] = {};
+    for (std::size_t q = 0; q < n; ++q) {
+        const std::size_t at = i + q;
+        pad[0][q] = job.packed_xyz ? job.x[3 * at] : job.x[at];
+        pad[1][q] = job.packed_xyz ? job.x[3 * at + 1] : job.y[at];
+        pad[2][q] = job.packed_xyz ? job.x[3 * at + 2] : job.z[at];
+    }
+    for (int j = 0; j < kN; ++j) {
+        x[j] = hn::Load(d, pad[0] + j * lanes);
+        y[j] = hn::Load(d, pad[1] + j * lanes);
+        z[j] = hn::Load(d, pad[2] + j * lanes);
+    }
+}
+
 /// A vector sink (like VectorOut) that keeps the results in registers.
 struct RegisterOut {
     VF* extinction;
@@ -1185,32 +1220,7 @@ std::size_t ShadeRgba8(const FrameConstants& constants, const Rgba8Job& work) {
     for (std::size_t i = 0; i < job.count; i += step) {
         const std::size_t n = std::min(step, job.count - i);
         VF x[kN], y[kN], z[kN];
-        if (HWY_LIKELY(n == step)) {
-            for (int j = 0; j < kN; ++j) {
-                const std::size_t at = i + j * lanes;
-                if (job.packed_xyz) {
-                    hn::LoadInterleaved3(d, job.x + 3 * at, x[j], y[j], z[j]);
-                } else {
-                    x[j] = hn::LoadU(d, job.x + at);
-                    y[j] = hn::LoadU(d, job.y + at);
-                    z[j] = hn::LoadU(d, job.z + at);
-                }
-            }
-        } else {
-            // The last step: the n vertices left, then zeros (the eye's neighbourhood, finite).
-            HWY_ALIGN float pad[3][kN * kMaxLanes] = {};
-            for (std::size_t q = 0; q < n; ++q) {
-                const std::size_t at = i + q;
-                pad[0][q] = job.packed_xyz ? job.x[3 * at] : job.x[at];
-                pad[1][q] = job.packed_xyz ? job.x[3 * at + 1] : job.y[at];
-                pad[2][q] = job.packed_xyz ? job.x[3 * at + 2] : job.z[at];
-            }
-            for (int j = 0; j < kN; ++j) {
-                x[j] = hn::Load(d, pad[0] + j * lanes);
-                y[j] = hn::Load(d, pad[1] + j * lanes);
-                z[j] = hn::Load(d, pad[2] + j * lanes);
-            }
-        }
+        LoadPositions(job, i, n, x, y, z);
         MF valid[kN];
         VF extinction[kN][3], in_scattering[kN][3], sun[kN][3];
         shader(x, y, z, valid, extinction, in_scattering, sun);
@@ -1291,36 +1301,11 @@ std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Jo
             }
         }
     };
-    // One call of `shade` (inlined): full steps load the caller's positions, the last, partial
-    // step zero-padded copies (the eye's neighbourhood, finite).
+    // One call of `shade` (inlined) per step (LoadPositions: the last, partial step zero-padded).
     for (std::size_t i = 0; i < job.count; i += step) {
         const std::size_t n = std::min(step, job.count - i);
         VF x[kN], y[kN], z[kN];
-        if (HWY_LIKELY(n == step)) {
-            for (int j = 0; j < kN; ++j) {
-                const std::size_t at = i + j * lanes;
-                if (job.packed_xyz) {
-                    hn::LoadInterleaved3(d, job.x + 3 * at, x[j], y[j], z[j]);
-                } else {
-                    x[j] = hn::LoadU(d, job.x + at);
-                    y[j] = hn::LoadU(d, job.y + at);
-                    z[j] = hn::LoadU(d, job.z + at);
-                }
-            }
-        } else {
-            HWY_ALIGN float pad[3][kN * kMaxLanes] = {};
-            for (std::size_t q = 0; q < n; ++q) {
-                const std::size_t at = i + q;
-                pad[0][q] = job.packed_xyz ? job.x[3 * at] : job.x[at];
-                pad[1][q] = job.packed_xyz ? job.x[3 * at + 1] : job.y[at];
-                pad[2][q] = job.packed_xyz ? job.x[3 * at + 2] : job.z[at];
-            }
-            for (int j = 0; j < kN; ++j) {
-                x[j] = hn::Load(d, pad[0] + j * lanes);
-                y[j] = hn::Load(d, pad[1] + j * lanes);
-                z[j] = hn::Load(d, pad[2] + j * lanes);
-            }
-        }
+        LoadPositions(job, i, n, x, y, z);
         shade(x, y, z, i, n);
     }
     return invalid;

@@ -555,6 +555,15 @@ void check_erfcx() {
     EXPECT_LE(worst, kTolerance) << "at y = " << worst_at;
 }
 
+/// Where the exponentials must be exact for F_ex = exp(-tau) and L_in: 0 and -0 (the eye), a tiny
+/// depth, far below the float range, -inf and NaN.
+const float kExpSpecialInputs[] = {0.0f,
+                                   -0.0f,
+                                   -1e-7f,
+                                   -200.0f,
+                                   -std::numeric_limits<float>::infinity(),
+                                   std::numeric_limits<float>::quiet_NaN()};
+
 void check_fast_exp2() {
     constexpr double kTolerance = 1e-5;  // relative
     std::vector<float> x;
@@ -574,14 +583,8 @@ void check_fast_exp2() {
     EXPECT_LE(worst, kTolerance) << "at x = " << worst_at;
 
     // Exact where it matters for F_ex = exp(-tau): 1 at 0, never above 1 below 0, 0 far below.
-    const float special[] = {0.0f,
-                             -0.0f,
-                             -1e-7f,
-                             -200.0f,
-                             -std::numeric_limits<float>::infinity(),
-                             std::numeric_limits<float>::quiet_NaN()};
-    float out[std::size(special)];
-    aerial::detail::simd_fast_exp2(special, out, std::size(special));
+    float out[std::size(kExpSpecialInputs)];
+    aerial::detail::simd_fast_exp2(kExpSpecialInputs, out, std::size(kExpSpecialInputs));
     EXPECT_EQ(out[0], 1.0f);
     EXPECT_EQ(out[1], 1.0f);
     EXPECT_LE(out[2], 1.0f);
@@ -647,25 +650,20 @@ void check_exp_and_expm1(bool fast) {
     EXPECT_LE(worst_exp, exp_tolerance) << "exp at x = " << exp_at;
     EXPECT_LE(worst_expm1, expm1_tolerance) << "expm1 at x = " << expm1_at;
 
-    const float special[] = {0.0f,
-                             -0.0f,
-                             -1e-7f,
-                             -200.0f,
-                             -std::numeric_limits<float>::infinity(),
-                             std::numeric_limits<float>::quiet_NaN()};
-    float exp_out[std::size(special)], expm1_out[std::size(special)];
-    aerial::detail::simd_exp_and_expm1(special, exp_out, expm1_out, std::size(special), fast);
+    float exp_out[std::size(kExpSpecialInputs)], expm1_out[std::size(kExpSpecialInputs)];
+    aerial::detail::simd_exp_and_expm1(kExpSpecialInputs, exp_out, expm1_out,
+                                       std::size(kExpSpecialInputs), fast);
     EXPECT_EQ(exp_out[0], 1.0f) << "F_ex must be 1 at the eye";
     EXPECT_EQ(expm1_out[0], 0.0f) << "L_in must be 0 at the eye";
     EXPECT_EQ(exp_out[1], 1.0f);
     EXPECT_EQ(expm1_out[1], 0.0f);
     EXPECT_LE(exp_out[2], 1.0f);
     EXPECT_LT(expm1_out[2], 0.0f);
-    for (std::size_t i = 3; i < std::size(special); ++i) {
+    for (std::size_t i = 3; i < std::size(kExpSpecialInputs); ++i) {
         EXPECT_TRUE(std::isfinite(exp_out[i]) && std::isfinite(expm1_out[i]))
-            << "x = " << special[i] << " must give finite values";
-        EXPECT_LE(exp_out[i], 1e-37f) << "x = " << special[i];
-        EXPECT_EQ(expm1_out[i], -1.0f) << "x = " << special[i];
+            << "x = " << kExpSpecialInputs[i] << " must give finite values";
+        EXPECT_LE(exp_out[i], 1e-37f) << "x = " << kExpSpecialInputs[i];
+        EXPECT_EQ(expm1_out[i], -1.0f) << "x = " << kExpSpecialInputs[i];
     }
 }
 

@@ -139,6 +139,21 @@ std::vector<glm::dvec3> positions(const Mesh& mesh) {
     return out;
 }
 
+/// Every vertex on the dome's sphere, and the base mesh's vertices (the first original.size()
+/// handles) exactly where they were.
+void expect_on_sphere_with_originals_unmoved(const Mesh& mesh,
+                                             const aerial::mesh::DomeOptions& dome,
+                                             const std::vector<glm::dvec3>& original) {
+    for (auto v : mesh.vertices()) {
+        const glm::dvec3 p = to_glm(mesh.point(v));
+        EXPECT_NEAR(glm::length(p - dome.centre), dome.radius_m, 1e-6);
+        if (std::size_t(v.idx()) < original.size()) {
+            EXPECT_EQ(p, original[std::size_t(v.idx())])
+                << "original vertex " << v.idx() << " moved";
+        }
+    }
+}
+
 TEST(MeshShapes, CountsOfTheDomesAndTheGrid) {
     for (int f : {1, 3, 8}) {
         auto dome = aerial::mesh::geodesic_dome(f);
@@ -215,14 +230,7 @@ TEST(AdaptiveMesh, RefinedDomeMeetsTheTargetConformingAndUnflipped) {
     // The error target, recomputed from scratch on every face.
     EXPECT_LE(max_face_error(mesh, scene.frame, settings.colour), settings.split_lsb);
     // New vertices on the sphere, originals where they were.
-    for (auto v : mesh.vertices()) {
-        const glm::dvec3 p = to_glm(mesh.point(v));
-        EXPECT_NEAR(glm::length(p - scene.dome.centre), scene.dome.radius_m, 1e-6);
-        if (std::size_t(v.idx()) < original.size()) {
-            EXPECT_EQ(p, original[std::size_t(v.idx())])
-                << "original vertex " << v.idx() << " moved";
-        }
-    }
+    expect_on_sphere_with_originals_unmoved(mesh, scene.dome, original);
     expect_conforming(mesh, [&](const glm::dvec3& p) {
         return std::abs(p.z - scene.dome.centre.z) < 1e-6 * scene.dome.radius_m;
     });
@@ -816,15 +824,11 @@ TEST(AdaptiveMesh, RelocationKeepsTheGuaranteesAndNeedsFewerVertices) {
     const Mesh& mesh = m.mesh();
     // Vertices off their split edge's projected midpoint (a vertex moves only when it is born).
     const auto sphere = aerial::mesh::Surface::sphere(scene.dome);
+    expect_on_sphere_with_originals_unmoved(mesh, scene.dome, original);
     std::size_t moved = 0;
     for (auto v : mesh.vertices()) {
+        if (std::size_t(v.idx()) < original.size()) continue;
         const glm::dvec3 p = to_glm(mesh.point(v));
-        EXPECT_NEAR(glm::length(p - scene.dome.centre), scene.dome.radius_m, 1e-6);
-        if (std::size_t(v.idx()) < original.size()) {
-            EXPECT_EQ(p, original[std::size_t(v.idx())])
-                << "original vertex " << v.idx() << " moved";
-            continue;
-        }
         const auto [a, b] = m.parents(v);
         const glm::dvec3 mid =
             sphere.project(0.5 * (to_glm(mesh.point(a)) + to_glm(mesh.point(b))));

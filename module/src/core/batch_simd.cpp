@@ -64,23 +64,12 @@ constexpr float kTiny = std::numeric_limits<float>::min();
 constexpr float kSunNodes[3] = {0.11270166537925831148f, 0.5f, 0.88729833462074168852f};
 constexpr float kSunWeights[3] = {5.0f / 18.0f, 8.0f / 18.0f, 5.0f / 18.0f};
 
-/// 2^(j/8) for j = 0..7, twice (ExpAndExpm1; AVX-512 lookups read four index bits).
-alignas(64) constexpr float kExp2Eighths[16] = {1.0f,
-                                                1.0905077326652577f,
-                                                1.189207115002721f,
-                                                1.2968395546510096f,
-                                                1.4142135623730951f,
-                                                1.5422108254079407f,
-                                                1.681792830507429f,
-                                                1.8340080864093424f,
-                                                1.0f,
-                                                1.0905077326652577f,
-                                                1.189207115002721f,
-                                                1.2968395546510096f,
-                                                1.4142135623730951f,
-                                                1.5422108254079407f,
-                                                1.681792830507429f,
-                                                1.8340080864093424f};
+/// The bits of 2^(j/8) for j = 0..7 less j << 20, twice (ExpAndExpm1 adds n << 20 for n = 8 m + j,
+/// which is m << 23 + j << 20: the exponent of 2^m and the j it does not want; AVX-512 lookups
+/// read four index bits).
+alignas(64) constexpr std::int32_t kExp2EighthsBits[16] = {
+    0x3f800000, 0x3f7b95c2, 0x3f7837f0, 0x3f75fed7, 0x3f7504f3, 0x3f75672a, 0x3f7744fd, 0x3f7ac0c7,
+    0x3f800000, 0x3f7b95c2, 0x3f7837f0, 0x3f75fed7, 0x3f7504f3, 0x3f75672a, 0x3f7744fd, 0x3f7ac0c7};
 
 /// Everything the kernels need from a Frame<float>, computed once per block, in float like the
 /// scalar models except where noted.
@@ -256,28 +245,27 @@ HWY_INLINE VF FastLog2(VF x) {
 constexpr float kLog2E = 1.44269504088896340736f;
 constexpr float kLn2 = 0.69314718055994530942f;
 
-/// 2^(j/8) for the low three bits j of each lane (the other bits are ignored): one lane
-/// permutation on AVX2 and AVX-512 (whose 16-lane permutation reads four index bits: the table
-/// is there twice), two lookups and a select on 4-lane targets.
-HWY_INLINE VF Exp2Eighths(hn::Vec<DI> bits) {
-    const DF d;
-#if HWY_TARGET == HWY_SCALAR
-    return hn::Set(d, simd::kExp2Eighths[hn::GetLane(bits) & 7]);
-#elif HWY_ARCH_X86 && HWY_TARGET == HWY_AVX2
-    return VF{_mm256_permutevar8x32_ps(hn::Load(d, simd::kExp2Eighths).raw, bits.raw)};
-#elif HWY_ARCH_X86 && (HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL)
-    return VF{_mm512_permutexvar_ps(bits.raw, hn::Load(d, simd::kExp2Eighths).raw)};
-#else
+/// The bits of 2^(j/8) less j << 20 (kExp2EighthsBits) for the low three bits j of each lane (the
+/// other bits are ignored): one lane permutation on AVX2 and AVX-512 (whose 16-lane permutation
+/// reads four index bits: the table is there twice), two lookups and a select on 4-lane targets.
+HWY_INLINE hn::Vec<DI> Exp2EighthsBits(hn::Vec<DI> bits) {
     const DI di;
-    if constexpr (hn::MaxLanes(d) >= 8) {
-        return hn::TableLookupLanes(hn::Load(d, simd::kExp2Eighths),
-                                    hn::IndicesFromVec(d, hn::And(bits, hn::Set(di, 7))));
+    const auto* table = simd::kExp2EighthsBits;
+#if HWY_TARGET == HWY_SCALAR
+    return hn::Set(di, table[hn::GetLane(bits) & 7]);
+#elif HWY_ARCH_X86 && HWY_TARGET == HWY_AVX2
+    return hn::Vec<DI>{_mm256_permutevar8x32_epi32(hn::Load(di, table).raw, bits.raw)};
+#elif HWY_ARCH_X86 && (HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL)
+    return hn::Vec<DI>{_mm512_permutexvar_epi32(bits.raw, hn::Load(di, table).raw)};
+#else
+    if constexpr (hn::MaxLanes(di) >= 8) {
+        return hn::TableLookupLanes(hn::Load(di, table),
+                                    hn::IndicesFromVec(di, hn::And(bits, hn::Set(di, 7))));
     } else {
-        const auto index = hn::IndicesFromVec(d, hn::And(bits, hn::Set(di, 3)));
-        const VF low = hn::TableLookupLanes(hn::Load(d, simd::kExp2Eighths), index);
-        const VF high = hn::TableLookupLanes(hn::Load(d, simd::kExp2Eighths + 4), index);
-        const MF upper = hn::RebindMask(d, hn::Ne(hn::And(bits, hn::Set(di, 4)), hn::Zero(di)));
-        return hn::IfThenElse(upper, high, low);
+        const auto index = hn::IndicesFromVec(di, hn::And(bits, hn::Set(di, 3)));
+        const auto low = hn::TableLookupLanes(hn::Load(di, table), index);
+        const auto high = hn::TableLookupLanes(hn::Load(di, table + 4), index);
+        return hn::IfThenElse(hn::Ne(hn::And(bits, hn::Set(di, 4)), hn::Zero(di)), high, low);
     }
 #endif
 }
@@ -325,9 +313,9 @@ HWY_INLINE void ExpAndExpm1(VF x, VF& exp_x, VF& expm1_x) {
     }
     const VF q = hn::MulAdd(hn::Mul(p, r), r, r);  // r + r^2 (1/2 + r/6 + ...)
     const hn::Vec<DI> bits = hn::BitCast(di, shifted);
-    // m << 23 = (n & ~7) << 20: the constant's own bits leave the 32-bit lane.
-    const VF scale = hn::BitCast(d, hn::Add(hn::BitCast(di, Exp2Eighths(bits)),
-                                            hn::ShiftLeft<20>(hn::And(bits, hn::Set(di, ~7)))));
+    // n << 20 = m << 23 + j << 20, the table entry has j << 20 taken off: 2^m 2^(j/8). The
+    // constant's own bits leave the 32-bit lane.
+    const VF scale = hn::BitCast(d, hn::Add(Exp2EighthsBits(bits), hn::ShiftLeft<20>(bits)));
     exp_x = hn::MulAdd(scale, q, scale);
     expm1_x = hn::MulAdd(scale, q, hn::Sub(scale, K(1.0f)));
 }
@@ -642,7 +630,7 @@ HWY_INLINE void ForEachChannel(const F& f) {
 ///
 /// In two halves: HoffmanPreethamGeometry gives the valid lanes, s and the phases (over their
 /// constants); HoffmanPreethamChannels the channels from them; HoffmanPreethamVectors calls both.
-template <bool kInScattering, int kN>
+template <bool kInScattering, int kN, bool kMaskDirections = true>
 HWY_INLINE void HoffmanPreethamGeometry(const HoffmanPreethamConstants& k, const VF (&x)[kN],
                                         const VF (&y)[kN], const VF (&z)[kN], MF (&valid)[kN],
                                         VF (&s)[kN], VF (&rayleigh)[kN], VF (&mie)[kN]) {
@@ -674,11 +662,20 @@ HWY_INLINE void HoffmanPreethamGeometry(const HoffmanPreethamConstants& k, const
     AERIAL_EACH s[j] = hn::Mul(s2[j], inv_s[j]);
     if constexpr (kInScattering) {
         // Phases (see Phases): 1 - c' from the chord |d/s - sign(g) sun|^2 / 2, at most 2 but
-        // for rounding; the direction of invalid lanes is taken as 0 (their L_in is 0).
+        // for rounding; the direction of invalid lanes is taken as 0 (their L_in is 0) when
+        // kMaskDirections, else their phases are whatever they come out as (NaN, too) and the
+        // caller must zero their L_in.
+        if constexpr (kMaskDirections) {
+            AERIAL_EACH {
+                dx[j] = hn::IfThenElseZero(valid[j], dx[j]);
+                dy[j] = hn::IfThenElseZero(valid[j], dy[j]);
+                dz[j] = hn::IfThenElseZero(valid[j], dz[j]);
+            }
+        }
         AERIAL_EACH {
-            const VF cx = hn::MulSub(hn::IfThenElseZero(valid[j], dx[j]), inv_s[j], k.hg_peak[0]);
-            const VF cy = hn::MulSub(hn::IfThenElseZero(valid[j], dy[j]), inv_s[j], k.hg_peak[1]);
-            const VF cz = hn::MulSub(hn::IfThenElseZero(valid[j], dz[j]), inv_s[j], k.hg_peak[2]);
+            const VF cx = hn::MulSub(dx[j], inv_s[j], k.hg_peak[0]);
+            const VF cy = hn::MulSub(dy[j], inv_s[j], k.hg_peak[1]);
+            const VF cz = hn::MulSub(dz[j], inv_s[j], k.hg_peak[2]);
             const VF one_minus_c = hn::Min(hn::Mul(Dot(cx, cy, cz, cx, cy, cz), K(0.5f)), K(2.0f));
             const VF c = hn::Sub(K(1.0f), one_minus_c);
             rayleigh[j] = hn::MulAdd(c, c, K(1.0f));  // over 3 / (16 pi)
@@ -722,12 +719,13 @@ HWY_INLINE void HoffmanPreethamChannels(const HoffmanPreethamConstants& k, const
 }
 
 /// HoffmanPreethamGeometry, then HoffmanPreethamChannels.
-template <class M, bool kInScattering, int kN, class Sink>
+template <class M, bool kInScattering, int kN, bool kMaskDirections = true, class Sink>
 HWY_INLINE void HoffmanPreethamVectors(const HoffmanPreethamConstants& k, const VF (&x)[kN],
                                        const VF (&y)[kN], const VF (&z)[kN], MF (&valid)[kN],
                                        const Sink& sink) {
     VF s[kN], rayleigh[kN], mie[kN];
-    HoffmanPreethamGeometry<kInScattering, kN>(k, x, y, z, valid, s, rayleigh, mie);
+    HoffmanPreethamGeometry<kInScattering, kN, kMaskDirections>(k, x, y, z, valid, s, rayleigh,
+                                                                mie);
     HoffmanPreethamChannels<M, kInScattering, kN>(k, s, rayleigh, mie, sink);
 }
 
@@ -1062,6 +1060,41 @@ std::size_t ShadeHeight(const FrameConstants& k, const KernelBlock& b) {
 
 // ---- Straight to RGBA8: either model, F_ex, lit colour and L_in ------------------------------
 
+/// x, y, z of lanes() packed vertices at `xyz` (x0 y0 z0 x1 ...). On AVX2 and AVX-512 per
+/// output two blends and one lane permutation of the three loaded vectors a, b, c: the
+/// elements 3 i + k (k = 0 for x) lie in distinct lanes (3 i + k) mod lanes of a, b and c, so
+/// blending puts them all in one vector, which the permutation sorts. Elsewhere Highway's
+/// LoadInterleaved3.
+HWY_INLINE void LoadXyz(const float* HWY_RESTRICT xyz, VF& x, VF& y, VF& z) {
+    const DF d;
+#if HWY_ARCH_X86 && HWY_TARGET == HWY_AVX2
+    const __m256 a = _mm256_loadu_ps(xyz), b = _mm256_loadu_ps(xyz + 8),
+                 c = _mm256_loadu_ps(xyz + 16);
+    x.raw = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(a, b, 0x92), c, 0x24),
+                                     _mm256_setr_epi32(0, 3, 6, 1, 4, 7, 2, 5));
+    y.raw = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(a, b, 0x24), c, 0x49),
+                                     _mm256_setr_epi32(1, 4, 7, 2, 5, 0, 3, 6));
+    z.raw = _mm256_permutevar8x32_ps(_mm256_blend_ps(_mm256_blend_ps(a, b, 0x49), c, 0x92),
+                                     _mm256_setr_epi32(2, 5, 0, 3, 6, 1, 4, 7));
+    (void)d;
+#elif HWY_ARCH_X86 && (HWY_TARGET == HWY_AVX3 || HWY_TARGET == HWY_AVX3_DL)
+    const __m512 a = _mm512_loadu_ps(xyz), b = _mm512_loadu_ps(xyz + 16),
+                 c = _mm512_loadu_ps(xyz + 32);
+    x.raw = _mm512_permutexvar_ps(
+        _mm512_setr_epi32(0, 3, 6, 9, 12, 15, 2, 5, 8, 11, 14, 1, 4, 7, 10, 13),
+        _mm512_mask_blend_ps(0x2492, _mm512_mask_blend_ps(0x4924, a, b), c));
+    y.raw = _mm512_permutexvar_ps(
+        _mm512_setr_epi32(1, 4, 7, 10, 13, 0, 3, 6, 9, 12, 15, 2, 5, 8, 11, 14),
+        _mm512_mask_blend_ps(0x4924, _mm512_mask_blend_ps(0x9249, a, b), c));
+    z.raw = _mm512_permutexvar_ps(
+        _mm512_setr_epi32(2, 5, 8, 11, 14, 1, 4, 7, 10, 13, 0, 3, 6, 9, 12, 15),
+        _mm512_mask_blend_ps(0x9249, _mm512_mask_blend_ps(0x2492, a, b), c));
+    (void)d;
+#else
+    hn::LoadInterleaved3(d, xyz, x, y, z);
+#endif
+}
+
 /// The positions of vertices i .. i + n of the job as kN vectors: the caller's arrays when n fills
 /// them (deinterleaved when job.packed_xyz, else three arrays), else (the last, partial step) the
 /// n vertices left, then zeros (the eye's neighbourhood, finite).
@@ -1074,7 +1107,7 @@ HWY_INLINE void LoadPositions(const Rgba8Job& job, std::size_t i, std::size_t n,
         for (int j = 0; j < kN; ++j) {
             const std::size_t at = i + j * lanes;
             if (job.packed_xyz) {
-                hn::LoadInterleaved3(d, job.x + 3 * at, x[j], y[j], z[j]);
+                LoadXyz(job.x + 3 * at, x[j], y[j], z[j]);
             } else {
                 x[j] = hn::LoadU(d, job.x + at);
                 y[j] = hn::LoadU(d, job.y + at);
@@ -1236,9 +1269,10 @@ std::size_t ShadeRgba8(const FrameConstants& constants, const Rgba8Job& work) {
 /// The 2002 model from positions to F_ex and L_in codes (no lit colour): ShadeRgba8's codes,
 /// bit for bit, with less work around the model. kN vectors per step (HoffmanPreethamVectors);
 /// each channel's codes go into the RGBA8 words as soon as the channel is computed, so that
-/// only the words stay live across channels; full steps store the words straight from
-/// registers, the last, partial step goes through zero-padded copies and StoreWords.
-/// kExtinction / kInScattering: which codes are wanted (at least one).
+/// only the words stay live across channels; the L_in words of invalid lanes are set to alpha
+/// alone at the end (instead of masking their directions: one operation for three). Full steps
+/// store the words straight from registers, the last, partial step goes through zero-padded
+/// copies and StoreWords. kExtinction / kInScattering: which codes are wanted (at least one).
 template <class M, bool kExtinction, bool kInScattering, int kN>
 std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Job& work) {
     static_assert(kExtinction || kInScattering, "no output");
@@ -1252,15 +1286,13 @@ std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Jo
     const VF exposure = K(job.exposure);
     const bool packed_words = (!kExtinction || job.extinction_stride == 4) &&
                               (!kInScattering || job.in_scattering_stride == 4);
-    std::size_t invalid = 0;
-    // Shades kN vectors of positions, the first n (<= step) vertices from `first` are stored.
-    auto shade = [&](const VF(&x)[kN], const VF(&y)[kN], const VF(&z)[kN], std::size_t first,
-                     std::size_t n) AERIAL_INLINE_LAMBDA {
+    // The words of kN vectors of positions.
+    auto shade = [&](const VF(&x)[kN], const VF(&y)[kN], const VF(&z)[kN], MF(&valid)[kN],
+                     hn::Vec<DI>(&extinction_words)[kN],
+                     hn::Vec<DI>(&in_scattering_words)[kN]) AERIAL_INLINE_LAMBDA {
         const auto alpha = hn::Set(di, static_cast<int32_t>(0xFF000000u));
-        hn::Vec<DI> extinction_words[kN], in_scattering_words[kN];
         for (int j = 0; j < kN; ++j) extinction_words[j] = in_scattering_words[j] = alpha;
-        MF valid[kN];
-        HoffmanPreethamVectors<M, kInScattering, kN>(
+        HoffmanPreethamVectors<M, kInScattering, kN, false>(
             k, x, y, z, valid, [&](int j, auto channel, VF f_ex, VF l_in) {
                 constexpr int kShift = 8 * decltype(channel)::value;
                 if constexpr (kExtinction) {
@@ -1273,11 +1305,25 @@ std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Jo
                                hn::ShiftLeft<kShift>(Unorm8<true>(hn::Mul(l_in, exposure))));
                 }
             });
-        for (int j = 0; j < kN; ++j) {
-            if (j * lanes >= n) break;
-            const std::size_t at = first + j * lanes;
-            const std::size_t m = std::min(lanes, n - j * lanes);
-            if (HWY_LIKELY(m == lanes && packed_words)) {
+        if constexpr (kInScattering) {
+            for (int j = 0; j < kN; ++j) {
+                in_scattering_words[j] =
+                    hn::IfThenElse(hn::RebindMask(di, valid[j]), in_scattering_words[j], alpha);
+            }
+        }
+    };
+    std::size_t invalid = 0;
+    std::size_t i = 0;
+    if (packed_words) {
+        // Full steps: words stored straight from registers.
+        for (; i + step <= job.count; i += step) {
+            VF x[kN], y[kN], z[kN];
+            LoadPositions(job, i, step, x, y, z);
+            MF valid[kN];
+            hn::Vec<DI> extinction_words[kN], in_scattering_words[kN];
+            shade(x, y, z, valid, extinction_words, in_scattering_words);
+            _Pragma("GCC unroll 8") for (int j = 0; j < kN; ++j) {
+                const std::size_t at = i + j * lanes;
                 invalid += hn::CountTrue(d, hn::Not(valid[j]));
                 if constexpr (kExtinction) {
                     hn::StoreU(extinction_words[j], di,
@@ -1287,26 +1333,31 @@ std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Jo
                     hn::StoreU(in_scattering_words[j], di,
                                reinterpret_cast<int32_t*>(job.in_scattering + 4 * at));
                 }
-            } else {
-                invalid += hn::CountTrue(d, hn::AndNot(valid[j], hn::FirstN(d, m)));
-                if constexpr (kExtinction) {
-                    StoreWords(extinction_words[j], job.extinction + at * job.extinction_stride,
-                               job.extinction_stride, m);
-                }
-                if constexpr (kInScattering) {
-                    StoreWords(in_scattering_words[j],
-                               job.in_scattering + at * job.in_scattering_stride,
-                               job.in_scattering_stride, m);
-                }
             }
         }
-    };
-    // One call of `shade` (inlined) per step (LoadPositions: the last, partial step zero-padded).
-    for (std::size_t i = 0; i < job.count; i += step) {
+    }
+    // Strided words, and the last, partial step (LoadPositions zero-pads it).
+    for (; i < job.count; i += step) {
         const std::size_t n = std::min(step, job.count - i);
         VF x[kN], y[kN], z[kN];
         LoadPositions(job, i, n, x, y, z);
-        shade(x, y, z, i, n);
+        MF valid[kN];
+        hn::Vec<DI> extinction_words[kN], in_scattering_words[kN];
+        shade(x, y, z, valid, extinction_words, in_scattering_words);
+        for (int j = 0; j < kN && j * lanes < n; ++j) {
+            const std::size_t at = i + j * lanes;
+            const std::size_t m = std::min(lanes, n - j * lanes);
+            invalid += hn::CountTrue(d, hn::AndNot(valid[j], hn::FirstN(d, m)));
+            if constexpr (kExtinction) {
+                StoreWords(extinction_words[j], job.extinction + at * job.extinction_stride,
+                           job.extinction_stride, m);
+            }
+            if constexpr (kInScattering) {
+                StoreWords(in_scattering_words[j],
+                           job.in_scattering + at * job.in_scattering_stride,
+                           job.in_scattering_stride, m);
+            }
+        }
     }
     return invalid;
 }
@@ -1444,7 +1495,7 @@ void Deinterleave3(const float* HWY_RESTRICT xyz, std::size_t n, float* HWY_REST
     std::size_t i = 0;
     for (; i + lanes <= n; i += lanes) {
         VF vx, vy, vz;
-        hn::LoadInterleaved3(d, xyz + 3 * i, vx, vy, vz);
+        LoadXyz(xyz + 3 * i, vx, vy, vz);
         hn::StoreU(vx, d, x + i);
         hn::StoreU(vy, d, y + i);
         hn::StoreU(vz, d, z + i);

@@ -30,7 +30,8 @@ namespace aerial::detail {
 void simd_erfcx(const float* y, float* out, std::size_t n);
 void simd_fast_exp2(const float* x, float* out, std::size_t n);
 void simd_fast_log2(const float* x, float* out, std::size_t n);
-void simd_exp_and_expm1(const float* x, float* exp_out, float* expm1_out, std::size_t n, bool fast);
+/// exp and expm1 of y / (8 log2(e)) for y in eighths of a binary order (the 2002 kernel's unit).
+void simd_exp_and_expm1(const float* y, float* exp_out, float* expm1_out, std::size_t n, bool fast);
 }  // namespace aerial::detail
 
 namespace {
@@ -621,38 +622,45 @@ void check_fast_log2() {
     EXPECT_EQ(out, 0.0f);
 }
 
-/// The 2002 kernel's exp and expm1 of minus an optical depth (ExpAndExpm1) against the standard
-/// library in double, relative errors over [-87.3, 0] (every 2^-12, and densely near 0 where
-/// expm1 is small), and the values that make F_ex and L_in exact at the eye and bounded.
+/// The 2002 kernel's exp and expm1 of minus an optical depth (ExpAndExpm1, which takes it in
+/// eighths of a binary order, y = 8 log2(e) x) against the standard library in double: relative
+/// errors against 2^(y/8) for the float y nearest to 8 log2(e) x, x over [-87.3, 0] (every
+/// 2^-12, and densely near 0 where expm1 is small), and the values that make F_ex and L_in exact
+/// at the eye and bounded.
 void check_exp_and_expm1(bool fast) {
-    // Accurate: table rounding (6e-8) and degree-4 truncation (2.9e-8) for exp; expm1 also
-    // carries the table rounding through s - 1 where it cancels (measured 1.9e-7 near -0.04).
-    // Fast: degree-3 truncation (3.4e-6) and the one-step reduction.
+    // Accurate: table rounding (6e-8), degree-4 truncation (2.9e-8) and the rounding of the
+    // polynomial for exp; expm1 also carries the table rounding through scale - 1 where it
+    // cancels (measured 2.1e-7 near y = -1/2). Fast: degree-3 truncation (3.4e-6).
     const double exp_tolerance = fast ? 1e-5 : 2e-7;
     const double expm1_tolerance = fast ? 1e-5 : 5e-7;
-    std::vector<float> x;
-    for (double v = -87.3; v <= 0.0; v += 1.0 / 4096) x.push_back(float(v));
-    for (double v = 1e-30; v < 1.0; v *= 1.001) x.push_back(float(-v));
-    std::vector<float> e(x.size()), m(x.size());
-    aerial::detail::simd_exp_and_expm1(x.data(), e.data(), m.data(), x.size(), fast);
+    constexpr double kEighthsPerNat = 8.0 * 1.44269504088896340736;
+    std::vector<float> y;
+    for (double v = -87.3; v <= 0.0; v += 1.0 / 4096) y.push_back(float(kEighthsPerNat * v));
+    for (double v = 1e-30; v < 1.0; v *= 1.001) y.push_back(float(-kEighthsPerNat * v));
+    std::vector<float> e(y.size()), m(y.size());
+    aerial::detail::simd_exp_and_expm1(y.data(), e.data(), m.data(), y.size(), fast);
     double worst_exp = 0.0, worst_expm1 = 0.0, exp_at = 0.0, expm1_at = 0.0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-        const double xe = std::abs(e[i] / std::exp(double(x[i])) - 1.0);
-        const double xm = std::abs(m[i] / std::expm1(double(x[i])) - 1.0);
-        if (!(xe <= worst_exp)) worst_exp = xe, exp_at = double(x[i]);
-        if (x[i] != 0.0f && !(xm <= worst_expm1)) worst_expm1 = xm, expm1_at = double(x[i]);
+    for (std::size_t i = 0; i < y.size(); ++i) {
+        const double x = double(y[i]) / kEighthsPerNat;
+        const double xe = std::abs(e[i] / std::exp(x) - 1.0);
+        const double xm = std::abs(m[i] / std::expm1(x) - 1.0);
+        if (!(xe <= worst_exp)) worst_exp = xe, exp_at = x;
+        if (y[i] != 0.0f && !(xm <= worst_expm1)) worst_expm1 = xm, expm1_at = x;
     }
     std::printf(
         "%s exp/expm1 of the 2002 kernel (%s): max relative error %.3g at x = %g, %.3g at "
         "x = %g over %zu values in [-87.3, 0]\n",
         fast ? "fast" : "accurate", aerial::detail::simd_target_name(), worst_exp, exp_at,
-        worst_expm1, expm1_at, x.size());
+        worst_expm1, expm1_at, y.size());
     EXPECT_LE(worst_exp, exp_tolerance) << "exp at x = " << exp_at;
     EXPECT_LE(worst_expm1, expm1_tolerance) << "expm1 at x = " << expm1_at;
 
+    float special[std::size(kExpSpecialInputs)];
+    for (std::size_t i = 0; i < std::size(kExpSpecialInputs); ++i) {
+        special[i] = float(kEighthsPerNat * kExpSpecialInputs[i]);
+    }
     float exp_out[std::size(kExpSpecialInputs)], expm1_out[std::size(kExpSpecialInputs)];
-    aerial::detail::simd_exp_and_expm1(kExpSpecialInputs, exp_out, expm1_out,
-                                       std::size(kExpSpecialInputs), fast);
+    aerial::detail::simd_exp_and_expm1(special, exp_out, expm1_out, std::size(special), fast);
     EXPECT_EQ(exp_out[0], 1.0f) << "F_ex must be 1 at the eye";
     EXPECT_EQ(expm1_out[0], 0.0f) << "L_in must be 0 at the eye";
     EXPECT_EQ(exp_out[1], 1.0f);

@@ -64,12 +64,19 @@ constexpr float kTiny = std::numeric_limits<float>::min();
 constexpr float kSunNodes[3] = {0.11270166537925831148f, 0.5f, 0.88729833462074168852f};
 constexpr float kSunWeights[3] = {5.0f / 18.0f, 8.0f / 18.0f, 5.0f / 18.0f};
 
-/// The bits of 2^(j/8) for j = 0..7 less j << 20, twice (ExpAndExpm1 adds n << 20 for n = 8 m + j,
-/// which is m << 23 + j << 20: the exponent of 2^m and the j it does not want; AVX-512 lookups
-/// read four index bits).
+/// The bits of 2^(j/8) for j = 0..7 less j << 20, twice (Exp2EighthsParts adds n << 20 for
+/// n = 8 m + j, which is m << 23 + j << 20: the exponent of 2^m and the j it does not want;
+/// AVX-512 lookups read four index bits).
 alignas(64) constexpr std::int32_t kExp2EighthsBits[16] = {
     0x3f800000, 0x3f7b95c2, 0x3f7837f0, 0x3f75fed7, 0x3f7504f3, 0x3f75672a, 0x3f7744fd, 0x3f7ac0c7,
     0x3f800000, 0x3f7b95c2, 0x3f7837f0, 0x3f75fed7, 0x3f7504f3, 0x3f75672a, 0x3f7744fd, 0x3f7ac0c7};
+/// The same for 255 2^(j/8) (the float nearest to it): the one-pass codes take 255 F_ex and
+/// 255 expm1 straight from the exponential.
+alignas(64) constexpr std::int32_t kExp2Eighths255Bits[16] = {
+    0x437f0000, 0x437b0a2c, 0x43779fb8, 0x437558d8, 0x43744fee, 0x4374a1c3, 0x43766db8, 0x4379d606,
+    0x437f0000, 0x437b0a2c, 0x43779fb8, 0x437558d8, 0x43744fee, 0x4374a1c3, 0x43766db8, 0x4379d606};
+/// 8 log2(e): natural exponents to eighths of a binary order (Exp2EighthsParts).
+constexpr double kEighthsPerNat = 8.0 * 1.44269504088896340736;
 
 /// Everything the kernels need from a Frame<float>, computed once per block, in float like the
 /// scalar models except where noted.
@@ -245,12 +252,12 @@ HWY_INLINE VF FastLog2(VF x) {
 constexpr float kLog2E = 1.44269504088896340736f;
 constexpr float kLn2 = 0.69314718055994530942f;
 
-/// The bits of 2^(j/8) less j << 20 (kExp2EighthsBits) for the low three bits j of each lane (the
-/// other bits are ignored): one lane permutation on AVX2 and AVX-512 (whose 16-lane permutation
-/// reads four index bits: the table is there twice), two lookups and a select on 4-lane targets.
-HWY_INLINE hn::Vec<DI> Exp2EighthsBits(hn::Vec<DI> bits) {
+/// Entry j of a table of 16 ints (kExp2EighthsBits, kExp2Eighths255Bits: eight entries twice) for
+/// the low three bits j of each lane (the other bits are ignored): one lane permutation on AVX2
+/// and AVX-512 (whose 16-lane permutation reads four index bits), two lookups and a select on
+/// 4-lane targets.
+HWY_INLINE hn::Vec<DI> LookUpEighth(const std::int32_t* table, hn::Vec<DI> bits) {
     const DI di;
-    const auto* table = simd::kExp2EighthsBits;
 #if HWY_TARGET == HWY_SCALAR
     return hn::Set(di, table[hn::GetLane(bits) & 7]);
 #elif HWY_ARCH_X86 && HWY_TARGET == HWY_AVX2
@@ -270,52 +277,54 @@ HWY_INLINE hn::Vec<DI> Exp2EighthsBits(hn::Vec<DI> bits) {
 #endif
 }
 
-/// exp(x) and expm1(x) for x <= 0 (minus an optical depth) from one range reduction: x =
-/// (8 m + j) ln2 / 8 + r with 8 m + j = round(8 x / ln2), j in 0..7, |r| <= ln2 / 16 (ln2 / 8
-/// in two parts, Cody–Waite, for degree 4; in one for degree 3), q = e^r - 1 by its Taylor
-/// polynomial of degree kDegree
-/// (truncation relative to q at |r| = ln2 / 16: 2.9e-8 for degree 4, 3.4e-6 for degree 3), and
-/// s = 2^m 2^(j/8) from a table of eight floats and the exponent bits; then exp(x) = s q + s and
-/// expm1(x) = s q + (s - 1). The rounding of the table entry (at most 6e-8 relative) grows in
-/// s - 1 where it cancels against s q near x = -ln2 / 16. Measured over [-87.3, 0]
-/// (test_core_batch_kernels): relative error 1.1e-7 (exp) and 1.9e-7 (expm1) for degree 4,
-/// 4.1e-6 and 3.4e-6 for degree 3. Against the degree-7 and degree-5 polynomials on |r| <= ln2 / 2
-/// this saves three fused multiply-adds per channel for a lane permutation. Below -87.33 both are
-/// their values there (1.2e-38 and -1: 0 and -1 to 8 bits and to any use of them here). 2^m and j
-/// come from the bits of the rounding constant: no float-int conversions. NaN gives the values at
-/// -87.33.
+/// The parts of 2^(y/8) for y <= 0 in eighths of a binary order (y = 8 log2(e) x for exp(x), x
+/// minus an optical depth): y = 8 m + j + f with 8 m + j = round(y), j in 0..7, |f| <= 1/2
+/// (exact); q = 2^(f/8) - 1 = e^r - 1, r = f ln2 / 8, |r| <= ln2 / 16, by its Taylor polynomial of
+/// degree kDegree in f (truncation relative to q: 2.9e-8 for degree 4, 3.4e-6 for degree 3); and
+/// scale = c 2^m 2^(j/8) from `table` (c = 1: kExp2EighthsBits; c = 255: kExp2Eighths255Bits)
+/// and the exponent bits. Then c 2^(y/8) = scale q + scale and c (2^(y/8) - 1) = scale q +
+/// (scale - c). Working in eighths of a binary order, the reduction is three additions (the
+/// caller's one multiply gives y): against the natural form (multiply, fused multiply-add,
+/// Cody–Waite in two more) it keeps the fused multiply-add units, the kernel's bottleneck, for
+/// the polynomial. y carries the rounding of that multiply (relative 6e-8 of y, as the optical
+/// depth does in the natural form): an absolute error of 2^(y/8) below 4.4e-8, at y/8 = -1.44
+/// (tau = 1), and a relative error of expm1 below 1.2e-7 near y = 0. Below y = -1007.9 (x =
+/// -87.33) the parts are those of -1007.9 (2^(y/8) = 1.2e-38: 0 to 8 bits and to any use of it
+/// here); NaN gives those too. 2^m and j come from the bits of the rounding constant: no
+/// float-int conversions.
 template <int kDegree>
-HWY_INLINE void ExpAndExpm1(VF x, VF& exp_x, VF& expm1_x) {
+HWY_INLINE void Exp2EighthsParts(VF y, const std::int32_t* table, VF& scale, VF& q) {
     static_assert(kDegree == 3 || kDegree == 4, "degree 3 (fast) or 4 (accurate)");
     const DF d;
     const DI di;
-    // ln2 / 8 in two parts (Cephes' split of ln2): n kLn2Hi is exact for |n| < 2^15.
-    constexpr float kLn2Hi = 0.693359375f / 8.0f;
-    constexpr float kLn2Lo = -2.12194440e-4f / 8.0f;
-    const VF clamped = hn::Max(x, K(-87.33f));
+    constexpr double kR = 0.69314718055994530942 / 8.0;  // r per unit of f
+    const VF clamped = hn::Max(y, K(-1007.9f));
     // Adding 1.5 * 2^23 rounds to an integer n = 8 m + j and leaves it in the low mantissa bits.
-    const VF shifted = hn::MulAdd(clamped, K(8.0f * 1.44269504088896340736f), K(12582912.0f));
-    const VF n = hn::Sub(shifted, K(12582912.0f));
-    VF r;
-    if constexpr (kDegree == 4) {
-        r = hn::NegMulAdd(n, K(kLn2Lo), hn::NegMulAdd(n, K(kLn2Hi), clamped));
-    } else {
-        // One step: ln2 / 8 rounded to float is off by 3.7e-9 at most, |n| <= 1008 times that
-        // in r, below the degree-3 truncation wherever exp(x) reaches 1 / 255.
-        r = hn::NegMulAdd(n, K(0.69314718055994530942f / 8.0f), clamped);
-    }
+    const VF shifted = hn::Add(clamped, K(12582912.0f));
+    const VF f = hn::Sub(clamped, hn::Sub(shifted, K(12582912.0f)));
     VF p;
     if constexpr (kDegree == 4) {
-        p = hn::MulAdd(r, K(1.0f / 24.0f), K(1.0f / 6.0f));
-        p = hn::MulAdd(p, r, K(0.5f));
+        p = hn::MulAdd(f, K(float(kR * kR * kR * kR / 24.0)), K(float(kR * kR * kR / 6.0)));
+        p = hn::MulAdd(p, f, K(float(kR * kR / 2.0)));
     } else {
-        p = hn::MulAdd(r, K(1.0f / 6.0f), K(0.5f));
+        p = hn::MulAdd(f, K(float(kR * kR * kR / 6.0)), K(float(kR * kR / 2.0)));
     }
-    const VF q = hn::MulAdd(hn::Mul(p, r), r, r);  // r + r^2 (1/2 + r/6 + ...)
+    q = hn::Mul(hn::MulAdd(p, f, K(float(kR))), f);
     const hn::Vec<DI> bits = hn::BitCast(di, shifted);
-    // n << 20 = m << 23 + j << 20, the table entry has j << 20 taken off: 2^m 2^(j/8). The
-    // constant's own bits leave the 32-bit lane.
-    const VF scale = hn::BitCast(d, hn::Add(Exp2EighthsBits(bits), hn::ShiftLeft<20>(bits)));
+    // n << 20 = m << 23 + j << 20, the table entry has j << 20 taken off. The constant's own
+    // bits leave the 32-bit lane.
+    scale = hn::BitCast(d, hn::Add(LookUpEighth(table, bits), hn::ShiftLeft<20>(bits)));
+}
+
+/// exp and expm1 of x = y / (8 log2(e)) <= 0 from Exp2EighthsParts. Measured over x in
+/// [-87.3, 0] for the float y nearest to 8 log2(e) x (test_core_batch_kernels): relative error
+/// against 2^(y/8) below 1.2e-7 (exp) and 2.1e-7 (expm1) for degree 4, 4e-6 for degree 3; the
+/// rounding of the table entry (6e-8 relative) grows in scale - 1 where it cancels against
+/// scale q near y = -1/2.
+template <int kDegree>
+HWY_INLINE void ExpAndExpm1(VF y, VF& exp_x, VF& expm1_x) {
+    VF scale, q;
+    Exp2EighthsParts<kDegree>(y, simd::kExp2EighthsBits, scale, q);
     exp_x = hn::MulAdd(scale, q, scale);
     expm1_x = hn::MulAdd(scale, q, hn::Sub(scale, K(1.0f)));
 }
@@ -581,7 +590,7 @@ struct HoffmanPreethamConstants {
     VF max_distance_sq_m2;
     VF hg_peak[3];
     VF hg_a, hg_b;
-    VF minus_extinction[3];
+    VF log2_rate[3];  // -beta_ex 8 log2(e): y = log2_rate s (Exp2EighthsParts)
     VF rayleigh_path[3], mie_path[3];
     bool unit_scale;
 
@@ -594,7 +603,7 @@ struct HoffmanPreethamConstants {
         for (int i = 0; i < 3; ++i) {
             eye_units[i] = K(k.eye_units[i]);
             hg_peak[i] = K(k.hg_peak[i]);
-            minus_extinction[i] = K(k.hp_minus_extinction[i]);
+            log2_rate[i] = K(float(-double(k.hp_extinction[i]) * simd::kEighthsPerNat));
             rayleigh_path[i] = K(k.hp_rayleigh_path[i]);
             mie_path[i] = K(k.hp_mie_path[i]);
         }
@@ -699,7 +708,7 @@ HWY_INLINE void HoffmanPreethamChannels(const HoffmanPreethamConstants& k, const
         ForEachChannel([&](auto channel) {
             constexpr int c = decltype(channel)::value;
             VF extinction, length;
-            ExpAndExpm1<M::kExpDegree>(hn::Mul(k.minus_extinction[c], s[j]), extinction, length);
+            ExpAndExpm1<M::kExpDegree>(hn::Mul(k.log2_rate[c], s[j]), extinction, length);
             if constexpr (kInScattering) {
                 // L = (beta_R P_R + beta_Ms P_M) E_eye s phi(tau), >= 0, with s phi(tau) =
                 // -expm1(-tau) / beta_ex and the phase constants folded into hp_*_path (0 where
@@ -1286,14 +1295,24 @@ std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Jo
     const VF exposure = K(job.exposure);
     const bool packed_words = (!kExtinction || job.extinction_stride == 4) &&
                               (!kInScattering || job.in_scattering_stride == 4);
-    // The words of kN vectors of positions.
-    auto shade = [&](const VF(&x)[kN], const VF(&y)[kN], const VF(&z)[kN], MF(&valid)[kN],
-                     hn::Vec<DI>(&extinction_words)[kN],
+    // A step's geometry: the valid lanes, s and the phases of kN vectors of positions.
+    struct Geometry {
+        MF valid[kN];
+        VF s[kN], rayleigh[kN], mie[kN];
+    };
+    auto geometry = [&](std::size_t at, std::size_t n, Geometry& g) AERIAL_INLINE_LAMBDA {
+        VF x[kN], y[kN], z[kN];
+        LoadPositions(job, at, n, x, y, z);
+        HoffmanPreethamGeometry<kInScattering, kN, false>(k, x, y, z, g.valid, g.s, g.rayleigh,
+                                                          g.mie);
+    };
+    // Its words: the channels, as codes.
+    auto words = [&](const Geometry& g, hn::Vec<DI>(&extinction_words)[kN],
                      hn::Vec<DI>(&in_scattering_words)[kN]) AERIAL_INLINE_LAMBDA {
         const auto alpha = hn::Set(di, static_cast<int32_t>(0xFF000000u));
         for (int j = 0; j < kN; ++j) extinction_words[j] = in_scattering_words[j] = alpha;
-        HoffmanPreethamVectors<M, kInScattering, kN, false>(
-            k, x, y, z, valid, [&](int j, auto channel, VF f_ex, VF l_in) {
+        HoffmanPreethamChannels<M, kInScattering, kN>(
+            k, g.s, g.rayleigh, g.mie, [&](int j, auto channel, VF f_ex, VF l_in) {
                 constexpr int kShift = 8 * decltype(channel)::value;
                 if constexpr (kExtinction) {
                     extinction_words[j] = hn::Or(extinction_words[j],
@@ -1308,42 +1327,59 @@ std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Jo
         if constexpr (kInScattering) {
             for (int j = 0; j < kN; ++j) {
                 in_scattering_words[j] =
-                    hn::IfThenElse(hn::RebindMask(di, valid[j]), in_scattering_words[j], alpha);
+                    hn::IfThenElse(hn::RebindMask(di, g.valid[j]), in_scattering_words[j], alpha);
             }
         }
     };
     std::size_t invalid = 0;
     std::size_t i = 0;
-    if (packed_words) {
-        // Full steps: words stored straight from registers.
-        for (; i + step <= job.count; i += step) {
-            VF x[kN], y[kN], z[kN];
-            LoadPositions(job, i, step, x, y, z);
-            MF valid[kN];
-            hn::Vec<DI> extinction_words[kN], in_scattering_words[kN];
-            shade(x, y, z, valid, extinction_words, in_scattering_words);
-            _Pragma("GCC unroll 8") for (int j = 0; j < kN; ++j) {
-                const std::size_t at = i + j * lanes;
-                invalid += hn::CountTrue(d, hn::Not(valid[j]));
-                if constexpr (kExtinction) {
-                    hn::StoreU(extinction_words[j], di,
-                               reinterpret_cast<int32_t*>(job.extinction + 4 * at));
-                }
-                if constexpr (kInScattering) {
-                    hn::StoreU(in_scattering_words[j], di,
-                               reinterpret_cast<int32_t*>(job.in_scattering + 4 * at));
-                }
+    // Full steps, words stored straight from registers. Software-pipelined: the geometry of the
+    // next step is computed before the channels of this one, so that the two, independent,
+    // stand next to each other in program order (the channels' long chains of exponential and
+    // codes would otherwise fill the out-of-order window while the next geometry waits).
+    auto store_step = [&](std::size_t at, const Geometry& g, const hn::Vec<DI>(&e)[kN],
+                          const hn::Vec<DI>(&l)[kN]) AERIAL_INLINE_LAMBDA {
+        _Pragma("GCC unroll 8") for (int j = 0; j < kN; ++j) {
+            const std::size_t vertex = at + j * lanes;
+            invalid += hn::CountTrue(d, hn::Not(g.valid[j]));
+            if constexpr (kExtinction) {
+                hn::StoreU(e[j], di, reinterpret_cast<int32_t*>(job.extinction + 4 * vertex));
+            }
+            if constexpr (kInScattering) {
+                hn::StoreU(l[j], di, reinterpret_cast<int32_t*>(job.in_scattering + 4 * vertex));
             }
         }
+    };
+    if (packed_words && job.count >= step) {
+        Geometry current;
+        geometry(0, step, current);
+        for (; i + 2 * step <= job.count; i += step) {
+            Geometry next;
+            geometry(i + step, step, next);
+            hn::Vec<DI> extinction_words[kN], in_scattering_words[kN];
+            words(current, extinction_words, in_scattering_words);
+            store_step(i, current, extinction_words, in_scattering_words);
+            current = next;
+        }
+        hn::Vec<DI> extinction_words[kN], in_scattering_words[kN];
+        words(current, extinction_words, in_scattering_words);
+        store_step(i, current, extinction_words, in_scattering_words);
+        i += step;
     }
+    auto shade = [&](std::size_t at, std::size_t n, MF(&valid)[kN],
+                     hn::Vec<DI>(&extinction_words)[kN],
+                     hn::Vec<DI>(&in_scattering_words)[kN]) AERIAL_INLINE_LAMBDA {
+        Geometry g;
+        geometry(at, n, g);
+        words(g, extinction_words, in_scattering_words);
+        for (int j = 0; j < kN; ++j) valid[j] = g.valid[j];
+    };
     // Strided words, and the last, partial step (LoadPositions zero-pads it).
     for (; i < job.count; i += step) {
         const std::size_t n = std::min(step, job.count - i);
-        VF x[kN], y[kN], z[kN];
-        LoadPositions(job, i, n, x, y, z);
         MF valid[kN];
         hn::Vec<DI> extinction_words[kN], in_scattering_words[kN];
-        shade(x, y, z, valid, extinction_words, in_scattering_words);
+        shade(i, n, valid, extinction_words, in_scattering_words);
         for (int j = 0; j < kN && j * lanes < n; ++j) {
             const std::size_t at = i + j * lanes;
             const std::size_t m = std::min(lanes, n - j * lanes);

@@ -1275,13 +1275,17 @@ std::size_t ShadeRgba8(const FrameConstants& constants, const Rgba8Job& work) {
     return invalid;
 }
 
-/// The 2002 model from positions to F_ex and L_in codes (no lit colour): ShadeRgba8's codes,
-/// bit for bit, with less work around the model. kN vectors per step (HoffmanPreethamVectors);
-/// each channel's codes go into the RGBA8 words as soon as the channel is computed, so that
-/// only the words stay live across channels; the L_in words of invalid lanes are set to alpha
-/// alone at the end (instead of masking their directions: one operation for three). Full steps
-/// store the words straight from registers, the last, partial step goes through zero-padded
-/// copies and StoreWords. kExtinction / kInScattering: which codes are wanted (at least one).
+/// The 2002 model from positions to F_ex and L_in codes (no lit colour), with less work around
+/// the model than ShadeRgba8: the same 8-bit rule on the same model, but 255 and the exposure are
+/// folded into the exponential's table and the per-call constants, and each code comes from one
+/// fused multiply-add (see `words`), so a code may differ from ShadeRgba8's by one where the
+/// value lies within float rounding of a rounding boundary (both are within half a step of the
+/// exact value there). kN vectors per step (HoffmanPreethamGeometry); each channel's codes go
+/// into the RGBA8 words as soon as the channel is computed, so that only the words stay live
+/// across channels; the L_in words of invalid lanes are set to alpha alone at the end (instead
+/// of masking their directions: one operation for three). Full steps store the words straight
+/// from registers, the last, partial step goes through zero-padded copies and StoreWords.
+/// kExtinction / kInScattering: which codes are wanted (at least one).
 template <class M, bool kExtinction, bool kInScattering, int kN>
 std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Job& work) {
     static_assert(kExtinction || kInScattering, "no output");
@@ -1292,7 +1296,6 @@ std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Jo
     const DI di;
     const std::size_t lanes = hn::Lanes(d);
     const std::size_t step = kN * lanes;
-    const VF exposure = K(job.exposure);
     const bool packed_words = (!kExtinction || job.extinction_stride == 4) &&
                               (!kInScattering || job.in_scattering_stride == 4);
     // A step's geometry: the valid lanes, s and the phases of kN vectors of positions.
@@ -1306,24 +1309,48 @@ std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Jo
         HoffmanPreethamGeometry<kInScattering, kN, false>(k, x, y, z, g.valid, g.s, g.rayleigh,
                                                           g.mie);
     };
-    // Its words: the channels, as codes.
+    // Its words: per channel, y = log2_rate s, its parts with the table of 255 2^(j/8)
+    // (Exp2EighthsParts), then the codes with one fused multiply-add each:
+    //   F_ex  255 F + 1/2 = scale q + (scale + 1/2);
+    //   L_in  255 exposure L + 1/2 = t 255 expm1(-tau) + 1/2, 255 expm1 = scale q + (scale -
+    //         255), t = exposure (hp_rayleigh_path P_R + hp_mie_path P_M) (exposure folded into
+    //         the per-call constants; their sign makes t 255 expm1 >= 0).
+    // F_ex codes need no clamp (255 F + 1/2 is in [1/2, 255.5]); L_in codes are clamped on the
+    // integers (Unorm8). The caller has checked that t cannot overflow (FoldedInScattering).
+    VF in_rayleigh[3], in_mie[3];
+    for (int c = 0; c < 3; ++c) {
+        in_rayleigh[c] = K(float(double(frame.hp_rayleigh_path[c]) * job.exposure));
+        in_mie[c] = K(float(double(frame.hp_mie_path[c]) * job.exposure));
+    }
     auto words = [&](const Geometry& g, hn::Vec<DI>(&extinction_words)[kN],
                      hn::Vec<DI>(&in_scattering_words)[kN]) AERIAL_INLINE_LAMBDA {
         const auto alpha = hn::Set(di, static_cast<int32_t>(0xFF000000u));
+        const hn::RebindToUnsigned<DF> du;
         for (int j = 0; j < kN; ++j) extinction_words[j] = in_scattering_words[j] = alpha;
-        HoffmanPreethamChannels<M, kInScattering, kN>(
-            k, g.s, g.rayleigh, g.mie, [&](int j, auto channel, VF f_ex, VF l_in) {
-                constexpr int kShift = 8 * decltype(channel)::value;
+        _Pragma("GCC unroll 8") for (int j = 0; j < kN; ++j) {
+            ForEachChannel([&](auto channel) {
+                constexpr int c = decltype(channel)::value;
+                constexpr int kShift = 8 * c;
+                VF scale, q;
+                Exp2EighthsParts<M::kExpDegree>(hn::Mul(k.log2_rate[c], g.s[j]),
+                                                simd::kExp2Eighths255Bits, scale, q);
                 if constexpr (kExtinction) {
-                    extinction_words[j] = hn::Or(extinction_words[j],
-                                                 hn::ShiftLeft<kShift>(Unorm8<true, true>(f_ex)));
+                    const auto code =
+                        TruncateInRange(hn::MulAdd(scale, q, hn::Add(scale, K(0.5f))));
+                    extinction_words[j] = hn::Or(extinction_words[j], hn::ShiftLeft<kShift>(code));
                 }
                 if constexpr (kInScattering) {
-                    in_scattering_words[j] =
-                        hn::Or(in_scattering_words[j],
-                               hn::ShiftLeft<kShift>(Unorm8<true>(hn::Mul(l_in, exposure))));
+                    const VF expm1_255 = hn::MulAdd(scale, q, hn::Sub(scale, K(255.0f)));
+                    const VF t =
+                        hn::MulAdd(in_rayleigh[c], g.rayleigh[j], hn::Mul(in_mie[c], g.mie[j]));
+                    const auto code =
+                        hn::BitCast(du, TruncateInRange(hn::MulAdd(t, expm1_255, K(0.5f))));
+                    in_scattering_words[j] = hn::Or(
+                        in_scattering_words[j],
+                        hn::ShiftLeft<kShift>(hn::BitCast(di, hn::Min(code, hn::Set(du, 255u)))));
                 }
             });
+        }
         if constexpr (kInScattering) {
             for (int j = 0; j < kN; ++j) {
                 in_scattering_words[j] =
@@ -1367,13 +1394,13 @@ std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Jo
         i += step;
     }
     auto shade = [&](std::size_t at, std::size_t n, MF(&valid)[kN],
-                     hn::Vec<DI>(&extinction_words)[kN],
-                     hn::Vec<DI>(&in_scattering_words)[kN]) AERIAL_INLINE_LAMBDA {
-        Geometry g;
-        geometry(at, n, g);
-        words(g, extinction_words, in_scattering_words);
-        for (int j = 0; j < kN; ++j) valid[j] = g.valid[j];
-    };
+                     hn::Vec<DI>(&extinction_words)[kN], hn::Vec<DI>(&in_scattering_words)[kN])
+                     AERIAL_INLINE_LAMBDA {
+                         Geometry g;
+                         geometry(at, n, g);
+                         words(g, extinction_words, in_scattering_words);
+                         for (int j = 0; j < kN; ++j) valid[j] = g.valid[j];
+                     };
     // Strided words, and the last, partial step (LoadPositions zero-pads it).
     for (; i < job.count; i += step) {
         const std::size_t n = std::min(step, job.count - i);
@@ -1398,6 +1425,22 @@ std::size_t ShadeRgba8HoffmanPreetham(const FrameConstants& frame, const Rgba8Jo
     return invalid;
 }
 
+/// Whether ShadeRgba8HoffmanPreetham may fold the exposure into its L_in constants: t =
+/// exposure (hp_rayleigh_path P_R + hp_mie_path P_M) must stay finite for every direction
+/// (P_R = 1 + c^2 <= 2, P_M = base^(-3/2) <= hg_a^(-3/2)), else an infinite t times a zero path
+/// at the eye would give NaN instead of 0. Only for exposures and irradiances near the float
+/// range; ShadeRgba8 (the rule on the float values) takes those.
+inline bool FoldedInScattering(const FrameConstants& k, float exposure) {
+    if (!(k.hg_a > 0.0f)) return false;
+    const double mie_max = std::pow(double(k.hg_a), -1.5);
+    for (int c = 0; c < 3; ++c) {
+        const double t = double(exposure) * (2.0 * std::abs(double(k.hp_rayleigh_path[c])) +
+                                             std::abs(double(k.hp_mie_path[c])) * mie_max);
+        if (!(t < 1e37)) return false;
+    }
+    return true;
+}
+
 /// The driver for the job's model, precision and outputs.
 template <class M>
 std::size_t ShadeRgba8For(const FrameConstants& k, Model model, const Rgba8Job& job) {
@@ -1411,6 +1454,9 @@ std::size_t ShadeRgba8For(const FrameConstants& k, Model model, const Rgba8Job& 
         }
         if (!in_scattering) {
             return ShadeRgba8HoffmanPreetham<M, true, false, M::kInterleave>(k, job);
+        }
+        if (!FoldedInScattering(k, job.exposure)) {
+            return ShadeRgba8<M, HoffmanPreethamShader<M, true, false>, true, false>(k, job);
         }
         return job.extinction ? ShadeRgba8HoffmanPreetham<M, true, true, M::kInterleave>(k, job)
                               : ShadeRgba8HoffmanPreetham<M, false, true, M::kInterleave>(k, job);

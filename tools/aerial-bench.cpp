@@ -23,6 +23,12 @@
 #include "bench/stability.hpp"
 #include "common/cli.hpp"
 
+namespace aerial::detail {
+// The SIMD target hooks of batch_simd.cpp (also used by the tests).
+std::vector<std::string> simd_test_targets();
+bool simd_test_use_target(const std::string& name);
+}  // namespace aerial::detail
+
 namespace {
 
 constexpr const char* kTool = "aerial-bench";
@@ -152,6 +158,10 @@ int main(int argc, char** argv) {
                    "least disturbed on a shared machine)");
     app.add_option("--model", model_text, "hoffman-preetham (default) or height");
     app.add_option("--preset", preset, "Atmosphere preset (default earth)");
+    std::string simd_target;
+    app.add_option("--simd-target", simd_target,
+                   "With --cpu-throughput: run the SIMD kernels on this target (AVX3, AVX2, SSE4, "
+                   "SSSE3, SCALAR; one the CPU supports) instead of the best");
     bool stability = false;
     app.add_flag("--stability", stability,
                  "Stability map: every method against the reference model over sweeps of sun "
@@ -176,6 +186,13 @@ int main(int argc, char** argv) {
     if (!out_dir.empty()) {
         const int rounds = app.count("--repetitions") ? repetitions : (quick ? 3 : 21);
         return pareto(out_dir, quick, scenes_dir, size, rounds, !no_chart);
+    }
+    if (!simd_target.empty() && !aerial::detail::simd_test_use_target(simd_target)) {
+        std::string supported;
+        for (const auto& t : aerial::detail::simd_test_targets()) supported += " " + t;
+        return aerial::tools::fail(kTool, "--simd-target: '" + simd_target +
+                                              "' is not a target this build and CPU run (they "
+                                              "are:" + supported + ")");
     }
     const auto model = aerial::parse_model(model_text);
     if (!model) return aerial::tools::fail(kTool, "--model: " + model.error().message);

@@ -192,7 +192,8 @@ int main(int argc, char** argv) {
         for (const auto& t : aerial::detail::simd_test_targets()) supported += " " + t;
         return aerial::tools::fail(kTool, "--simd-target: '" + simd_target +
                                               "' is not a target this build and CPU run (they "
-                                              "are:" + supported + ")");
+                                              "are:" +
+                                              supported + ")");
     }
     const auto model = aerial::parse_model(model_text);
     if (!model) return aerial::tools::fail(kTool, "--model: " + model.error().message);

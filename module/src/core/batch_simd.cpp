@@ -341,6 +341,24 @@ HWY_INLINE VF RefinedRsqrt(VF x) {
 #endif
 }
 
+/// x^(-3/2) for normal x > 0. On x86 from the hardware estimate r of 1 / sqrt(x) (relative
+/// error delta <= 2^-14 on AVX-512, 1.5 2^-12 on AVX2) and one Newton step on the cube: with
+/// e = 1 - x r^2, r^3 (1 + 3/2 e) = x^(-3/2) (1 - 15/2 delta^2 + ...), relative error 3e-8 on
+/// AVX-512 and 1.3e-6 at worst on AVX2 (Newton on r, then the cube: the same order); one
+/// operation fewer than RefinedRsqrt cubed.
+HWY_INLINE VF InversePow32FromEstimate(VF x) {
+#if HWY_ARCH_X86 && HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128
+    const VF r = hn::ApproximateReciprocalSqrt(x);
+    const VF r2 = hn::Mul(r, r);
+    const VF e = hn::NegMulAdd(x, r2, K(1.0f));
+    const VF r3 = hn::Mul(r2, r);
+    return hn::MulAdd(hn::Mul(e, K(1.5f)), r3, r3);
+#else
+    const VF r = RefinedRsqrt(x);
+    return hn::Mul(r, hn::Mul(r, r));
+#endif
+}
+
 // ---- The two precisions -----------------------------------------------------------------------
 
 /// Highway's functions (about 1 ulp).
@@ -594,7 +612,7 @@ struct HoffmanPreethamConstants {
     VF meters_per_unit;
     VF max_distance_sq_m2;
     VF hg_peak[3];
-    VF hg_a, hg_b;
+    VF hg_a, hg_b_half;
     VF log2_rate[3];  // -beta_ex 8 log2(e): y = log2_rate s (Exp2EighthsParts)
     VF rayleigh_path[3], mie_path[3];
     bool unit_scale;
@@ -603,7 +621,7 @@ struct HoffmanPreethamConstants {
         : meters_per_unit(K(k.meters_per_unit)),
           max_distance_sq_m2(K(k.max_distance_sq_m2)),
           hg_a(K(k.hg_a)),
-          hg_b(K(k.hg_b)),
+          hg_b_half(K(0.5f * k.hg_b)),
           unit_scale(k.unit_scale) {
         for (int i = 0; i < 3; ++i) {
             eye_units[i] = K(k.eye_units[i]);
@@ -690,12 +708,13 @@ HWY_INLINE void HoffmanPreethamGeometry(const HoffmanPreethamConstants& k, const
             const VF cx = hn::MulSub(dx[j], inv_s[j], k.hg_peak[0]);
             const VF cy = hn::MulSub(dy[j], inv_s[j], k.hg_peak[1]);
             const VF cz = hn::MulSub(dz[j], inv_s[j], k.hg_peak[2]);
-            const VF one_minus_c = hn::Min(hn::Mul(Dot(cx, cy, cz, cx, cy, cz), K(0.5f)), K(2.0f));
-            const VF c = hn::Sub(K(1.0f), one_minus_c);
+            // chord = 2 (1 - c'); the halvings below are exact, so these are the values of
+            // 1 - c' = min(chord / 2, 2), c = 1 - (1 - c') and hg_a + hg_b (1 - c').
+            const VF chord = hn::Min(Dot(cx, cy, cz, cx, cy, cz), K(4.0f));
+            const VF c = hn::NegMulAdd(chord, K(0.5f), K(1.0f));
             rayleigh[j] = hn::MulAdd(c, c, K(1.0f));  // over 3 / (16 pi)
-            const VF inv_root_base = RefinedRsqrt(hn::MulAdd(k.hg_b, one_minus_c, k.hg_a));
-            mie[j] =
-                hn::Mul(inv_root_base, hn::Mul(inv_root_base, inv_root_base));  // over hg_numerator
+            mie[j] = InversePow32FromEstimate(
+                hn::MulAdd(k.hg_b_half, chord, k.hg_a));  // over hg_numerator
         }
     } else {
         (void)rayleigh;

@@ -130,8 +130,10 @@ struct BatchStats {
 /// Shades every vertex of `positions` into `outputs`. With the hoffman-preetham or height model,
 /// a SIMD kernel, and only RGBA8 outputs (extinction, lit, in-scattering; clamp curve for the
 /// last two), the vertices go from positions to codes in one pass, with no float arrays in
-/// between (the fastest case, and the codes are those the float path's values give under the
-/// 8-bit rule).
+/// between (the fastest case). The codes are the 8-bit rule applied to the model's values: those
+/// the float path's values give, except that for F_ex and L_in alone with the 2002 model (255
+/// and the exposure folded into the kernel's constants) a code may differ from that by one step
+/// where the value lies within float rounding (1e-6 relative) of a rounding boundary.
 /// Errors (nothing is written): a null array
 /// with count > 0, a stride smaller than its element, lit_rgba8 without lighting normals,
 /// exposure <= 0 or not finite, no output at all. `reference` runs on the scalar kernel whatever

@@ -7,10 +7,11 @@
 //             absolute 2e-6 in log2).
 // Both take expm1(z) from its Taylor series for |z| < 1/2 and from an exp already computed
 // beyond it where there is one (F_ex), which keeps the per-vertex cost at one exp per channel.
-// The 2002 model, whose cost is all in the exponentials, has its own (ExpAndExpm1): exp and
-// expm1 from one range reduction, a table of 2^(j/8) and a degree-4 (accurate) or degree-3
-// (fast) polynomial, and the distance and the Henyey–Greenstein power from refined reciprocal
-// square roots; it also runs from positions straight to RGBA8 codes in one pass
+// The 2002 model, whose cost is all in the exponentials, has its own (Exp2EighthsParts): exp and
+// expm1 from one range reduction in eighths of a binary order, a table of 2^(j/8) and a
+// degree-4 (accurate) or degree-3 (fast) polynomial, and the distance and the Henyey–Greenstein
+// power from reciprocal square root estimates and a Newton step; it also runs from positions
+// straight to RGBA8 codes in one pass, 255 and the exposure folded into its constants
 // (ShadeRgba8HoffmanPreetham; ShadeRgba8 takes the height model and the lit colour).
 // The scaled complementary error function of the Chapman factor is the rational form of
 // Numerical Recipes (erfcc, fractional error below 1.2e-7 for every y >= 0), kept in log form so
@@ -318,9 +319,9 @@ HWY_INLINE void Exp2EighthsParts(VF y, const std::int32_t* table, VF& scale, VF&
 
 /// exp and expm1 of x = y / (8 log2(e)) <= 0 from Exp2EighthsParts. Measured over x in
 /// [-87.3, 0] for the float y nearest to 8 log2(e) x (test_core_batch_kernels): relative error
-/// against 2^(y/8) below 1.2e-7 (exp) and 2.1e-7 (expm1) for degree 4, 4e-6 for degree 3; the
-/// rounding of the table entry (6e-8 relative) grows in scale - 1 where it cancels against
-/// scale q near y = -1/2.
+/// against 2^(y/8) 8.6e-8 (exp) and 2.1e-7 (expm1) for degree 4, 2.3e-7 and 3.5e-6 for degree
+/// 3; the rounding of the table entry (6e-8 relative) grows in scale - 1 where it cancels
+/// against scale q near y = -1/2.
 template <int kDegree>
 HWY_INLINE void ExpAndExpm1(VF y, VF& exp_x, VF& expm1_x) {
     VF scale, q;
@@ -344,7 +345,7 @@ HWY_INLINE VF RefinedRsqrt(VF x) {
 /// x^(-3/2) for normal x > 0. On x86 from the hardware estimate r of 1 / sqrt(x) (relative
 /// error delta <= 2^-14 on AVX-512, 1.5 2^-12 on AVX2) and one Newton step on the cube: with
 /// e = 1 - x r^2, r^3 (1 + 3/2 e) = x^(-3/2) (1 - 15/2 delta^2 + ...), relative error 3e-8 on
-/// AVX-512 and 1.3e-6 at worst on AVX2 (Newton on r, then the cube: the same order); one
+/// AVX-512 and 1.0e-6 at worst on AVX2 (RefinedRsqrt cubed: 9/2 delta^2, the same order); one
 /// operation fewer than RefinedRsqrt cubed.
 HWY_INLINE VF InversePow32FromEstimate(VF x) {
 #if HWY_ARCH_X86 && HWY_TARGET != HWY_SCALAR && HWY_TARGET != HWY_EMU128

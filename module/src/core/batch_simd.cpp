@@ -753,13 +753,12 @@ HWY_INLINE void HoffmanPreethamChannels(const HoffmanPreethamConstants& k, const
 }
 
 /// HoffmanPreethamGeometry, then HoffmanPreethamChannels.
-template <class M, bool kInScattering, int kN, bool kMaskDirections = true, class Sink>
+template <class M, bool kInScattering, int kN, class Sink>
 HWY_INLINE void HoffmanPreethamVectors(const HoffmanPreethamConstants& k, const VF (&x)[kN],
                                        const VF (&y)[kN], const VF (&z)[kN], MF (&valid)[kN],
                                        const Sink& sink) {
     VF s[kN], rayleigh[kN], mie[kN];
-    HoffmanPreethamGeometry<kInScattering, kN, kMaskDirections>(k, x, y, z, valid, s, rayleigh,
-                                                                mie);
+    HoffmanPreethamGeometry<kInScattering, kN>(k, x, y, z, valid, s, rayleigh, mie);
     HoffmanPreethamChannels<M, kInScattering, kN>(k, s, rayleigh, mie, sink);
 }
 

@@ -168,6 +168,9 @@ int main(int argc, char** argv) {
                  "elevation, altitude, distance, g, turbidity and visibility; writes "
                  "DIR/stability.csv and DIR/stability.png");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
+    if (!simd_target.empty() && !cpu_throughput) {
+        return aerial::tools::fail(kTool, "--simd-target: only with --cpu-throughput");
+    }
     if (stability) return aerial::bench::run_stability(out_dir, quick);
     if (cpu_throughput && !out_dir.empty()) {
         return aerial::tools::fail(kTool, "--out: not together with --cpu-throughput");

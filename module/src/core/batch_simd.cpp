@@ -93,10 +93,8 @@ struct FrameConstants {
     float rayleigh_phase_scale;
     float hg_a, hg_b, hg_numerator, hg_one_minus_c_at_sun;
     float hg_peak[3];  // sign(g) sun: the direction of the Henyey–Greenstein peak
-    // hoffman-preetham: beta_R E_eye and beta_Ms E_eye per channel (1/m), total extinction and
-    // its inverse (0 where the extinction is 0), E_eye.
-    float hp_rayleigh[3], hp_mie[3], hp_extinction[3], hp_inv_extinction[3], sun_eye[3];
-    float hp_minus_extinction[3], hp_minus_inv_extinction[3];  // their negatives
+    // hoffman-preetham: total extinction per channel (1/m), E_eye.
+    float hp_extinction[3], sun_eye[3];
     // -beta_R E_eye 3/(16 pi) / beta_ex and -beta_Ms E_eye hg_numerator / beta_ex (in double; 0
     // where beta_ex is 0): L_in = (1 + c^2, base^(-3/2)) . (these) x expm1(-tau).
     float hp_rayleigh_path[3], hp_mie_path[3];
@@ -141,12 +139,7 @@ inline FrameConstants make_frame_constants(const Frame<float>& f) {
         k.mie_extinction[c] = f.mie_extinction[c];
         k.sun_top[c] = f.sun_irradiance_top[c];
         k.sun_eye[c] = f.sun_irradiance_eye[c];
-        k.hp_rayleigh[c] = f.rayleigh_scattering[c] * f.sun_irradiance_eye[c];
-        k.hp_mie[c] = f.mie_scattering[c] * f.sun_irradiance_eye[c];
         k.hp_extinction[c] = f.rayleigh_scattering[c] + f.mie_extinction[c];
-        k.hp_inv_extinction[c] = k.hp_extinction[c] > 0.0f ? 1.0f / k.hp_extinction[c] : 0.0f;
-        k.hp_minus_extinction[c] = -k.hp_extinction[c];
-        k.hp_minus_inv_extinction[c] = -k.hp_inv_extinction[c];
         const double extinction = double(f.rayleigh_scattering[c]) + f.mie_extinction[c];
         const double per_extinction =
             extinction > 0.0 ? -double(f.sun_irradiance_eye[c]) / extinction : 0.0;
@@ -396,16 +389,13 @@ struct FastMath {
         const VF rounding = hn::Sub(x, hn::Sub(u, K(1.0f)));
         return hn::MulAdd(rounding, hn::ApproximateReciprocal(hn::Max(u, K(kTiny))), Log(u));
     }
-    /// The hardware estimates and one Newton step (relative error about 1e-7 on x86).
+    /// The hardware estimates and one Newton step (relative error about 1e-7 on x86; x^(-3/2):
+    /// InversePow32FromEstimate).
     static HWY_INLINE VF Reciprocal(VF x) {
         const VF r = hn::ApproximateReciprocal(x);
         return hn::Mul(r, hn::NegMulAdd(x, r, K(2.0f)));
     }
-    static HWY_INLINE VF InversePow32(VF x) {
-        const VF r0 = hn::ApproximateReciprocalSqrt(x);
-        const VF r = hn::Mul(r0, hn::NegMulAdd(hn::Mul(K(0.5f), x), hn::Mul(r0, r0), K(1.5f)));
-        return hn::Mul(r, hn::Mul(r, r));
-    }
+    static HWY_INLINE VF InversePow32(VF x) { return InversePow32FromEstimate(x); }
 };
 
 // ---- Shared numerics (math.hpp, vectorised) ---------------------------------------------------
@@ -762,8 +752,9 @@ HWY_INLINE void HoffmanPreethamVectors(const HoffmanPreethamConstants& k, const 
     HoffmanPreethamChannels<M, kInScattering, kN>(k, s, rayleigh, mie, sink);
 }
 
-/// Vectors the one-pass kernel shades together (see HoffmanPreethamVectors).
-constexpr int kInterleave = 2;
+/// Vectors the one-pass driver of the lit colour (HoffmanPreethamShader) shades together (see
+/// HoffmanPreethamVectors); the F_ex and L_in driver takes M::kInterleave, tuned per target.
+constexpr int kLitInterleave = 2;
 
 template <class M, bool kInScattering>
 std::size_t ShadeHoffmanPreetham(const FrameConstants& k, const KernelBlock& b) {
@@ -1173,12 +1164,12 @@ struct RegisterOut {
     HWY_INLINE void SunIrradiance(int c, VF v) const { sun_irradiance[c] = v; }
 };
 
-/// The 2002 model for the one-pass driver: kInterleave vectors at a time
+/// The 2002 model for the one-pass driver: kLitInterleave vectors at a time
 /// (HoffmanPreethamVectors), E_sun = E_eye on the valid lanes when kSun. F_ex = exp(-tau) is in
 /// [0, 1] (ExpAndExpm1 of x <= 0) and L_in >= 0, so their codes need fewer clamps.
 template <class M, bool kInScattering, bool kSun>
 struct HoffmanPreethamShader {
-    static constexpr int kN = kInterleave;
+    static constexpr int kN = kLitInterleave;
     static constexpr bool kExtinctionInUnitInterval = true;
     static constexpr bool kInScatteringNonNegative = true;
     const FrameConstants& k;

@@ -3,7 +3,6 @@
 // anything but eye and sun changed; mesh_bounds skips NaN and reads AoS with stride and SoA.
 // Prints the tightness (bound / actual) and the largest moves that still skip, for the notes.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -533,24 +532,32 @@ TEST(MeshBounds, SkipsNonFiniteVerticesAndReadsAosWithStrideAndSoa) {
     EXPECT_EQ(aerial::mesh_bounds(zero_stride).radius, kInf);
 }
 
-TEST(ShadingCache, CheckingIsCheap) {
-    // Not a timing assertion (DESIGN.md §5): prints the cost of the per-mesh check for the notes.
+TEST(ShadingCache, PreparedAndUnpreparedChecksAgree) {
+    // The per-frame check takes a key prepared once per frame; it must decide exactly as the
+    // check that prepares the key itself, for moves on both sides of the bound.
     std::mt19937_64 rng(5);
     const Scene scene = typical_scene("earth", Model::height, 0.5, 300.0, rng);
     aerial::ShadingCache cache;
     cache.bounds = scene.bounds;
     cache.mark_shaded(scene.key);
-    const auto now = aerial::prepare_shading_key(moved(scene.key, dvec3(0.01, 0, 0), 1e-5));
-    ASSERT_TRUE(now.ok());
+    std::uniform_real_distribution<double> step(-20.0, 20.0), turn(-2e-3, 2e-3);
     int updates = 0;
-    const int n = 20000;
-    const auto start = std::chrono::steady_clock::now();
-    for (int i = 0; i < n; ++i) updates += cache.needs_update(*now);
-    const double us =
-        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
-            .count() /
-        n;
-    std::printf("needs_update with a prepared key: %.2f us per mesh (%d updates)\n", us, updates);
+    const int n = 400;
+    for (int i = 0; i < n; ++i) {
+        const double scale = std::pow(10.0, -3.0 + 5.0 * i / n);  // 1 mm .. 100 m
+        const ShadingKey key =
+            moved(scene.key, scale * dvec3(step(rng), step(rng), 0.1 * step(rng)), turn(rng));
+        const auto prepared = aerial::prepare_shading_key(key);
+        ASSERT_TRUE(prepared.ok());
+        const bool fast = cache.needs_update(*prepared);
+        ASSERT_EQ(fast, cache.needs_update(key)) << "move " << i << " (scale " << scale << " m)";
+        ASSERT_EQ(fast, !(aerial::max_change_lsb(*cache.shaded_with, *prepared, cache.bounds) <
+                          aerial::kSkipBelowLsb));
+        updates += fast;
+    }
+    // The sweep crosses the bound: some moves skip, some do not.
+    EXPECT_GT(updates, 0);
+    EXPECT_LT(updates, n);
 }
 
 }  // namespace

@@ -17,7 +17,7 @@
 #include "aerial/aerial.hpp"
 #include "aerial/headless.hpp"
 #include "aerial/scene_renderer.hpp"
-#include "common/png.hpp"
+#include "support/png.hpp"
 #include "game.hpp"
 #include "soak.hpp"
 #include "world.hpp"

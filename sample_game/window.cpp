@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "common/png.hpp"
+#include "support/png.hpp"
 #include "game.hpp"
 
 namespace sample {

@@ -7,7 +7,7 @@
 
 #include "common/cli.hpp"
 #include "common/image_metrics.hpp"
-#include "common/png.hpp"
+#include "support/png.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include "aerial/gl.hpp"
 #include "aerial/headless.hpp"
 #include "common/cli.hpp"
-#include "common/png.hpp"
+#include "support/png.hpp"
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
 

@@ -22,7 +22,7 @@
 #include "aerial/headless.hpp"
 #include "aerial/sky_gl.hpp"
 #include "common/cli.hpp"
-#include "common/png.hpp"
+#include "support/png.hpp"
 
 namespace {
 

@@ -30,7 +30,7 @@
 #include "aerial/scene.hpp"
 #include "aerial/scene_renderer.hpp"
 #include "common/cli.hpp"
-#include "common/png.hpp"
+#include "support/png.hpp"
 
 #ifndef GL_FRAMEBUFFER_BINDING
 #define GL_FRAMEBUFFER_BINDING 0x8CA6

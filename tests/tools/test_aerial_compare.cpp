@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "common/png.hpp"
+#include "support/png.hpp"
 #include "tool_runner.hpp"
 
 namespace {

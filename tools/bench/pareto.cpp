@@ -22,7 +22,7 @@
 #include "aerial/mesh.hpp"
 #include "bench/methods.hpp"
 #include "common/image_metrics.hpp"
-#include "common/png.hpp"
+#include "support/png.hpp"
 #include "render/renderer.hpp"
 
 namespace aerial::bench {

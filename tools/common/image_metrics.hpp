@@ -12,7 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "common/png.hpp"
+#include "support/png.hpp"
 
 namespace aerial::tools {
 

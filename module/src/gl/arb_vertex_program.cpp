@@ -84,7 +84,7 @@ ArbLimits native_arb_limits(const Api& api) {
 }
 
 Result<ArbVertexProgram> ArbVertexProgram::create(const Api& api, const ArbProgram& program) {
-    if (auto e = detail::no_current_context(api)) return *e;
+    if (auto e = no_current_context(api)) return *e;
     if (!api.caps.vertex_program) {
         return Error{"GL_ARB_vertex_program",
                      "GL_ARB_vertex_program: the context does not offer it (GL " +
@@ -224,13 +224,13 @@ Result<ApplyStats> ArbVertexProgram::draw(const std::function<void()>& draw,
                                           const ApplyOptions& options) const {
     if (!draw) return Error{"draw", "draw: the draw callback is empty"};
     if (id_ == 0) return Error{"program", "program: this ArbVertexProgram was moved from"};
-    if (auto e = detail::no_current_context(*api_)) return *e;
+    if (auto e = no_current_context(*api_)) return *e;
     if (options.texture_unit < 0 || options.texture_unit >= api_->caps.max_texture_units) {
         return Error{"texture_unit", "texture_unit: expected 0 .. " +
                                          std::to_string(api_->caps.max_texture_units - 1) +
                                          ", got " + std::to_string(options.texture_unit)};
     }
-    detail::StateSaver s(*api_);
+    StateSaver s(*api_);
     if (api_->caps.fragment_program) s.enable(GL_FRAGMENT_PROGRAM_ARB, false);
     s.use_no_glsl_program();
     s.bind_program(id_);

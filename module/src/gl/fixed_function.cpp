@@ -101,7 +101,7 @@ Result<Path> choose_path(const Caps& caps, Path requested, bool fixed_function_l
 // ---- CombinerTexture ---------------------------------------------------------------------------
 
 Result<CombinerTexture> CombinerTexture::create(const Api& api, int size) {
-    if (auto e = detail::no_current_context(api)) return *e;
+    if (auto e = no_current_context(api)) return *e;
     if (!api.caps.texture_3d || api.TexImage3D == nullptr) {
         return Error{"combiner",
                      "combiner: the identity texture needs GL 1.2 or "
@@ -227,7 +227,7 @@ std::optional<Error> check_stride(const char* field, std::size_t stride) {
 // the fixed pipeline), no fixed-function lighting unless the options keep it (it replaces the
 // primary colour; bake lighting with aerial::shade_into's lit_rgba8 instead), and the engine's
 // texture modulated on `unit` (or texturing off there when the engine draws untextured).
-void common_state(const Api& api, detail::StateSaver& s, const ApplyOptions& options) {
+void common_state(const Api& api, StateSaver& s, const ApplyOptions& options) {
     if (api.caps.vertex_program) s.enable(GL_VERTEX_PROGRAM_ARB, false);
     if (api.caps.fragment_program) s.enable(GL_FRAGMENT_PROGRAM_ARB, false);
     s.use_no_glsl_program();
@@ -244,7 +244,7 @@ void common_state(const Api& api, detail::StateSaver& s, const ApplyOptions& opt
 Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options,
                                      const VertexColours& colours,
                                      const std::function<void()>& draw) {
-    if (auto e = detail::no_current_context(api)) return *e;
+    if (auto e = no_current_context(api)) return *e;
     if (colours.primary == nullptr) {
         return Error{"colours.primary", "colours.primary: the F_ex array is null"};
     }
@@ -294,7 +294,7 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
     const int unit = options.texture_unit;
     ApplyStats stats;
     stats.path = path;
-    detail::StateSaver s(api);
+    StateSaver s(api);
     common_state(api, s, options);
     switch (path) {
         case Path::secondary_color:

@@ -15,7 +15,7 @@ namespace {
 
 /// Unpack state at its defaults (RGBA8 rows need nothing else) and client memory as the source,
 /// all restored by the saver.
-void default_unpack(detail::StateSaver& s) {
+void default_unpack(StateSaver& s) {
     s.unbind_pixel_unpack_buffer();
     s.pixel_store(GL_UNPACK_ALIGNMENT, 4);
     s.pixel_store(GL_UNPACK_ROW_LENGTH, 0);
@@ -70,7 +70,7 @@ bool near_far(const std::array<float, 16>& p, double& near_plane, double& far_pl
 
 /// The state both draws share: matrices, everything that would alter a plain textured quad off,
 /// unit 0 textured with `target` and `texture` in GL_REPLACE mode.
-void common_state(const Api& api, detail::StateSaver& s, const SkyBoxView& view, GLenum target,
+void common_state(const Api& api, StateSaver& s, const SkyBoxView& view, GLenum target,
                   GLuint texture) {
     s.load_matrix(GL_PROJECTION, view.projection.data());
     s.load_matrix(GL_MODELVIEW, view.view_rotation.data());
@@ -107,7 +107,7 @@ bool cube_maps_supported(const Api& api) {
 
 Result<SkyCubemapTexture> SkyCubemapTexture::create(
     const Api& api, const std::array<std::vector<std::uint8_t>, 6>& faces, int size) {
-    if (auto e = detail::no_current_context(api)) return *e;
+    if (auto e = no_current_context(api)) return *e;
     if (!cube_maps_supported(api)) return no_cube_maps(api);
     if (auto e = check_faces(api, faces, size)) return *e;
     GLuint id = 0;
@@ -119,9 +119,9 @@ Result<SkyCubemapTexture> SkyCubemapTexture::create(
 
 std::optional<Error> SkyCubemapTexture::update(
     const std::array<std::vector<std::uint8_t>, 6>& faces, int size) {
-    if (auto e = detail::no_current_context(*api_)) return e;
+    if (auto e = no_current_context(*api_)) return e;
     if (auto e = check_faces(*api_, faces, size)) return e;
-    detail::StateSaver s(*api_);
+    StateSaver s(*api_);
     default_unpack(s);
     s.bind_texture(0, GL_TEXTURE_CUBE_MAP, id_);
     api_->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -157,7 +157,7 @@ SkyCubemapTexture::~SkyCubemapTexture() {
 // ---- SunSpriteTexture ------------------------------------------------------------------------
 
 Result<SunSpriteTexture> SunSpriteTexture::create(const Api& api, const SunSprite& sprite) {
-    if (auto e = detail::no_current_context(api)) return *e;
+    if (auto e = no_current_context(api)) return *e;
     GLuint id = 0;
     api.GenTextures(1, &id);
     SunSpriteTexture texture(api, id);
@@ -166,7 +166,7 @@ Result<SunSpriteTexture> SunSpriteTexture::create(const Api& api, const SunSprit
 }
 
 std::optional<Error> SunSpriteTexture::update(const SunSprite& sprite) {
-    if (auto e = detail::no_current_context(*api_)) return e;
+    if (auto e = no_current_context(*api_)) return e;
     GLint max_size = 0;
     api_->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
     if (sprite.size < 1 || sprite.size > max_size ||
@@ -178,7 +178,7 @@ std::optional<Error> SunSpriteTexture::update(const SunSprite& sprite) {
                                    std::to_string(sprite.size) + " with " +
                                    std::to_string(sprite.rgba.size()) + " bytes"};
     }
-    detail::StateSaver s(*api_);
+    StateSaver s(*api_);
     default_unpack(s);
     s.bind_texture(0, GL_TEXTURE_2D, id_);
     api_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -220,7 +220,7 @@ SkyBoxView sky_box_view_from_current_matrices(const Api& api) {
 
 std::optional<Error> draw_sky_box(const Api& api, const SkyCubemapTexture& texture,
                                   const SkyBoxView& view) {
-    if (auto e = detail::no_current_context(api)) return e;
+    if (auto e = no_current_context(api)) return e;
     if (!cube_maps_supported(api)) return no_cube_maps(api);
     double near_plane = 0, far_plane = 0;
     if (!near_far(view.projection, near_plane, far_plane)) {
@@ -230,7 +230,7 @@ std::optional<Error> draw_sky_box(const Api& api, const SkyCubemapTexture& textu
     // The cube's corners must stay inside the far plane; its faces in front of the near plane
     // for any view direction within 64 deg of the axis (far >= 4 near).
     const auto h = static_cast<GLfloat>(0.99 * far_plane / std::sqrt(3.0));
-    detail::StateSaver s(api);
+    StateSaver s(api);
     common_state(api, s, view, GL_TEXTURE_CUBE_MAP, texture.id());
     // Each face as a quad; texture coordinates are the (unnormalised) world directions.
     static constexpr float kFaces[6][4][3] = {
@@ -254,7 +254,7 @@ std::optional<Error> draw_sky_box(const Api& api, const SkyCubemapTexture& textu
 
 std::optional<Error> draw_sun_sprite(const Api& api, const SunSpriteTexture& texture,
                                      const SkyBoxView& view, const glm::dvec3& sun_dir) {
-    if (auto e = detail::no_current_context(api)) return e;
+    if (auto e = no_current_context(api)) return e;
     double near_plane = 0, far_plane = 0;
     if (!near_far(view.projection, near_plane, far_plane)) {
         return Error{"projection",
@@ -270,7 +270,7 @@ std::optional<Error> draw_sun_sprite(const Api& api, const SunSpriteTexture& tex
     const glm::dvec3 v = glm::cross(sun, u);
     const double h = 0.99 * far_plane / std::sqrt(3.0);
     const double t = std::tan(texture.half_width_rad());
-    detail::StateSaver s(api);
+    StateSaver s(api);
     common_state(api, s, view, GL_TEXTURE_2D, texture.id());
     s.enable(GL_BLEND, true);
     s.blend_func(GL_ONE, GL_ONE);

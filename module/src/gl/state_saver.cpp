@@ -1,10 +1,10 @@
-// Internal: save-as-you-change GL state (state_saver.hpp).
+// Save-as-you-change GL state (aerial/gl_state_saver.hpp) and the texture-unit helpers.
 #include "state_saver.hpp"
 
 #include <algorithm>
 #include <array>
 
-namespace aerial::gl::detail {
+namespace aerial::gl {
 
 std::optional<Error> no_current_context(const Api& api) {
     if (api.GetString != nullptr && api.GetString(GL_VERSION) != nullptr) return std::nullopt;
@@ -13,7 +13,7 @@ std::optional<Error> no_current_context(const Api& api) {
                  "NULL); make the engine's context current before calling the module"};
 }
 
-std::vector<GLenum> texture_targets(const Caps& caps) {
+std::vector<GLenum> detail::texture_targets(const Caps& caps) {
     std::vector<GLenum> targets{GL_TEXTURE_1D, GL_TEXTURE_2D};
     if (caps.texture_3d) targets.push_back(GL_TEXTURE_3D);
     if (caps.at_least(1, 3) || caps.has_extension("GL_ARB_texture_cube_map") ||
@@ -23,7 +23,7 @@ std::vector<GLenum> texture_targets(const Caps& caps) {
     return targets;
 }
 
-GLenum texture_binding_query(GLenum target) {
+GLenum detail::texture_binding_query(GLenum target) {
     switch (target) {
         case GL_TEXTURE_1D:
             return GL_TEXTURE_BINDING_1D;
@@ -36,7 +36,7 @@ GLenum texture_binding_query(GLenum target) {
     }
 }
 
-int saved_texture_units(const Caps& caps) { return std::min(caps.max_texture_units, 8); }
+int detail::saved_texture_units(const Caps& caps) { return std::min(caps.max_texture_units, 8); }
 
 void StateSaver::restore() {
     for (auto it = undo_.rbegin(); it != undo_.rend(); ++it) (*it)();
@@ -99,7 +99,7 @@ void StateSaver::unit_enable(int unit, GLenum cap, bool on) {
 }
 
 void StateSaver::unit_disable_all_targets(int unit) {
-    for (GLenum target : texture_targets(api_.caps)) unit_enable(unit, target, false);
+    for (GLenum target : detail::texture_targets(api_.caps)) unit_enable(unit, target, false);
 }
 
 void StateSaver::blend_func(GLenum source, GLenum destination) {
@@ -200,7 +200,7 @@ void StateSaver::tex_env(int unit, GLenum pname, GLint value) {
 void StateSaver::bind_texture(int unit, GLenum target, GLuint texture) {
     select_unit(unit);
     GLint was = 0;
-    api_.GetIntegerv(texture_binding_query(target), &was);
+    api_.GetIntegerv(detail::texture_binding_query(target), &was);
     const Api* api = &api_;
     undo_.push_back([api, unit, target, was] {
         if (api->ActiveTexture) api->ActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
@@ -424,4 +424,4 @@ void StateSaver::texcoord_array(int unit, GLint size, GLenum type, GLsizei strid
     api_.EnableClientState(GL_TEXTURE_COORD_ARRAY);
 }
 
-}  // namespace aerial::gl::detail
+}  // namespace aerial::gl

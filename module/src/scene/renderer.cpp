@@ -13,10 +13,10 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
-#include "../gl/state_saver.hpp"
 #include "aerial/arb_program.hpp"
 #include "aerial/cache.hpp"
 #include "aerial/gl_api.hpp"
+#include "aerial/gl_state_saver.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/scene_renderer.hpp"
 
@@ -284,7 +284,7 @@ void SceneRenderer::clear_caches() {
 }
 
 Result<SceneRenderer> SceneRenderer::create(const gl::Api& api, const RendererOptions& options) {
-    if (auto e = gl::detail::no_current_context(api)) return *e;
+    if (auto e = gl::no_current_context(api)) return *e;
     auto impl = std::make_unique<Impl>();
     impl->api = &api;
     impl->options = options;
@@ -519,7 +519,7 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
     const auto start = std::chrono::steady_clock::now();
     Impl& im = *impl_;
     const gl::Api& api = *im.api;
-    if (auto e = gl::detail::no_current_context(api)) return *e;
+    if (auto e = gl::no_current_context(api)) return *e;
     if (auto e = validate(root)) return Error{e->field, "scene: " + e->message};
     if (auto e = validate(camera)) return *e;
     if (!(settings.error_target_lsb >= 0.0)) {
@@ -594,7 +594,7 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
     const glm::dmat4 projection = projection_matrix(camera);
     const glm::dmat4 view_m = view_matrix(camera);
     const auto planes = frustum_planes(projection * view_m);
-    gl::detail::StateSaver saver(api);
+    gl::StateSaver saver(api);
     VertexArraySaver vertex_array(api);
     GLint matrix_mode = GL_MODELVIEW;
     api.GetIntegerv(GL_MATRIX_MODE, &matrix_mode);

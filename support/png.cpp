@@ -1,4 +1,4 @@
-#include "common/png.hpp"
+#include "support/png.hpp"
 
 #include <filesystem>
 #include <system_error>

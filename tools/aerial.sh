@@ -11,8 +11,10 @@
 # Works from any directory. Needs Debian (apt) for the install step; root or sudo to install.
 set -euo pipefail
 
-# Debian packages the build and the tests need. Adding a dependency is adding one line here.
-PACKAGES=(
+# Debian packages. RUN_PACKAGES are what the sample game needs to build and render headless;
+# `test` adds TEST_PACKAGES (the tests, tools, the OpenSceneGraph adapter, the sanitizer build).
+# Adding a dependency is adding one line to one of the lists.
+RUN_PACKAGES=(
     build-essential
     cmake
     ninja-build
@@ -21,15 +23,17 @@ PACKAGES=(
     libhwy-dev
     nlohmann-json3-dev
     libcli11-dev
-    libgtest-dev
     libpng-dev
     libgl-dev
     libosmesa6-dev
     libegl-dev
     libegl-mesa0
-    liblcms2-dev
     libopenmesh-dev
     libglfw3-dev
+)
+TEST_PACKAGES=(
+    libgtest-dev
+    liblcms2-dev
     libopenscenegraph-dev
     xvfb
     xauth
@@ -38,6 +42,9 @@ PACKAGES=(
     clang
     libclang-rt-14-dev
 )
+PACKAGES=("${RUN_PACKAGES[@]}" "${TEST_PACKAGES[@]}")
+# What `run` builds: the sample game and nothing else (the tests and tools come with `test`).
+RUN_TARGETS=(aerial-sample)
 
 BUILD_DIR=build
 # The clang build with AddressSanitizer, UndefinedBehaviorSanitizer and the libFuzzer targets.
@@ -71,14 +78,16 @@ usage() {
 Usage: tools/aerial.sh COMMAND [ARGS...]
 
 Commands:
-  run [FLAGS...]  install missing Debian packages, configure and build a Release build in
-                  $BUILD_DIR/ (CMake + Ninja), then render the sample's headless flythrough
+  run [FLAGS...]  install the missing packages of RUN_PACKAGES, configure a Release build in
+                  $BUILD_DIR/ (CMake + Ninja) and build only ${RUN_TARGETS[*]}, then render
+                  the sample's headless flythrough
                   (noon to dusk, a ground-fog segment):
                   $BUILD_DIR/bin/aerial-sample --headless --frames 24 --out $OUT_DIR/flythrough
                   which writes frame_NNNN.png, contact_sheet.png and frames.csv there.
                   FLAGS are passed on to aerial-sample (for example --preset hazy --backend arb
                   --frames 48; see $BUILD_DIR/bin/aerial-sample --help).
-  test            install, configure and build as above, then run the whole suite:
+  test            install every package, configure $BUILD_DIR/ with the tools and tests and
+                  build everything, then run the whole suite:
                   ctest --test-dir $BUILD_DIR --output-on-failure -j2
                   then the sanitizer stage: configure $SANITIZE_DIR/ as for sanitize, build
                   the test executables of the core, the C interface, the mesh and the ARB
@@ -130,17 +139,20 @@ is_installed() {
     [[ $status == *"ok installed"* ]]
 }
 
+# Installs those of the packages given as arguments (default: PACKAGES) that are missing.
 install_missing_packages() {
+    local wanted=("$@")
+    ((${#wanted[@]} > 0)) || wanted=("${PACKAGES[@]}")
     if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then
-        say "no dpkg/apt-get here: make sure these are installed: ${PACKAGES[*]}"
+        say "no dpkg/apt-get here: make sure these are installed: ${wanted[*]}"
         return
     fi
     local missing=() package
-    for package in "${PACKAGES[@]}"; do
+    for package in "${wanted[@]}"; do
         is_installed "$package" || missing+=("$package")
     done
     if ((${#missing[@]} == 0)); then
-        say "all ${#PACKAGES[@]} required packages are installed"
+        say "all ${#wanted[@]} required packages are installed"
         return
     fi
     say "installing missing packages: ${missing[*]}"
@@ -150,33 +162,41 @@ install_missing_packages() {
         "${missing[@]}" || die "apt-get install failed for: ${missing[*]}"
 }
 
+# Configures $BUILD_DIR/ (Release, Ninja). With "sample" a new build directory leaves out the
+# tools and tests (what `run` needs); with "all" they are switched on, in a new directory or in
+# one that `run` configured without them.
 configure() {
-    local cache="$BUILD_DIR/CMakeCache.txt" generator=""
+    local scope=$1 cache="$BUILD_DIR/CMakeCache.txt" generator=""
     if [[ -f $cache ]]; then
         generator=$(sed -n 's/^CMAKE_GENERATOR:INTERNAL=//p' "$cache")
         if [[ -n $generator && $generator != Ninja ]]; then
             die "$BUILD_DIR/ was configured with the '$generator' generator, not Ninja; remove $BUILD_DIR/ and run again"
         fi
     fi
+    local options=(-DAERIAL_BUILD_SAMPLE_GAME=ON -DAERIAL_BUILD_TOOLS=ON -DAERIAL_BUILD_TESTS=ON)
     if [[ -f $BUILD_DIR/build.ninja ]] &&
         grep -qx 'CMAKE_BUILD_TYPE:STRING=Release' "$cache" 2>/dev/null; then
-        return  # configured; Ninja re-runs CMake by itself when a CMakeLists.txt changes
+        # Configured; Ninja re-runs CMake by itself when a CMakeLists.txt changes.
+        if [[ $scope == sample ]] || { grep -qx 'AERIAL_BUILD_TESTS:BOOL=ON' "$cache" &&
+            grep -qx 'AERIAL_BUILD_TOOLS:BOOL=ON' "$cache"; }; then
+            return
+        fi
+        say "switching the tools and tests on in $BUILD_DIR/"
+    elif [[ $scope == sample ]]; then
+        options=(-DAERIAL_BUILD_SAMPLE_GAME=ON -DAERIAL_BUILD_TOOLS=OFF -DAERIAL_BUILD_TESTS=OFF)
+        say "configuring a Release build of the sample game in $BUILD_DIR/"
+    else
+        say "configuring a Release build in $BUILD_DIR/"
     fi
-    say "configuring a Release build in $BUILD_DIR/"
-    cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release
+    cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release "${options[@]}"
 }
 
+# Builds the targets given as arguments, or everything.
 build() {
     local jobs
     jobs=$(nproc 2>/dev/null || echo 2)
-    say "building with $jobs jobs"
-    cmake --build "$BUILD_DIR" -j "$jobs"
-}
-
-setup() {
-    install_missing_packages
-    configure
-    build
+    say "building with $jobs jobs${1:+ (targets: $*)}"
+    cmake --build "$BUILD_DIR" -j "$jobs" ${1:+--target "$@"}
 }
 
 configure_sanitize() {
@@ -298,7 +318,7 @@ main() {
 
     if [[ $command == goldens ]]; then
         install_missing_packages
-        configure
+        configure all
         render_goldens
         return
     fi
@@ -319,13 +339,18 @@ main() {
         run_fuzzers "$fuzz_seconds"
         return
     fi
-    setup
     if [[ $command == run ]]; then
+        install_missing_packages "${RUN_PACKAGES[@]}"
+        configure sample
+        build "${RUN_TARGETS[@]}"
         mkdir -p "$OUT_DIR"
         say "rendering the sample's flythrough into $OUT_DIR/flythrough/"
         "$BUILD_DIR/bin/aerial-sample" --headless --frames 24 --out "$OUT_DIR/flythrough" "$@"
         say "pictures: $OUT_DIR/flythrough/contact_sheet.png and $OUT_DIR/flythrough/frame_*.png"
     else
+        install_missing_packages
+        configure all
+        build
         say "running the test suite"
         ctest --test-dir "$BUILD_DIR" --output-on-failure -j2
         say "sanitizer stage: ${SANITIZE_CI_TESTS[*]} and the fuzzers under ASan+UBSan"

@@ -357,3 +357,27 @@ TEST(Models, NonPositionsAreNeutralNotNaN) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Names, EveryNameParsesBackAndUnknownNamesListTheKnownOnes) {
+    for (Model m : aerial::all_models()) {
+        const auto parsed = aerial::parse_model(aerial::model_name(m));
+        ASSERT_TRUE(parsed.ok()) << aerial::model_name(m);
+        EXPECT_EQ(*parsed, m);
+    }
+    const auto model = aerial::parse_model("fast");
+    ASSERT_FALSE(model.ok());
+    EXPECT_EQ(model.error().field, "model");
+    EXPECT_EQ(model.error().message,
+              "model: 'fast' is unknown; expected one of: hoffman-preetham, height, reference");
+    for (auto curve : {aerial::ToneCurve::clamp, aerial::ToneCurve::exponential}) {
+        EXPECT_EQ(*aerial::parse_tone_curve(aerial::tone_curve_name(curve)), curve);
+    }
+    const auto curve = aerial::parse_tone_curve("filmic");
+    ASSERT_FALSE(curve.ok());
+    EXPECT_EQ(curve.error().message,
+              "tone_curve: 'filmic' is unknown; expected one of: clamp, exponential");
+}
+
+}  // namespace

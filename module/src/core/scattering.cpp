@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "../common/names.hpp"
 #include "aerial/phase.hpp"
 #include "format.hpp"
 #include "math.hpp"
@@ -28,30 +29,23 @@ constexpr double kBlockedLogColumn = 80.0;
 
 }  // namespace
 
-std::string_view model_name(Model model) {
-    switch (model) {
-        case Model::hoffman_preetham:
-            return "hoffman-preetham";
-        case Model::height:
-            return "height";
-        case Model::reference:
-            return "reference";
-    }
-    return "unknown";
-}
+constexpr detail::NameTable<Model, 3> kModelNames{{{Model::hoffman_preetham, "hoffman-preetham"},
+                                                   {Model::height, "height"},
+                                                   {Model::reference, "reference"}}};
+
+std::string_view model_name(Model model) { return detail::name_in(kModelNames, model); }
 
 const std::vector<Model>& all_models() {
-    static const std::vector<Model> models{Model::hoffman_preetham, Model::height,
-                                           Model::reference};
+    static const std::vector<Model> models = [] {
+        std::vector<Model> all;
+        for (const auto& entry : kModelNames) all.push_back(entry.value);
+        return all;
+    }();
     return models;
 }
 
 Result<Model> parse_model(std::string_view name) {
-    for (Model m : all_models()) {
-        if (model_name(m) == name) return m;
-    }
-    return Error{"model", "model '" + std::string(name) +
-                              "' is unknown; known models: hoffman-preetham, height, reference"};
+    return detail::parse_in(kModelNames, "model", name);
 }
 
 std::optional<Error> validate(const View& view) {

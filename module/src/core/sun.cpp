@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "../common/names.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/scattering.hpp"
 #include "aerial/sky.hpp"
@@ -305,22 +306,15 @@ Result<glm::dvec3> sky_ambient(const Atmosphere& atmosphere, double altitude_m,
     return sum * (kPi / (ne * na));  // 2 pi / na (azimuth) * 1 / ne (mu^2) * 1/2
 }
 
+constexpr detail::NameTable<ToneCurve, 2> kToneCurveNames{
+    {{ToneCurve::clamp, "clamp"}, {ToneCurve::exponential, "exponential"}}};
+
 std::string_view tone_curve_name(ToneCurve curve) {
-    switch (curve) {
-        case ToneCurve::clamp:
-            return "clamp";
-        case ToneCurve::exponential:
-            return "exponential";
-    }
-    return "unknown";
+    return detail::name_in(kToneCurveNames, curve);
 }
 
 Result<ToneCurve> parse_tone_curve(std::string_view name) {
-    for (ToneCurve c : {ToneCurve::clamp, ToneCurve::exponential}) {
-        if (tone_curve_name(c) == name) return c;
-    }
-    return Error{"tone_curve", "tone_curve '" + std::string(name) +
-                                   "' is unknown; known curves: clamp, exponential"};
+    return detail::parse_in(kToneCurveNames, "tone_curve", name);
 }
 
 glm::dvec3 tone_map(const glm::dvec3& linear, double exposure, ToneCurve curve) {

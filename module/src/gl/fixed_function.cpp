@@ -5,31 +5,22 @@
 #include <utility>
 #include <vector>
 
+#include "../common/names.hpp"
 #include "aerial/gl.hpp"
 #include "aerial/gl_api.hpp"
 #include "state_saver.hpp"
 
 namespace aerial::gl {
 
-const char* path_name(Path path) {
-    switch (path) {
-        case Path::automatic:
-            return "automatic";
-        case Path::secondary_color:
-            return "secondary-color";
-        case Path::combiner:
-            return "combiner";
-        case Path::two_pass:
-            return "two-pass";
-    }
-    return "automatic";
-}
+constexpr aerial::detail::NameTable<Path, 4> kPathNames{{{Path::automatic, "automatic"},
+                                                         {Path::secondary_color, "secondary-color"},
+                                                         {Path::combiner, "combiner"},
+                                                         {Path::two_pass, "two-pass"}}};
+
+const char* path_name(Path path) { return aerial::detail::name_in(kPathNames, path, "automatic"); }
 
 std::optional<Path> parse_path(std::string_view name) {
-    for (Path p : {Path::automatic, Path::secondary_color, Path::combiner, Path::two_pass}) {
-        if (name == path_name(p)) return p;
-    }
-    return std::nullopt;
+    return aerial::detail::find_in(kPathNames, name);
 }
 
 namespace {

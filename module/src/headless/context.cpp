@@ -1,4 +1,5 @@
 // Off-screen contexts (aerial/headless.hpp): OSMesa and EGL surfaceless, both opened with dlopen.
+#include "../common/names.hpp"
 #include "aerial/headless.hpp"
 
 #include <EGL/egl.h>
@@ -12,12 +13,15 @@
 
 namespace aerial::headless {
 
-const char* backend_name(Backend backend) { return backend == Backend::osmesa ? "osmesa" : "egl"; }
+constexpr aerial::detail::NameTable<Backend, 2> kBackendNames{
+    {{Backend::osmesa, "osmesa"}, {Backend::egl, "egl"}}};
+
+const char* backend_name(Backend backend) {
+    return aerial::detail::name_in(kBackendNames, backend);
+}
 
 std::optional<Backend> parse_backend(std::string_view name) {
-    if (name == "osmesa") return Backend::osmesa;
-    if (name == "egl") return Backend::egl;
-    return std::nullopt;
+    return aerial::detail::find_in(kBackendNames, name);
 }
 
 namespace {

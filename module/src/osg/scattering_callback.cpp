@@ -17,6 +17,7 @@
 #include <osg/VertexProgram>
 #include <osg/io_utils>
 
+#include "../common/names.hpp"
 #include "aerial/osg.hpp"
 
 #ifndef GL_COLOR_SUM
@@ -57,13 +58,15 @@ std::string geometry_name(const ::osg::Geometry& g, std::size_t index) {
 
 }  // namespace
 
-const char* backend_name(Backend backend) { return backend == Backend::arb ? "arb" : "cpu"; }
+constexpr aerial::detail::NameTable<Backend, 2> kBackendNames{
+    {{Backend::cpu, "cpu"}, {Backend::arb, "arb"}}};
+
+const char* backend_name(Backend backend) {
+    return aerial::detail::name_in(kBackendNames, backend);
+}
 
 Result<Backend> parse_backend(std::string_view name) {
-    if (name == "cpu") return Backend::cpu;
-    if (name == "arb") return Backend::arb;
-    return Error{"backend",
-                 "backend: '" + std::string(name) + "' is unknown (expected cpu or arb)"};
+    return aerial::detail::parse_in(kBackendNames, "backend", name);
 }
 
 std::optional<Error> validate(const Settings& s) {

@@ -13,6 +13,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "../common/names.hpp"
 #include "aerial/arb_program.hpp"
 #include "aerial/cache.hpp"
 #include "aerial/gl_api.hpp"
@@ -180,32 +181,26 @@ struct SceneRenderer::Impl {
 
 // ---- Names -------------------------------------------------------------------------------------
 
-const char* backend_name(Backend backend) { return backend == Backend::arb ? "arb" : "cpu"; }
+constexpr aerial::detail::NameTable<Backend, 2> kBackendNames{
+    {{Backend::cpu, "cpu"}, {Backend::arb, "arb"}}};
+
+const char* backend_name(Backend backend) {
+    return aerial::detail::name_in(kBackendNames, backend);
+}
 
 Result<Backend> parse_backend(std::string_view name) {
-    if (name == "cpu") return Backend::cpu;
-    if (name == "arb") return Backend::arb;
-    return Error{"backend",
-                 "backend: '" + std::string(name) + "' is unknown (expected cpu or arb)"};
+    return aerial::detail::parse_in(kBackendNames, "backend", name);
 }
 
-const char* method_name(Method method) {
-    switch (method) {
-        case Method::culled:
-            return "culled";
-        case Method::skipped:
-            return "skipped";
-        case Method::cached:
-            return "cached";
-        case Method::hoffman_preetham:
-            return "hoffman-preetham";
-        case Method::height:
-            return "height";
-        case Method::reference:
-            return "reference";
-    }
-    return "unknown";
-}
+constexpr aerial::detail::NameTable<Method, 6> kMethodNames{
+    {{Method::culled, "culled"},
+     {Method::skipped, "skipped"},
+     {Method::cached, "cached"},
+     {Method::hoffman_preetham, "hoffman-preetham"},
+     {Method::height, "height"},
+     {Method::reference, "reference"}}};
+
+const char* method_name(Method method) { return aerial::detail::name_in(kMethodNames, method); }
 
 std::string FrameReport::main_method() const {
     std::map<Method, std::size_t> vertices;

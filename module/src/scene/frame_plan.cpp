@@ -1,0 +1,362 @@
+// The GL-free half of a frame of the scene renderer (frame_plan.hpp).
+#include "frame_plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
+#include "aerial/phase.hpp"
+
+namespace aerial::scene::detail {
+namespace {
+
+/// Vertices of a node compared between the 2002 model and the frame's model (besides the 8
+/// corners of its box) when the policy chooses a method.
+constexpr std::size_t kMethodSampleVertices = 25;
+/// Directions (cosine-weighted, stratified) averaged for the ambient sky irradiance.
+constexpr int kAmbientStrata = 6;
+/// The ambient sky light is estimated again when the sun has turned this much (rad) since the
+/// last estimate (or the atmosphere or model changed); between estimates it stays the same, so
+/// that small sun moves keep the colour caches (any change of the ambient invalidates them).
+constexpr double kAmbientSunStepRad = 0.25 * kPi / 180.0;
+/// Distance of the sky points of the ambient estimate, m.
+constexpr double kAmbientSkyDistanceM = 200e3;
+
+bool same_atmosphere(const Atmosphere& a, const Atmosphere& b) {
+    return a.rayleigh_scattering == b.rayleigh_scattering && a.mie_scattering == b.mie_scattering &&
+           a.mie_absorption == b.mie_absorption && a.mie_g == b.mie_g &&
+           a.rayleigh_scale_height_m == b.rayleigh_scale_height_m &&
+           a.mie_scale_height_m == b.mie_scale_height_m && a.planet_radius_m == b.planet_radius_m &&
+           a.atmosphere_radius_m == b.atmosphere_radius_m && a.sun_irradiance == b.sun_irradiance;
+}
+
+double max3(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+/// Sky irradiance on a level surface at sea level below the eye: pi times the cosine-weighted
+/// mean of L_in over the upper hemisphere (terrain occlusion ignored). Sea level, not the eye,
+/// so that it changes only with the sun and the atmosphere (a flying eye keeps cached colours).
+glm::vec3 sky_ambient(const FrameSettings& s) {
+    View view;
+    view.up = s.up;
+    view.sun_dir = s.sun_dir;
+    view.meters_per_unit = 1.0;
+    view.eye = s.up * 2.0;
+    auto frame = prepare_frame<double>(s.atmosphere, view, s.model);
+    if (!frame) return glm::vec3(0.0f);
+    glm::dvec3 e1 = glm::normalize(
+        glm::cross(s.up, std::abs(s.up.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
+    glm::dvec3 e2 = glm::cross(s.up, e1);
+    glm::dvec3 sum{0.0};
+    for (int i = 0; i < kAmbientStrata; ++i) {
+        for (int j = 0; j < kAmbientStrata; ++j) {
+            const double r = std::sqrt((i + 0.5) / kAmbientStrata);
+            const double phi = 2.0 * kPi * (j + 0.5) / kAmbientStrata;
+            const glm::dvec3 dir =
+                r * std::cos(phi) * e1 + r * std::sin(phi) * e2 + std::sqrt(1.0 - r * r) * s.up;
+            sum += scatter(*frame, view.eye + dir * kAmbientSkyDistanceM).in_scattering;
+        }
+    }
+    return glm::vec3(kPi * sum / double(kAmbientStrata * kAmbientStrata));
+}
+
+/// Upper bound, in 8-bit steps, on how much scattering changes any output of a node inside
+/// `bounds` (F_ex against 1, L_in against 0): from the largest optical depth.
+double scattering_bound_lsb(const Frame<double>& frame, const MeshBounds& bounds,
+                            const Display& display, double lit_factor_max) {
+    const glm::dvec3 eye = frame.view.eye;
+    const glm::dvec3 up = frame.view.up;
+    const double mpu = frame.view.meters_per_unit;
+    const glm::dvec3 lo = bounds.box_min, hi = bounds.box_max;
+    double distance_m = 0.0, lowest = glm::dot(eye, up) * mpu;
+    const bool box = std::isfinite(lo.x) && std::isfinite(hi.x);
+    if (box) {
+        for (int c = 0; c < 8; ++c) {
+            const glm::dvec3 p{(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
+            distance_m = std::max(distance_m, glm::length(p - eye) * mpu);
+            lowest = std::min(lowest, glm::dot(p, up) * mpu);
+        }
+    } else {
+        distance_m = (glm::length(bounds.centre - eye) + bounds.radius) * mpu;
+        lowest = std::min(lowest, (glm::dot(bounds.centre, up) - bounds.radius) * mpu);
+    }
+    if (!std::isfinite(distance_m)) return std::numeric_limits<double>::infinity();
+    // The sphere falls away below the tangent plane: the lowest altitude is lower still.
+    lowest -= distance_m * distance_m / (2.0 * frame.atmosphere.planet_radius_m);
+    const double h = std::max(lowest, frame.min_altitude_m);
+    const Atmosphere& a = frame.atmosphere;
+    // Densities relative to sea level, at least 1 (the 2002 model uses sea level everywhere).
+    const double rho_r = std::max(1.0, std::exp(-h / a.rayleigh_scale_height_m));
+    const double rho_m = std::max(1.0, std::exp(-h / a.mie_scale_height_m));
+    const double g = std::abs(a.mie_g);
+    const double rayleigh_phase_max = 3.0 / (8.0 * kPi);
+    const double mie_phase_max = (1.0 + g) / (4.0 * kPi * (1.0 - g) * (1.0 - g));
+    double worst = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        const double tau =
+            (a.rayleigh_scattering[c] * rho_r + a.mie_extinction()[c] * rho_m) * distance_m;
+        const double extinction = 255.0 * tau * std::max(1.0, lit_factor_max);
+        const double in_scattering = 255.0 * double(display.exposure) * a.sun_irradiance[c] *
+                                     (a.rayleigh_scattering[c] * rho_r * rayleigh_phase_max +
+                                      a.mie_scattering[c] * rho_m * mie_phase_max) *
+                                     distance_m;
+        worst = std::max(worst, std::max(extinction, in_scattering));
+    }
+    return worst;
+}
+
+/// 8-bit display outputs of one point: primary (F_ex, or the lit colour) and L_in.
+struct PointOutputs {
+    glm::vec3 primary, secondary;
+};
+
+PointOutputs point_outputs(const Frame<float>& frame, const glm::vec3& p, const glm::vec3* normal,
+                           bool lit, const glm::vec3& albedo, const glm::vec3& ambient,
+                           const Display& display) {
+    const Scattering<float> s = scatter(frame, p);
+    PointOutputs out;
+    for (int c = 0; c < 3; ++c) {
+        float primary = s.extinction[c];
+        if (lit) {
+            const float ndl =
+                normal ? std::max(0.0f, glm::dot(*normal, frame.sun_dir)) : 1.0f;  // corners: 1
+            primary = display_value(
+                display, s.extinction[c] * albedo[c] * (s.sun_irradiance[c] * ndl + ambient[c]));
+        }
+        out.primary[c] = 255.0f * std::clamp(primary, 0.0f, 1.0f);
+        out.secondary[c] = 255.0f * display_value(display, s.in_scattering[c]);
+    }
+    return out;
+}
+
+/// The largest 8-bit difference between the 2002 model and `frame`'s over the node's samples.
+double model_difference_lsb(const Frame<float>& hp, const Frame<float>& frame, const NodeState& st,
+                            bool lit, const glm::vec3& albedo, const glm::vec3& ambient,
+                            const Display& display) {
+    double worst = 0.0;
+    const auto compare = [&](const glm::vec3& p, const glm::vec3* n) {
+        const PointOutputs a = point_outputs(hp, p, n, lit, albedo, ambient, display);
+        const PointOutputs b = point_outputs(frame, p, n, lit, albedo, ambient, display);
+        for (int c = 0; c < 3; ++c) {
+            worst = std::max(worst, double(std::abs(a.primary[c] - b.primary[c])));
+            worst = std::max(worst, double(std::abs(a.secondary[c] - b.secondary[c])));
+        }
+    };
+    const glm::dvec3 lo = st.bounds.box_min, hi = st.bounds.box_max;
+    for (int c = 0; c < 8; ++c) {
+        compare(glm::vec3((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z),
+                nullptr);
+    }
+    const std::size_t n = st.positions.size() / 3;
+    const std::size_t step = std::max<std::size_t>(1, n / kMethodSampleVertices);
+    for (std::size_t i = 0; i < n; i += step) {
+        const glm::vec3 p(st.positions[3 * i], st.positions[3 * i + 1], st.positions[3 * i + 2]);
+        const glm::vec3 normal =
+            st.normals.empty()
+                ? glm::vec3(0.0f)
+                : glm::vec3(st.normals[3 * i], st.normals[3 * i + 1], st.normals[3 * i + 2]);
+        compare(p, st.normals.empty() ? nullptr : &normal);
+    }
+    return worst;
+}
+
+/// The cache key of `m` for a node, prepared once per frame and model (the albedo is set per
+/// node on a copy; unlit nodes have albedo 1 and no ambient).
+PreparedShadingKey key_for(FrameInputs& f, Model m, const glm::vec3& albedo, bool lit) {
+    auto it = f.keys.find(m);
+    if (it == f.keys.end()) {
+        ShadingKey key{f.settings->atmosphere, f.view, m, f.settings->display};
+        key.ambient = f.ambient;
+        auto prepared = prepare_shading_key(key);
+        it = f.keys.emplace(m, std::move(prepared.value())).first;
+    }
+    PreparedShadingKey k = it->second;
+    k.key.albedo = lit ? albedo : glm::vec3(1.0f);
+    if (!lit) k.key.ambient = glm::vec3(0.0f);
+    return k;
+}
+
+}  // namespace
+
+Result<FrameInputs> prepare_frame_inputs(const Node& root, const Camera& camera,
+                                         const FrameSettings& settings, Backend backend) {
+    if (auto e = validate(root)) return Error{e->field, "scene: " + e->message};
+    if (auto e = validate(camera)) return *e;
+    if (!(settings.error_target_lsb >= 0.0)) {
+        return Error{"error_target_lsb", "error_target_lsb: expected a value >= 0"};
+    }
+    if (backend == Backend::arb && settings.model == Model::reference) {
+        return Error{"model",
+                     "model: the arb backend has programs for hoffman-preetham and "
+                     "height, not reference"};
+    }
+    if (backend == Backend::arb && settings.display.tone != ToneCurve::clamp) {
+        return Error{"display.tone", "display.tone: the arb backend has only the clamp tone curve"};
+    }
+    if (!(settings.display.exposure > 0.0f) || !std::isfinite(settings.display.exposure)) {
+        return Error{"display.exposure", "display.exposure: expected a finite value > 0"};
+    }
+    FrameInputs f;
+    f.settings = &settings;
+    f.backend = backend;
+    f.view.eye = camera.eye;
+    f.view.sun_dir = settings.sun_dir;
+    f.view.up = settings.up;
+    f.view.meters_per_unit = settings.meters_per_unit;
+    auto hp = prepare_frame<float>(settings.atmosphere, f.view, Model::hoffman_preetham);
+    if (!hp) return Error{hp.error().field, "settings: " + hp.error().message};
+    auto quality = prepare_frame<float>(settings.atmosphere, f.view, settings.model);
+    if (!quality) return Error{quality.error().field, "settings: " + quality.error().message};
+    auto bound = prepare_frame<double>(settings.atmosphere, f.view, settings.model);
+    if (!bound) return bound.error();
+    f.hoffman_preetham = std::move(hp).value();
+    f.model = std::move(quality).value();
+    f.bound = std::move(bound).value();
+    return f;
+}
+
+glm::vec3 frame_ambient(SkyAmbientCache& cache, const FrameSettings& settings) {
+    const glm::vec3 given = settings.ambient;
+    if (given.r >= 0.0f && given.g >= 0.0f && given.b >= 0.0f) return given;
+    if (!cache.valid || glm::dot(cache.sun_dir, settings.sun_dir) < std::cos(kAmbientSunStepRad) ||
+        cache.up != settings.up || cache.model != settings.model ||
+        !same_atmosphere(cache.atmosphere, settings.atmosphere)) {
+        cache.ambient = sky_ambient(settings);
+        cache.atmosphere = settings.atmosphere;
+        cache.sun_dir = settings.sun_dir;
+        cache.up = settings.up;
+        cache.model = settings.model;
+        cache.valid = true;
+    }
+    return cache.ambient;
+}
+
+NodePlan plan_node(FrameInputs& f, NodeState& st, const Node& node) {
+    const FrameSettings& settings = *f.settings;
+    NodePlan plan;
+    plan.lit = node.kind == NodeKind::terrain;
+    const glm::vec3 albedo = node.albedo;
+    const double lit_max =
+        plan.lit ? double(settings.display.exposure) * max3(glm::dvec3(albedo)) *
+                       (max3(settings.atmosphere.sun_irradiance) + max3(glm::dvec3(f.ambient)))
+                 : 1.0;
+    // 1. Negligible scattering.
+    if (settings.policy &&
+        scattering_bound_lsb(f.bound, st.bounds, settings.display, lit_max) < kSkipBelowLsb) {
+        plan.method = Method::skipped;
+        plan.model = st.model;
+        return plan;
+    }
+    // 2. Cached colours (cpu) or a cached choice (arb).
+    const bool cpu = f.backend == Backend::cpu;
+    if (settings.policy && (cpu ? st.has_colours : st.has_choice)) {
+        if (!st.cache.needs_update(key_for(f, st.model, albedo, plan.lit))) {
+            plan.method = cpu ? Method::cached : method_of(st.model);
+            plan.model = st.model;
+            return plan;
+        }
+    }
+    // 3. The cheapest model meeting the target.
+    Model model = settings.model;
+    if (settings.policy && settings.model != Model::hoffman_preetham &&
+        model_difference_lsb(f.hoffman_preetham, f.model, st, plan.lit, albedo, f.ambient,
+                             settings.display) <= settings.error_target_lsb) {
+        model = Model::hoffman_preetham;
+    }
+    st.model = model;
+    st.cache.mark_shaded(key_for(f, model, albedo, plan.lit));
+    if (!cpu) st.has_choice = true;
+    plan.method = method_of(model);
+    plan.model = model;
+    return plan;
+}
+
+void skipped_colours(const FrameInputs& f, NodeState& st, bool lit, const glm::vec3& albedo) {
+    const FrameSettings& settings = *f.settings;
+    const glm::vec3 sun_e = f.hoffman_preetham.sun_irradiance_eye;
+    if (!st.skip_colours || st.skip_sun != settings.sun_dir || st.skip_light != f.ambient) {
+        const std::size_t n = st.positions.size() / 3;
+        for (std::size_t i = 0; i < n; ++i) {
+            float ndl = 1.0f;
+            if (lit && !st.normals.empty()) {
+                ndl = std::max(0.0f, st.normals[3 * i] * float(settings.sun_dir.x) +
+                                         st.normals[3 * i + 1] * float(settings.sun_dir.y) +
+                                         st.normals[3 * i + 2] * float(settings.sun_dir.z));
+            }
+            for (int c = 0; c < 3; ++c) {
+                const float v = lit ? display_value(settings.display,
+                                                    albedo[c] * (sun_e[c] * ndl + f.ambient[c]))
+                                    : 1.0f;
+                st.primary[4 * i + std::size_t(c)] = to_unorm8(v);
+                st.secondary[4 * i + std::size_t(c)] = 0;
+            }
+        }
+        st.skip_colours = true;
+        st.skip_sun = settings.sun_dir;
+        st.skip_light = f.ambient;
+    }
+    st.has_colours = false;  // the scattering colours are gone
+    st.has_choice = false;
+    st.cache.invalidate();
+}
+
+Method method_of(Model model) {
+    switch (model) {
+        case Model::hoffman_preetham:
+            return Method::hoffman_preetham;
+        case Model::height:
+            return Method::height;
+        case Model::reference:
+            return Method::reference;
+    }
+    return Method::height;
+}
+
+void update_geometry(NodeState& st, const Node& node, const glm::dmat4& world) {
+    if (st.mesh == node.mesh && st.world == world) return;
+    st.mesh = node.mesh;
+    st.world = world;
+    const MeshData& mesh = *node.mesh;
+    const std::size_t n = mesh.vertex_count();
+    st.positions.resize(3 * n);
+    const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(world)));
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec4 p = world * glm::dvec4(mesh.positions[3 * i], mesh.positions[3 * i + 1],
+                                                mesh.positions[3 * i + 2], 1.0);
+        st.positions[3 * i] = float(p.x);
+        st.positions[3 * i + 1] = float(p.y);
+        st.positions[3 * i + 2] = float(p.z);
+    }
+    st.normals.clear();
+    if (!mesh.normals.empty()) {
+        st.normals.resize(3 * n);
+        for (std::size_t i = 0; i < n; ++i) {
+            glm::dvec3 v = normal_matrix * glm::dvec3(mesh.normals[3 * i], mesh.normals[3 * i + 1],
+                                                      mesh.normals[3 * i + 2]);
+            const double length = glm::length(v);
+            v = length > 0.0 ? v / length : glm::dvec3(0.0, 0.0, 1.0);
+            st.normals[3 * i] = float(v.x);
+            st.normals[3 * i + 1] = float(v.y);
+            st.normals[3 * i + 2] = float(v.z);
+        }
+    }
+    st.bounds = mesh_bounds(Positions::aos(st.positions.data(), n));
+    st.primary.assign(4 * n, 255);
+    st.secondary.assign(4 * n, 0);
+    st.has_colours = false;
+    st.has_choice = false;
+    st.skip_colours = false;
+    st.cache.invalidate();
+    st.cache.bounds = st.bounds;
+}
+
+bool has_kind(const Node& root, NodeKind kind) {
+    bool found = false;
+    traverse(root, [&](const Node& n, const glm::dmat4&) { found = found || n.kind == kind; });
+    return found;
+}
+
+}  // namespace aerial::scene::detail

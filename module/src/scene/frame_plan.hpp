@@ -1,0 +1,103 @@
+// Internal: the GL-free half of a frame of the scene renderer. Per frame the inputs are checked
+// and prepared once (prepare_frame_inputs); per visible node plan_node decides how it is coloured
+// (skipped: scattering below half a step; cached: the colours still hold; or the cheapest model
+// that meets the error target) and the colours of skipped nodes are made here. renderer.cpp
+// shades and draws what this decides. Unit-testable without a GL context.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+#include "aerial/cache.hpp"
+#include "aerial/scattering.hpp"
+#include "aerial/scene.hpp"
+#include "aerial/scene_renderer.hpp"
+
+namespace aerial::scene::detail {
+
+/// What the renderer keeps per mesh node between frames.
+struct NodeState {
+    std::shared_ptr<const MeshData> mesh;  ///< the mesh the arrays below were made from
+    glm::dmat4 world{0.0};
+    std::vector<float> positions;  ///< world space
+    std::vector<float> normals;    ///< world space, unit
+    MeshBounds bounds;
+    std::vector<std::uint8_t> primary, secondary;  ///< RGBA8 colours (cpu backend)
+    bool has_colours = false;
+    Model model = Model::height;  ///< what the colours (or the arb choice) were computed with
+    bool has_choice = false;      ///< arb backend: a method chosen and its cache valid
+    ShadingCache cache;
+    /// The colours of a skipped node were made for these (lighting only).
+    bool skip_colours = false;
+    glm::dvec3 skip_sun{0.0};
+    glm::vec3 skip_light{-1.0f};
+    std::uint64_t last_frame = 0;
+};
+
+struct SkyAmbientCache {
+    bool valid = false;
+    Atmosphere atmosphere;
+    glm::dvec3 sun_dir{0.0};
+    glm::dvec3 up{0.0};
+    Model model = Model::height;
+    glm::vec3 ambient{0.0f};
+};
+
+/// What a frame's decisions depend on, checked and prepared once per frame.
+struct FrameInputs {
+    const FrameSettings* settings = nullptr;
+    Backend backend = Backend::cpu;
+    View view;
+    Frame<float> hoffman_preetham;             ///< the 2002 model (the policy's cheaper choice)
+    Frame<float> model;                        ///< settings.model
+    Frame<double> bound;                       ///< settings.model in double, for the skip bound
+    glm::vec3 ambient{0.0f};                   ///< the frame's ambient light (frame_ambient)
+    std::map<Model, PreparedShadingKey> keys;  ///< cache keys per model, prepared on first use
+
+    const Frame<float>& frame_for(Model m) const {
+        return m == Model::hoffman_preetham ? hoffman_preetham : model;
+    }
+};
+
+/// Checks the frame's scene, camera and settings against the backend and prepares its frames;
+/// the errors are render()'s.
+Result<FrameInputs> prepare_frame_inputs(const Node& root, const Camera& camera,
+                                         const FrameSettings& settings, Backend backend);
+
+/// settings.ambient, or (when negative) the sky's irradiance, estimated again only when the sun
+/// turned by more than a quarter of a degree or the atmosphere, up axis or model changed.
+glm::vec3 frame_ambient(SkyAmbientCache& cache, const FrameSettings& settings);
+
+/// How a visible node is coloured this frame.
+struct NodePlan {
+    Method method = Method::height;
+    Model model = Model::height;  ///< the model of the colours (or of the arb program)
+    bool lit = false;             ///< terrain: albedo, sun and ambient light in the primary colour
+};
+
+/// Decides for one visible node (in this order): skipped, when no output of the node can change
+/// by half a step with scattering (policy on); cached, when the node's colours (cpu) or choice
+/// (arb) still hold within half a step (policy on); otherwise the 2002 model where it differs
+/// from settings.model by at most error_target_lsb over the node's samples (policy on), else
+/// settings.model. Records a new choice in `st` (model, cache, has_choice).
+NodePlan plan_node(FrameInputs& frame, NodeState& st, const Node& node);
+
+/// The colours of a skipped node: lighting only (albedo, sun at the eye, ambient) for terrain,
+/// white otherwise; no L_in. Made again only when the sun or the ambient changed; forgets the
+/// node's scattering colours and cache.
+void skipped_colours(const FrameInputs& frame, NodeState& st, bool lit, const glm::vec3& albedo);
+
+/// The Method of shading with `model`.
+Method method_of(Model model);
+
+/// World-space arrays and bounds of a node, rebuilt when its mesh or world transform changed.
+void update_geometry(NodeState& st, const Node& node, const glm::dmat4& world);
+
+/// Whether the graph holds a node of this kind.
+bool has_kind(const Node& root, NodeKind kind);
+
+}  // namespace aerial::scene::detail

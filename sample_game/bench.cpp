@@ -13,6 +13,7 @@
 #include "aerial/headless.hpp"
 #include "aerial/scene_renderer.hpp"
 #include "aerial/scene_sky.hpp"
+#include "support/cli.hpp"
 #include "world.hpp"
 
 namespace {
@@ -49,13 +50,8 @@ int main(int argc, char** argv) {
     std::string sky_text = "dome";
     app.add_option("--sky", sky_text, "dome (the renderer's) or cubemap (install_cubemap_sky)")
         ->capture_default_str();
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return 0;
-    } catch (const CLI::ParseError& e) {
-        return fail(std::string(e.what()) + " (see --help)");
+    if (auto exit_code = aerial::tools::parse_command_line(app, argc, argv, kTool)) {
+        return *exit_code;
     }
     if (frames < 2 || frames > 10000) return fail("--frames: expected 2..10000");
     if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 16 || height < 16 ||

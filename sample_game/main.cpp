@@ -17,9 +17,10 @@
 #include "aerial/aerial.hpp"
 #include "aerial/headless.hpp"
 #include "aerial/scene_renderer.hpp"
-#include "support/png.hpp"
 #include "game.hpp"
 #include "soak.hpp"
+#include "support/cli.hpp"
+#include "support/png.hpp"
 #include "world.hpp"
 
 namespace {
@@ -181,15 +182,8 @@ int main(int argc, char** argv) {
     app.add_option("--cube-size", cube_size,
                    "Texels along a face of the cubemap sky, 1..512 (fewer: a cheaper refresh)")
         ->capture_default_str();
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp&) {
-        std::cout << app.help();
-        return 0;
-    } catch (const CLI::ParseError& e) {
-        std::string what = e.what();
-        if (what.empty()) what = e.get_name();
-        return fail(what + " (see --help)");
+    if (auto exit_code = aerial::tools::parse_command_line(app, argc, argv, kTool)) {
+        return *exit_code;
     }
 
     int width = 0, height = 0;

@@ -21,7 +21,7 @@
 #include "aerial/batch.hpp"
 #include "bench/pareto.hpp"
 #include "bench/stability.hpp"
-#include "common/cli.hpp"
+#include "support/cli.hpp"
 
 namespace aerial::detail {
 // The SIMD target hooks of batch_simd.cpp (also used by the tests).

@@ -5,7 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "common/cli.hpp"
+#include "support/cli.hpp"
 #include "common/image_metrics.hpp"
 #include "support/png.hpp"
 

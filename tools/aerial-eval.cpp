@@ -11,7 +11,7 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/arb_program.hpp"
-#include "common/cli.hpp"
+#include "support/cli.hpp"
 
 namespace {
 

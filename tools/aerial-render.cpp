@@ -8,7 +8,7 @@
 
 #include "aerial/gl.hpp"
 #include "aerial/headless.hpp"
-#include "common/cli.hpp"
+#include "support/cli.hpp"
 #include "support/png.hpp"
 #include "render/renderer.hpp"
 #include "render/scene.hpp"

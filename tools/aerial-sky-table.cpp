@@ -21,7 +21,7 @@
 #include "aerial/gl_api.hpp"
 #include "aerial/headless.hpp"
 #include "aerial/sky_gl.hpp"
-#include "common/cli.hpp"
+#include "support/cli.hpp"
 #include "support/png.hpp"
 
 namespace {

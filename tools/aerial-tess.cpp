@@ -23,7 +23,7 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/mesh.hpp"
-#include "common/cli.hpp"
+#include "support/cli.hpp"
 #include "tess/gl_grade.hpp"
 
 namespace {

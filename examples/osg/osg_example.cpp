@@ -29,7 +29,7 @@
 #include "aerial/osg.hpp"
 #include "aerial/scene.hpp"
 #include "aerial/scene_renderer.hpp"
-#include "common/cli.hpp"
+#include "support/cli.hpp"
 #include "support/png.hpp"
 
 #ifndef GL_FRAMEBUFFER_BINDING

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "common/cli.hpp"
+#include "support/cli.hpp"
 #include "fuzz_check.hpp"
 
 using aerial::fuzz::check;

@@ -19,7 +19,7 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/arb_program.hpp"
-#include "common/cli.hpp"
+#include "support/cli.hpp"
 #include "render/renderer.hpp"
 
 namespace aerial::bench {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "../common/names.hpp"
+
 namespace aerial::scene {
 namespace {
 
@@ -239,21 +241,13 @@ double procedural_height(const ProceduralTerrain& terrain, double x, double y) {
     return terrain.base + std::max(0.0, terrain.amplitude) * t * t;
 }
 
-const char* node_kind_name(NodeKind kind) {
-    switch (kind) {
-        case NodeKind::group:
-            return "group";
-        case NodeKind::mesh:
-            return "mesh";
-        case NodeKind::terrain:
-            return "terrain";
-        case NodeKind::sky_dome:
-            return "sky-dome";
-        case NodeKind::sun:
-            return "sun";
-    }
-    return "unknown";
-}
+constexpr aerial::detail::NameTable<NodeKind, 5> kNodeKindNames{{{NodeKind::group, "group"},
+                                                                 {NodeKind::mesh, "mesh"},
+                                                                 {NodeKind::terrain, "terrain"},
+                                                                 {NodeKind::sky_dome, "sky-dome"},
+                                                                 {NodeKind::sun, "sun"}}};
+
+const char* node_kind_name(NodeKind kind) { return aerial::detail::name_in(kNodeKindNames, kind); }
 
 Node* Node::add(std::unique_ptr<Node> child) {
     children.push_back(std::move(child));

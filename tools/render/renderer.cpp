@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <memory>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -10,6 +11,8 @@
 
 #include "aerial/batch.hpp"
 #include "aerial/gl_api.hpp"
+#include "aerial/scene.hpp"
+#include "aerial/scene_renderer.hpp"
 
 namespace aerial::render {
 namespace {
@@ -187,6 +190,66 @@ FogParameters fog_parameters(const Frame<float>& frame, const Display& display) 
     return fog;
 }
 
+namespace {
+
+/// The scene as the library's scene graph: one mesh node with the scene's texture.
+std::unique_ptr<scene::Node> scene_graph(const Mesh& mesh, const Texture& texture) {
+    auto data = std::make_shared<scene::MeshData>();
+    data->positions = mesh.positions;
+    data->texcoords = mesh.texcoords;
+    data->indices = mesh.indices;
+    auto image = std::make_shared<scene::Texture>();
+    image->width = image->height = texture.levels.front().size;
+    image->rgb = texture.levels.front().rgb;
+    auto root = scene::make_group("scene");
+    root->add(scene::make_mesh("geometry", std::move(data), std::move(image)));
+    return root;
+}
+
+/// The cpu and arb backends: one frame of aerial::scene::SceneRenderer (no policy, no sky).
+std::optional<Error> render_with_scene_renderer(const headless::Context& context, const Scene& s,
+                                                const RenderOptions& options, const Mesh& mesh,
+                                                const Texture& texture, RenderedImage& image) {
+    const std::string where = std::string("--backend ") + backend_name(options.backend) + ": ";
+    scene::RendererOptions renderer_options;
+    renderer_options.backend =
+        options.backend == Backend::arb ? scene::Backend::arb : scene::Backend::cpu;
+    renderer_options.path = options.path;
+    auto renderer = scene::SceneRenderer::create(context.api(), renderer_options);
+    if (!renderer) return Error{renderer.error().field, where + renderer.error().message};
+    scene::Camera camera;
+    camera.eye = s.camera.eye;
+    camera.target = s.camera.target;
+    camera.up = s.camera.up;
+    camera.fov_y_rad = s.camera.fov_y_rad;
+    camera.aspect = double(context.width()) / double(context.height());
+    camera.near_units = s.camera.near_units;
+    camera.far_units = s.camera.far_units;
+    scene::FrameSettings settings;
+    settings.atmosphere = s.atmosphere;
+    settings.sun_dir = s.sun_dir;
+    settings.up = s.view().up;
+    settings.meters_per_unit = s.meters_per_unit;
+    settings.display = s.display;
+    settings.model = s.model;
+    settings.policy = false;
+    const auto root = scene_graph(mesh, texture);
+    auto report = renderer.value().render(*root, camera, settings);
+    if (!report) return Error{report.error().field, where + report.error().message};
+    image.path_used = report->path;
+    if (const ArbProgram* program = renderer->arb_program(s.model)) {
+        image.program = std::string(model_name(s.model)) + ":";
+        if (s.model == Model::height) {
+            image.program +=
+                std::string(arb_height_fidelity_name(program->options.height_fidelity)) + ":";
+        }
+        image.program += std::to_string(program->instruction_count);
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
 Result<RenderedImage> render_scene(const headless::Context& context, const Scene& scene,
                                    const RenderOptions& options) {
     const gl::Api& api = context.api();
@@ -207,21 +270,6 @@ Result<RenderedImage> render_scene(const headless::Context& context, const Scene
     const BoundTexture bound(api, texture);
 
     const std::function<void()> draw_mesh = [&] { draw_arrays(api, mesh); };
-
-    // Once per context, as an engine would: the path, and the combiner path's texture.
-    gl::ApplyOptions apply;
-    std::optional<gl::CombinerTexture> combiner;
-    if (options.backend == Backend::cpu) {
-        auto chosen = gl::choose_path(api.caps, options.path);
-        if (!chosen) return Error{chosen.error().field, where + chosen.error().message};
-        apply.path = *chosen;
-        if (*chosen == gl::Path::combiner) {
-            auto created = gl::CombinerTexture::create(api);
-            if (!created) return Error{created.error().field, where + created.error().message};
-            combiner.emplace(std::move(created.value()));
-            apply.combiner = &*combiner;
-        }
-    }
 
     RenderedImage image;
     image.width = w;
@@ -248,59 +296,12 @@ Result<RenderedImage> render_scene(const headless::Context& context, const Scene
             api.Disable(GL_FOG);
             break;
         }
-        case Backend::cpu: {
-            const std::size_t n = mesh.vertex_count();
-            std::vector<std::uint8_t> primary(4 * n), secondary(4 * n);
-            BatchOutputs out;
-            out.extinction_rgba8 = primary.data();
-            out.in_scattering_rgba8 = secondary.data();
-            BatchSettings settings;
-            settings.display = scene.display;
-            auto stats =
-                shade_into(*frame, Positions::aos(mesh.positions.data(), n), out, settings);
-            if (!stats) return Error{stats.error().field, where + stats.error().message};
-            gl::VertexColours colours;
-            colours.primary = primary.data();
-            colours.secondary = secondary.data();
-            colours.vertex_count = n;
-            auto drawn = gl::draw_with_colours(api, apply, colours, draw_mesh);
-            if (!drawn) return Error{drawn.error().field, where + drawn.error().message};
-            image.path_used = drawn->path;
-            break;
-        }
+        case Backend::cpu:
         case Backend::arb: {
-            // The highest height fidelity the driver's native limits take; should the driver
-            // still refuse it, the next lower level.
-            ArbProgramOptions arb;
-            arb.model = scene.model;
-            arb.limits = gl::native_arb_limits(api);
-            auto text = generate_arb_program(arb);
-            if (!text) return Error{text.error().field, where + text.error().message};
-            auto program = gl::ArbVertexProgram::create(api, *text);
-            while (!program && scene.model == Model::height &&
-                   text->options.height_fidelity != ArbHeightFidelity::spec_minimum) {
-                arb.height_fidelity = text->options.height_fidelity == ArbHeightFidelity::full
-                                          ? ArbHeightFidelity::exact_optical_depth
-                                          : ArbHeightFidelity::spec_minimum;
-                text = generate_arb_program(arb);
-                if (!text) return Error{text.error().field, where + text.error().message};
-                program = gl::ArbVertexProgram::create(api, *text);
+            if (auto e =
+                    render_with_scene_renderer(context, scene, options, mesh, texture, image)) {
+                return *e;
             }
-            if (!program) return Error{program.error().field, where + program.error().message};
-            auto parameters = arb_program_parameters(*frame, scene.display, text->options);
-            if (!parameters) {
-                return Error{parameters.error().field, where + parameters.error().message};
-            }
-            image.program = std::string(model_name(scene.model)) + ":";
-            if (scene.model == Model::height) {
-                image.program +=
-                    std::string(arb_height_fidelity_name(text->options.height_fidelity)) + ":";
-            }
-            image.program += std::to_string(text->instruction_count);
-            gl::ArbVertexProgram& p = program.value();
-            if (auto e = p.set_parameters(*parameters)) return Error{e->field, where + e->message};
-            auto drawn = p.draw(draw_mesh);
-            if (!drawn) return Error{drawn.error().field, where + drawn.error().message};
             break;
         }
     }

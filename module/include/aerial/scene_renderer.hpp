@@ -37,6 +37,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include "aerial/arb_program.hpp"
 #include "aerial/atmosphere.hpp"
 #include "aerial/batch.hpp"
 #include "aerial/error.hpp"
@@ -182,6 +183,9 @@ class SceneRenderer {
     void clear_caches();
 
     const RendererOptions& options() const;
+    /// arb backend: the program generated for `model` (hoffman-preetham or height; the height
+    /// fidelity is the highest the driver's native limits take). Null otherwise.
+    const ArbProgram* arb_program(Model model) const;
 
   private:
     struct Impl;

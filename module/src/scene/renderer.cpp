@@ -89,7 +89,7 @@ struct SceneRenderer::Impl {
     std::optional<gl::ArbVertexProgram> program_hp, program_height;
     /// The options each program was generated with (the height fidelity resolved against the
     /// driver's native limits); its parameters are computed with the same.
-    ArbProgramOptions arb_hp, arb_height;
+    ArbProgram arb_hp, arb_height;
     SkyDrawer sky = default_sky_drawer();
     SkyDrawer sun = default_sun_drawer();
     std::unordered_map<const Node*, detail::NodeState> nodes;
@@ -238,6 +238,13 @@ SceneRenderer& SceneRenderer::operator=(SceneRenderer&&) noexcept = default;
 SceneRenderer::~SceneRenderer() = default;
 
 const RendererOptions& SceneRenderer::options() const { return impl_->options; }
+
+const ArbProgram* SceneRenderer::arb_program(Model model) const {
+    if (impl_->options.backend != Backend::arb) return nullptr;
+    if (model == Model::hoffman_preetham) return &impl_->arb_hp;
+    if (model == Model::height) return &impl_->arb_height;
+    return nullptr;
+}
 void SceneRenderer::set_sky_drawer(SkyDrawer drawer) { impl_->sky = std::move(drawer); }
 void SceneRenderer::set_sun_drawer(SkyDrawer drawer) { impl_->sun = std::move(drawer); }
 void SceneRenderer::clear_caches() {
@@ -284,7 +291,7 @@ Result<SceneRenderer> SceneRenderer::create(const gl::Api& api, const RendererOp
             if (!program) return Error{program.error().field, where + program.error().message};
             (model == Model::height ? impl->program_height : impl->program_hp)
                 .emplace(std::move(program.value()));
-            (model == Model::height ? impl->arb_height : impl->arb_hp) = text->options;
+            (model == Model::height ? impl->arb_height : impl->arb_hp) = std::move(text.value());
         }
     }
     return SceneRenderer(std::move(impl));
@@ -458,7 +465,7 @@ std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const deta
     const bool hp = plan.model == Model::hoffman_preetham;
     gl::ArbVertexProgram& program = hp ? *program_hp : *program_height;
     auto parameters = arb_program_parameters(frame.frame_for(plan.model), frame.settings->display,
-                                             hp ? arb_hp : arb_height);
+                                             (hp ? arb_hp : arb_height).options);
     if (!parameters) return node_error(node, parameters.error());
     if (auto e = program.set_parameters(*parameters)) return node_error(node, *e);
     auto drawn = program.draw(draw, node_apply);

@@ -19,15 +19,10 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/batch.hpp"
+#include "aerial/validation/test_hooks.hpp"
 #include "bench/pareto.hpp"
 #include "bench/stability.hpp"
 #include "support/cli.hpp"
-
-namespace aerial::detail {
-// The SIMD target hooks of batch_simd.cpp (also used by the tests).
-std::vector<std::string> simd_test_targets();
-bool simd_test_use_target(const std::string& name);
-}  // namespace aerial::detail
 
 namespace {
 
@@ -190,9 +185,9 @@ int main(int argc, char** argv) {
         const int rounds = app.count("--repetitions") ? repetitions : (quick ? 3 : 21);
         return pareto(out_dir, quick, scenes_dir, size, rounds, !no_chart);
     }
-    if (!simd_target.empty() && !aerial::detail::simd_test_use_target(simd_target)) {
+    if (!simd_target.empty() && !aerial::validation::simd_test_use_target(simd_target)) {
         std::string supported;
-        for (const auto& t : aerial::detail::simd_test_targets()) supported += " " + t;
+        for (const auto& t : aerial::validation::simd_test_targets()) supported += " " + t;
         return aerial::tools::fail(kTool, "--simd-target: '" + simd_target +
                                               "' is not a target this build and CPU run (they "
                                               "are:" +

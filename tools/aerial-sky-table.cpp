@@ -21,6 +21,7 @@
 #include "aerial/gl_api.hpp"
 #include "aerial/headless.hpp"
 #include "aerial/sky_gl.hpp"
+#include "aerial/validation/sky_measure.hpp"
 #include "support/cli.hpp"
 #include "support/png.hpp"
 
@@ -31,21 +32,21 @@ constexpr const char* kTool = "aerial-sky-table";
 struct Row {
     std::string method;
     double elevation_deg;
-    aerial::SkyError error;
+    aerial::validation::SkyError error;
     bool has_relative;
 };
 
 /// The GL sky box of an RGBA8 cubemap against `reference`, pixel by pixel: five 90 deg views
 /// (four azimuths at 30 deg elevation, one at the zenith) of size x size pixels, every
 /// `stride`-th pixel above the horizon.
-aerial::Result<aerial::SkyError> measure_gl_sky_box(
+aerial::Result<aerial::validation::SkyError> measure_gl_sky_box(
     aerial::headless::Context& context, const aerial::SkyContext& reference, double exposure,
     const std::array<std::vector<std::uint8_t>, 6>& faces, int cubemap_size, int stride) {
     const aerial::gl::Api& api = context.api();
     auto texture = aerial::gl::SkyCubemapTexture::create(api, faces, cubemap_size);
     if (!texture) return texture.error();
     const int size = context.width();
-    aerial::SkyError error;
+    aerial::validation::SkyError error;
     double sum = 0;
     std::size_t n = 0;
     const double near_plane = 0.5, far_plane = 1000.0;
@@ -188,7 +189,7 @@ int main(int argc, char** argv) {
             aerial::View view;
             view.eye = {0.0, 0.0, eye_altitude_m};
             view.sun_dir = {0.0, std::cos(e), std::sin(e)};  // due north: centre of the strip
-            auto probe = aerial::make_sky_probe(*atmosphere, view, 1, 1);
+            auto probe = aerial::validation::make_sky_probe(*atmosphere, view, 1, 1);
             if (!probe) return aerial::tools::fail(kTool, probe.error().message);
             for (aerial::SkyMethod m : methods) {
                 auto sky = aerial::prepare_sky(*atmosphere, view, m);
@@ -247,7 +248,8 @@ int main(int argc, char** argv) {
         aerial::View view;
         view.eye = {0.0, 0.0, eye_altitude_m};
         view.sun_dir = {std::cos(e) * 0.8, std::cos(e) * 0.6, std::sin(e)};
-        auto probe = aerial::make_sky_probe(*atmosphere, view, elevation_steps, azimuth_steps);
+        auto probe =
+            aerial::validation::make_sky_probe(*atmosphere, view, elevation_steps, azimuth_steps);
         if (!probe) return aerial::tools::fail(kTool, probe.error().message);
         std::vector<Row> rows;
         for (aerial::SkyMethod m : aerial::all_sky_methods()) {
@@ -255,17 +257,18 @@ int main(int argc, char** argv) {
             auto sky = aerial::prepare_sky(*atmosphere, view, m);
             if (!sky) return aerial::tools::fail(kTool, sky.error().message);
             rows.push_back({std::string(aerial::sky_method_name(m)), elevation_deg,
-                            aerial::measure_sky_method(*probe, *sky), true});
+                            aerial::validation::measure_sky_method(*probe, *sky), true});
         }
         auto chained = aerial::prepare_sky(*atmosphere, view, aerial::SkyMethod::height_chained);
         rows.push_back({"dome " + dome, elevation_deg,
-                        aerial::measure_sky_dome(*probe, *chained, *mesh), true});
+                        aerial::validation::measure_sky_dome(*probe, *chained, *mesh), true});
         auto cubemap = aerial::compute_sky_cubemap(*chained, cubemap_size);
         if (!cubemap) return aerial::tools::fail(kTool, cubemap.error().message);
         const auto faces =
             aerial::cubemap_to_rgba8(*cubemap, probe->exposure, aerial::ToneCurve::exponential);
         rows.push_back({"cubemap " + std::to_string(cubemap_size), elevation_deg,
-                        aerial::measure_sky_cubemap(*probe, faces, cubemap_size), false});
+                        aerial::validation::measure_sky_cubemap(*probe, faces, cubemap_size),
+                        false});
         if (context) {
             auto reference = aerial::prepare_sky(*atmosphere, view, aerial::SkyMethod::reference);
             auto gl_error = measure_gl_sky_box(*context, *reference, probe->exposure, faces,

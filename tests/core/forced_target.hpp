@@ -1,15 +1,10 @@
-// forced_target.hpp — test helper: the SIMD target hooks of batch_simd.cpp and a guard that
-// forces one target for a scope (shared by the batch kernel and RGBA8 tests).
+// forced_target.hpp — test helper: a guard that forces one SIMD target for a scope (shared by the
+// batch kernel and RGBA8 tests), with the hooks of aerial/validation/test_hooks.hpp.
 #pragma once
 
 #include <string>
-#include <vector>
 
-namespace aerial::detail {
-// Test hooks defined in batch_simd.cpp.
-std::vector<std::string> simd_test_targets();
-bool simd_test_use_target(const std::string& name);
-}  // namespace aerial::detail
+#include "aerial/validation/test_hooks.hpp"
 
 namespace aerial::testing {
 
@@ -17,8 +12,8 @@ namespace aerial::testing {
 class ForcedTarget {
   public:
     explicit ForcedTarget(const std::string& name)
-        : ok_(aerial::detail::simd_test_use_target(name)) {}
-    ~ForcedTarget() { aerial::detail::simd_test_use_target(""); }
+        : ok_(aerial::validation::simd_test_use_target(name)) {}
+    ~ForcedTarget() { aerial::validation::simd_test_use_target(""); }
     ForcedTarget(const ForcedTarget&) = delete;
     ForcedTarget& operator=(const ForcedTarget&) = delete;
     bool ok() const { return ok_; }

@@ -686,7 +686,7 @@ TEST(BatchKernelMath, FastLog2IsWithinTheToleranceOfStdLog2) { check_fast_log2()
 // ---- Every target this CPU can run ------------------------------------------------------------
 
 TEST(BatchKernelTargets, DispatcherPicksTheBestTargetAndNamesIt) {
-    const auto targets = aerial::detail::simd_test_targets();
+    const auto targets = aerial::validation::simd_test_targets();
     ASSERT_FALSE(targets.empty());
     std::string list;
     for (const auto& t : targets) list += " " + t;
@@ -698,7 +698,7 @@ TEST(BatchKernelTargets, DispatcherPicksTheBestTargetAndNamesIt) {
 TEST(BatchKernelTargets, EveryTargetMatchesTheDoubleModelAndStaysPhysical) {
     // A smaller share of the scenes and of the sweep, and the building blocks, on each target
     // (the SSE4 or SCALAR code runs on users' older CPUs).
-    for (const std::string& target : aerial::detail::simd_test_targets()) {
+    for (const std::string& target : aerial::validation::simd_test_targets()) {
         SCOPED_TRACE("target " + target);
         const ForcedTarget forced(target);
         ASSERT_TRUE(forced.ok());

@@ -152,7 +152,7 @@ const char* kernel_name(Kernel k) { return k == Kernel::simd ? "simd" : "simd_fa
 std::string name(Model model) { return std::string(aerial::model_name(model)); }
 
 TEST(OnePassRgba8, HeightAndLitCodesAreTheRuleOnTheFloatPathOnEveryTarget) {
-    const auto targets = aerial::detail::simd_test_targets();
+    const auto targets = aerial::validation::simd_test_targets();
     ASSERT_FALSE(targets.empty());
     for (const std::string& target : targets) {
         const ForcedTarget forced(target);

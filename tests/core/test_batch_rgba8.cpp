@@ -169,7 +169,7 @@ std::size_t expect_rule_but_at_ties(const Codes& got, const Codes& want) {
 }
 
 TEST(OnePassRgba8, CodesAreTheRuleOnTheFloatPathButAtTiesOnEveryTarget) {
-    const auto targets = aerial::detail::simd_test_targets();
+    const auto targets = aerial::validation::simd_test_targets();
     ASSERT_FALSE(targets.empty());
     for (Kernel kernel : {Kernel::simd, Kernel::simd_fast}) {
         // Codes of the best target, to compare the others with.

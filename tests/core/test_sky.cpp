@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "aerial/aerial.hpp"
+#include "aerial/validation/sky_measure.hpp"
 
 namespace {
 
@@ -48,29 +49,32 @@ constexpr Bound kBounds[] = {
 
 TEST(Sky, EachMethodAgainstReferenceWithinItsPinnedBound) {
     for (const Bound& b : kBounds) {
-        auto probe = aerial::make_sky_probe(earth(), view_with_sun(b.sun_deg), 9, 12);
+        auto probe = aerial::validation::make_sky_probe(earth(), view_with_sun(b.sun_deg), 9, 12);
         ASSERT_TRUE(probe.ok()) << probe.error().message;
         const auto chained = sky_for(aerial::SkyMethod::height_chained, b.sun_deg);
-        const aerial::SkyError c = aerial::measure_sky_method(*probe, chained);
+        const aerial::validation::SkyError c =
+            aerial::validation::measure_sky_method(*probe, chained);
         EXPECT_LE(c.max_relative, b.chained_relative) << "sun " << b.sun_deg;
         EXPECT_LE(c.max_lsb, b.chained_lsb) << "sun " << b.sun_deg;
         auto mesh = aerial::make_sky_dome_mesh(12, 32);
         ASSERT_TRUE(mesh.ok());
-        const aerial::SkyError d = aerial::measure_sky_dome(*probe, chained, *mesh);
+        const aerial::validation::SkyError d =
+            aerial::validation::measure_sky_dome(*probe, chained, *mesh);
         EXPECT_LE(d.max_lsb, b.dome_lsb) << "sun " << b.sun_deg;
         auto cubemap = aerial::compute_sky_cubemap(chained, 64);
         ASSERT_TRUE(cubemap.ok());
         const auto faces =
             aerial::cubemap_to_rgba8(*cubemap, probe->exposure, aerial::ToneCurve::exponential);
-        const aerial::SkyError m = aerial::measure_sky_cubemap(*probe, faces, 64);
+        const aerial::validation::SkyError m =
+            aerial::validation::measure_sky_cubemap(*probe, faces, 64);
         EXPECT_LE(m.max_lsb, b.cubemap_lsb) << "sun " << b.sun_deg;
-        const aerial::SkyError hp =
-            aerial::measure_sky_method(*probe, sky_for(aerial::SkyMethod::dome_hp, b.sun_deg));
+        const aerial::validation::SkyError hp = aerial::validation::measure_sky_method(
+            *probe, sky_for(aerial::SkyMethod::dome_hp, b.sun_deg));
         EXPECT_LE(hp.mean_lsb, b.hp_mean_lsb) << "sun " << b.sun_deg;
         // Chaining is what makes the height model good enough for a sky: one segment to the
         // top of the atmosphere is far off near the horizon.
-        const aerial::SkyError single =
-            aerial::measure_sky_method(*probe, sky_for(aerial::SkyMethod::dome_height, b.sun_deg));
+        const aerial::validation::SkyError single = aerial::validation::measure_sky_method(
+            *probe, sky_for(aerial::SkyMethod::dome_height, b.sun_deg));
         EXPECT_GT(single.max_relative, 10.0 * c.max_relative) << "sun " << b.sun_deg;
         std::printf("sun %4.1f: chained %.4f/%g  dome %g  cubemap %g  hp mean %.1f  single %.2f\n",
                     b.sun_deg, c.max_relative, c.max_lsb, d.max_lsb, m.max_lsb, hp.mean_lsb,
@@ -185,7 +189,7 @@ TEST(SkyCubemapCache, RecomputesOnlyBeyondItsBoundAndTheBoundCostsAtMostOneStep)
     EXPECT_FALSE(*cache.update(a, turned(angle)));
     auto fresh_sky = aerial::prepare_sky(a, turned(angle), o.method);
     auto fresh = aerial::compute_sky_cubemap(*fresh_sky, o.size);
-    auto probe = aerial::make_sky_probe(a, v, 2, 4);
+    auto probe = aerial::validation::make_sky_probe(a, v, 2, 4);
     ASSERT_TRUE(fresh.ok() && probe.ok());
     const auto kept =
         aerial::cubemap_to_rgba8(cache.cubemap(), probe->exposure, aerial::ToneCurve::exponential);
@@ -210,7 +214,7 @@ TEST(SkyCubemapCache, RecomputesOnlyBeyondItsBoundAndTheBoundCostsAtMostOneStep)
 
 TEST(SunSprite, DiscSaturatesAndTheHaloFallsAwayFromTheSun) {
     const auto sky = sky_for(aerial::SkyMethod::height_chained, 30.0);
-    auto probe = aerial::make_sky_probe(earth(), view_with_sun(30.0), 2, 4);
+    auto probe = aerial::validation::make_sky_probe(earth(), view_with_sun(30.0), 2, 4);
     ASSERT_TRUE(probe.ok());
     aerial::SunSpriteOptions o;
     o.size = 64;
@@ -251,7 +255,7 @@ TEST(Sky, RejectsBadInputNamingTheField) {
     for (aerial::SkyMethod m : aerial::all_sky_methods()) {
         EXPECT_EQ(*aerial::parse_sky_method(aerial::sky_method_name(m)), m);
     }
-    EXPECT_EQ(aerial::make_sky_probe(earth(), view_with_sun(30.0), 0, 4).error().field,
+    EXPECT_EQ(aerial::validation::make_sky_probe(earth(), view_with_sun(30.0), 0, 4).error().field,
               "elevation_steps");
 }
 

@@ -21,6 +21,7 @@
 
 #include "aerial/mesh.hpp"
 #include "aerial/scene.hpp"
+#include "aerial/validation/dense_error.hpp"
 #include "fuzz_check.hpp"
 
 namespace {
@@ -68,7 +69,7 @@ void refine(aerial::mesh::Mesh mesh) {
               "a non-finite vertex after refinement");
     }
     const auto dense =
-        aerial::mesh::dense_error(refined.mesh(), frame_at(1), settings.colour, 0.05, 4);
+        aerial::validation::dense_error(refined.mesh(), frame_at(1), settings.colour, 0.05, 4);
     check(dense.ok(), "dense_error rejected a refined mesh");
     check(std::isfinite(dense->max_lsb) && std::isfinite(dense->rmse_lsb),
           "non-finite dense error");

@@ -16,17 +16,18 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/arb_program.hpp"
+#include "aerial/validation/arb_executor.hpp"
 #include "test_scale.hpp"
 
 namespace {
 
 using aerial::ArbProgramOptions;
-using aerial::ArbResults;
 using aerial::Atmosphere;
 using aerial::Display;
 using aerial::Frame;
 using aerial::Model;
 using aerial::View;
+using aerial::validation::ArbResults;
 using Params = std::vector<std::array<float, 4>>;
 
 constexpr double kDegree = aerial::kPi / 180.0;
@@ -42,10 +43,10 @@ aerial::ArbProgram generate(const ArbProgramOptions& options = {}) {
     return p.ok() ? *p : aerial::ArbProgram{};
 }
 
-aerial::ArbCpuProgram parse(const std::string& text) {
-    auto p = aerial::parse_arb_program(text);
+aerial::validation::ArbCpuProgram parse(const std::string& text) {
+    auto p = aerial::validation::parse_arb_program(text);
     EXPECT_TRUE(p.ok()) << (p.ok() ? "" : p.error().message) << "\n" << text;
-    return p.ok() ? *p : aerial::ArbCpuProgram{};
+    return p.ok() ? *p : aerial::validation::ArbCpuProgram{};
 }
 
 Atmosphere preset(const std::string& name) {
@@ -79,8 +80,8 @@ Params parameters(const Frame<float>& frame, float exposure, const ArbProgramOpt
 }
 
 /// A machine holding exactly the parameters at their indices; every other index is unset.
-aerial::ArbMachine machine_with(const Params& params, const ArbProgramOptions& o = {}) {
-    aerial::ArbMachine m;
+aerial::validation::ArbMachine machine_with(const Params& params, const ArbProgramOptions& o = {}) {
+    aerial::validation::ArbMachine m;
     auto& space = o.parameter_space == aerial::ParameterSpace::local ? m.local : m.env;
     const float nan = std::nanf("");
     space.assign(static_cast<std::size_t>(o.parameter_base), {nan, nan, nan, nan});
@@ -88,8 +89,8 @@ aerial::ArbMachine machine_with(const Params& params, const ArbProgramOptions& o
     return m;
 }
 
-aerial::ArbVertex vertex_at(const glm::vec3& p) {
-    aerial::ArbVertex v;
+aerial::validation::ArbVertex vertex_at(const glm::vec3& p) {
+    aerial::validation::ArbVertex v;
     v.position = {p.x, p.y, p.z, 1.0f};
     return v;
 }
@@ -256,8 +257,8 @@ TEST(ArbProgram, ReadsOnlyTheDocumentedParameterIndices) {
 TEST(ArbProgram, WritesEveryOutputItUsesAndNothingElse) {
     const auto program = parse(generate().text);
     const Frame<float> f = frame_for(Atmosphere{}, {0, 0, 100}, {0, 0.6, 0.8});
-    const ArbResults r = aerial::run_arb_program(program, machine_with(parameters(f, 8.0f)),
-                                                 vertex_at({0, 5e3f, 50}));
+    const ArbResults r = aerial::validation::run_arb_program(
+        program, machine_with(parameters(f, 8.0f)), vertex_at({0, 5e3f, 50}));
     EXPECT_EQ(r.position.written, 0xfu);
     EXPECT_EQ(r.color_primary.written, 0xfu);
     EXPECT_EQ(r.color_secondary.written, 0xfu);
@@ -286,9 +287,9 @@ TEST(ArbProgram, EnvAndLocalVariantsGiveIdenticalResults) {
             for (double d : {1.0, 300.0, 20000.0}) {
                 const glm::vec3 v = glm::vec3(f.view.eye + d * direction(3, 50));
                 const ArbResults a =
-                    aerial::run_arb_program(program, machine_with(p, o), vertex_at(v));
+                    aerial::validation::run_arb_program(program, machine_with(p, o), vertex_at(v));
                 const ArbResults b =
-                    aerial::run_arb_program(reference, machine_with(p), vertex_at(v));
+                    aerial::validation::run_arb_program(reference, machine_with(p), vertex_at(v));
                 EXPECT_EQ(a.color_primary.value, b.color_primary.value);
                 EXPECT_EQ(a.color_secondary.value, b.color_secondary.value);
                 EXPECT_EQ(a.fogcoord.value[0], b.fogcoord.value[0]);
@@ -298,8 +299,8 @@ TEST(ArbProgram, EnvAndLocalVariantsGiveIdenticalResults) {
             other.parameter_space = space == aerial::ParameterSpace::local
                                         ? aerial::ParameterSpace::env
                                         : aerial::ParameterSpace::local;
-            const ArbResults wrong =
-                aerial::run_arb_program(program, machine_with(p, other), vertex_at({0, 100, 0}));
+            const ArbResults wrong = aerial::validation::run_arb_program(
+                program, machine_with(p, other), vertex_at({0, 100, 0}));
             EXPECT_FALSE(all_finite(wrong.color_secondary.value));
         }
     }
@@ -308,7 +309,7 @@ TEST(ArbProgram, EnvAndLocalVariantsGiveIdenticalResults) {
 TEST(ArbProgram, PassesThroughEachTexcoordUnitItIsAskedFor) {
     const Frame<float> f = frame_for(Atmosphere{}, {0, 0, 10}, {0, 0, 1});
     const Params p = parameters(f, 1.0f);
-    aerial::ArbVertex v = vertex_at({100, 200, 0});
+    aerial::validation::ArbVertex v = vertex_at({100, 200, 0});
     for (int u = 0; u < aerial::kArbMaxTexcoordUnits; ++u) {
         const float k = float(u);
         v.texcoord[static_cast<std::size_t>(u)] = {k + 0.25f, -k, 2.0f * k, 1.0f + k};
@@ -319,7 +320,7 @@ TEST(ArbProgram, PassesThroughEachTexcoordUnitItIsAskedFor) {
         o.texcoord_units = units;
         const auto program = parse(generate(o).text);
         EXPECT_EQ(program.resources.attributes, 1 + units);
-        const ArbResults r = aerial::run_arb_program(program, machine_with(p), v);
+        const ArbResults r = aerial::validation::run_arb_program(program, machine_with(p), v);
         for (int u = 0; u < aerial::kArbMaxTexcoordUnits; ++u) {
             const auto& out = r.texcoord[static_cast<std::size_t>(u)];
             if (u < units) {
@@ -344,11 +345,12 @@ TEST(ArbProgram, PositionInvariantOptionLeavesThePositionToGl) {
     EXPECT_EQ(with_option.text.find("state.matrix"), std::string::npos);
     EXPECT_EQ(with_option.instruction_count, without.instruction_count - 4);
 
-    aerial::ArbMachine m = machine_with(p);
+    aerial::validation::ArbMachine m = machine_with(p);
     m.mvp = {{{0.5f, 0, 0, 1}, {0, 2, 0, -3}, {0, 0, -1, 0.5f}, {0, 0, -1, 0}}};
     const glm::vec3 v(300, 4000, 20);
-    const ArbResults a = aerial::run_arb_program(parse(with_option.text), m, vertex_at(v));
-    const ArbResults b = aerial::run_arb_program(parse(without.text), m, vertex_at(v));
+    const ArbResults a =
+        aerial::validation::run_arb_program(parse(with_option.text), m, vertex_at(v));
+    const ArbResults b = aerial::validation::run_arb_program(parse(without.text), m, vertex_at(v));
     EXPECT_EQ(a.position.written, 0u);
     EXPECT_EQ(b.position.written, 0xfu);
     EXPECT_FLOAT_EQ(b.position.value[0], 0.5f * v.x + 1.0f);
@@ -491,15 +493,16 @@ TEST(ArbProgramParameters, LayoutMatchesWhatTheProgramReads) {
     }
     // Every component the program reads matters: poisoning it poisons an output.
     const auto program = parse(generate().text);
-    const aerial::ArbVertex v = vertex_at({2000, -3000, 40});
-    const ArbResults clean = aerial::run_arb_program(program, machine_with(p), v);
+    const aerial::validation::ArbVertex v = vertex_at({2000, -3000, 40});
+    const ArbResults clean = aerial::validation::run_arb_program(program, machine_with(p), v);
     ASSERT_TRUE(all_finite(clean.color_primary.value) && all_finite(clean.color_secondary.value));
     for (std::size_t i = 0; i < p.size(); ++i) {
         for (std::size_t j = 0; j < 4; ++j) {
             if (i == 2 && j == 3) continue;  // extinction.w: documented as unused
             Params poisoned = p;
             poisoned[i][j] = std::nanf("");
-            const ArbResults r = aerial::run_arb_program(program, machine_with(poisoned), v);
+            const ArbResults r =
+                aerial::validation::run_arb_program(program, machine_with(poisoned), v);
             EXPECT_FALSE(all_finite(r.color_primary.value) && all_finite(r.color_secondary.value) &&
                          all_finite(r.fogcoord.value, 1))
                 << "parameter " << i << " component " << j << " is not read";
@@ -529,7 +532,7 @@ TEST(ArbProgramParameters, ChannelsWithoutExtinctionStayFiniteAndMatchTheModel) 
                 for (const glm::dvec3& dir : view_directions(f.view.sun_dir, 3)) {
                     const glm::vec3 v = glm::vec3(f.view.eye + d * dir);
                     const ArbResults r =
-                        aerial::run_arb_program(program, machine_with(p), vertex_at(v));
+                        aerial::validation::run_arb_program(program, machine_with(p), vertex_at(v));
                     ASSERT_TRUE(all_finite(r.color_primary.value) &&
                                 all_finite(r.color_secondary.value));
                     compare(r, f, exposure, v, parity, "d=" + std::to_string(d));
@@ -559,8 +562,8 @@ TEST(ArbProgramParameters, ChannelsWithoutExtinctionStayFiniteAndMatchTheModel) 
 TEST(ArbProgram, VertexAtTheEyeHasNoHazeAndNoNaN) {
     const Frame<float> f = frame_for(preset("foggy"), {100, 200, 3}, direction(5, 0));
     const auto program = parse(generate().text);
-    const ArbResults r = aerial::run_arb_program(program, machine_with(parameters(f, 30.0f)),
-                                                 vertex_at(glm::vec3(f.view.eye)));
+    const ArbResults r = aerial::validation::run_arb_program(
+        program, machine_with(parameters(f, 30.0f)), vertex_at(glm::vec3(f.view.eye)));
     for (std::size_t c = 0; c < 3; ++c) {
         EXPECT_EQ(r.color_primary.value[c], 1.0f);
         EXPECT_EQ(r.color_secondary.value[c], 0.0f);
@@ -583,11 +586,12 @@ TEST(ArbProgram, ReproducesTheCpuModelWithin1LsbOverAWideGrid) {
                 const Frame<float> f = frame_for(a, eye, direction(sun_elevation, 30));
                 const std::vector<glm::dvec3> dirs = view_directions(f.view.sun_dir, 8);
                 for (float exposure : {1.0f, 4.0f, 16.0f, 64.0f}) {
-                    const aerial::ArbMachine m = machine_with(parameters(f, exposure));
+                    const aerial::validation::ArbMachine m = machine_with(parameters(f, exposure));
                     for (double d : kDistancesM) {
                         for (const glm::dvec3& dir : dirs) {
                             const glm::vec3 v = glm::vec3(eye + d * dir);
-                            const ArbResults r = aerial::run_arb_program(program, m, vertex_at(v));
+                            const ArbResults r =
+                                aerial::validation::run_arb_program(program, m, vertex_at(v));
                             compare(r, f, exposure, v, parity,
                                     name + " eye z=" + std::to_string(eye.z) +
                                         " sun=" + std::to_string(sun_elevation) + " exposure=" +
@@ -620,12 +624,12 @@ TEST(ArbProgram, ReproducesTheCpuModelForBackwardScattering) {
         const Params p = parameters(f, 4.0f);
         EXPECT_FLOAT_EQ(p[1][0], -float(f.view.sun_dir.x));
         EXPECT_FLOAT_EQ(p[5][0], float(std::abs(g)));
-        const aerial::ArbMachine m = machine_with(p);
+        const aerial::validation::ArbMachine m = machine_with(p);
         for (double d : kDistancesM) {
             for (const glm::dvec3& dir : view_directions(-f.view.sun_dir, 4)) {
                 const glm::vec3 v = glm::vec3(f.view.eye + d * dir);
-                compare(aerial::run_arb_program(program, m, vertex_at(v)), f, 4.0f, v, parity,
-                        "g=" + std::to_string(g) + " d=" + std::to_string(d));
+                compare(aerial::validation::run_arb_program(program, m, vertex_at(v)), f, 4.0f, v,
+                        parity, "g=" + std::to_string(g) + " d=" + std::to_string(d));
             }
         }
     }
@@ -641,11 +645,12 @@ TEST(ArbProgram, ReproducesTheCpuModelInOtherEngineUnits) {
             const glm::dvec3 eye = glm::dvec3(40, -25, 150) / meters_per_unit;
             const Frame<float> f =
                 frame_for(preset(name), eye, direction(15, 100), meters_per_unit);
-            const aerial::ArbMachine m = machine_with(parameters(f, 10.0f));
+            const aerial::validation::ArbMachine m = machine_with(parameters(f, 10.0f));
             for (double d : kDistancesM) {
                 for (const glm::dvec3& dir : view_directions(f.view.sun_dir, 4)) {
                     const glm::vec3 v = glm::vec3(eye + d / meters_per_unit * dir);
-                    const ArbResults r = aerial::run_arb_program(program, m, vertex_at(v));
+                    const ArbResults r =
+                        aerial::validation::run_arb_program(program, m, vertex_at(v));
                     compare(r, f, 10.0f, v, parity, name + " d=" + std::to_string(d));
                     EXPECT_NEAR(r.fogcoord.value[0], d / meters_per_unit,
                                 1e-5 * d / meters_per_unit + 1e-6 * glm::length(eye))
@@ -670,7 +675,7 @@ TEST(ArbProgram, PerturbedApproximationsStayWithin1LsbPlusTheExtinctionBound) {
     // 1/255, i.e. where the haze at infinity is at most ~7 times display white; more towards a
     // bright Mie lobe at a high exposure, and near the eye, where F is close to 1.
     const auto program = parse(generate().text);
-    const int approx = aerial::count_approximate_instructions(program);
+    const int approx = aerial::validation::count_approximate_instructions(program);
     ASSERT_EQ(approx, 5);
     const std::uint32_t patterns = 1u << approx;
     const double ex2_lsb_per_lin = 255.0 * double(kOldHardwareError);
@@ -688,7 +693,7 @@ TEST(ArbProgram, PerturbedApproximationsStayWithin1LsbPlusTheExtinctionBound) {
                 const Frame<float> f = frame_for(a, eye, direction(sun_elevation, 30));
                 const std::vector<glm::dvec3> dirs = view_directions(f.view.sun_dir, 4);
                 for (float exposure : {1.0f, 4.0f, 16.0f}) {
-                    const aerial::ArbMachine m = machine_with(parameters(f, exposure));
+                    const aerial::validation::ArbMachine m = machine_with(parameters(f, exposure));
                     Display display;
                     display.exposure = exposure;
                     for (double d : kDistancesM) {
@@ -698,11 +703,11 @@ TEST(ArbProgram, PerturbedApproximationsStayWithin1LsbPlusTheExtinctionBound) {
                             const aerial::Scattering<float> cpu = aerial::scatter(f, v);
                             ++vertices;
                             for (std::uint32_t pattern = 0; pattern < patterns; ++pattern) {
-                                aerial::ArbInterpreterOptions o;
+                                aerial::validation::ArbInterpreterOptions o;
                                 o.relative_error = kOldHardwareError;
                                 o.sign_pattern = pattern;
-                                const ArbResults r =
-                                    aerial::run_arb_program(program, m, vertex_at(v), o);
+                                const ArbResults r = aerial::validation::run_arb_program(
+                                    program, m, vertex_at(v), o);
                                 for (int c = 0; c < 3; ++c) {
                                     const std::size_t i = static_cast<std::size_t>(c);
                                     const int fex =
@@ -759,7 +764,7 @@ TEST(ArbProgram, GuardedProgramStaysWithin1LsbWithCoarseApproximationsAtAnyExpos
     const aerial::ArbProgram text = generate(guarded);
     EXPECT_EQ(text.instruction_count, generate().instruction_count + 7);
     const auto program = parse(text.text);
-    const int approx = aerial::count_approximate_instructions(program);
+    const int approx = aerial::validation::count_approximate_instructions(program);
     ASSERT_EQ(approx, 5);
     int worst_exact = 0, worst_perturbed = 0;
     std::string where;
@@ -772,7 +777,7 @@ TEST(ArbProgram, GuardedProgramStaysWithin1LsbWithCoarseApproximationsAtAnyExpos
                 const Frame<float> f = frame_for(a, eye, direction(sun_elevation, 30));
                 const std::vector<glm::dvec3> dirs = view_directions(f.view.sun_dir, 2);
                 for (float exposure : {1.0f, 16.0f, 256.0f, 1024.0f}) {
-                    const aerial::ArbMachine m = machine_with(parameters(f, exposure));
+                    const aerial::validation::ArbMachine m = machine_with(parameters(f, exposure));
                     Display display;
                     display.exposure = exposure;
                     for (double d = 1.0; d < 6e4; d *= 1.5) {
@@ -782,11 +787,11 @@ TEST(ArbProgram, GuardedProgramStaysWithin1LsbWithCoarseApproximationsAtAnyExpos
                             const aerial::Scattering<float> cpu = aerial::scatter(f, v);
                             ++vertices;
                             for (std::uint32_t pattern = 0; pattern <= (1u << approx); ++pattern) {
-                                aerial::ArbInterpreterOptions o;  // the last run: exact
+                                aerial::validation::ArbInterpreterOptions o;  // the last run: exact
                                 o.relative_error = pattern < (1u << approx) ? kOldHardwareError : 0;
                                 o.sign_pattern = pattern;
-                                const ArbResults r =
-                                    aerial::run_arb_program(program, m, vertex_at(v), o);
+                                const ArbResults r = aerial::validation::run_arb_program(
+                                    program, m, vertex_at(v), o);
                                 int worst = 0;
                                 for (int c = 0; c < 3; ++c) {
                                     const std::size_t i = static_cast<std::size_t>(c);
@@ -826,18 +831,18 @@ TEST(ArbProgram, CoarseRsqIsHarmlessAtTheMiePeak) {
     // w = |d / s - sun|^2 only moves by 2^-11 relative: within 1 LSB.
     const auto program = parse(generate().text);
     const Frame<float> f = frame_for(preset("foggy"), {0, 0, 2}, direction(10, 0));
-    const aerial::ArbMachine m = machine_with(parameters(f, 1.0f));
+    const aerial::validation::ArbMachine m = machine_with(parameters(f, 1.0f));
     Display display;
     int worst = 0;
     for (double d : kDistancesM) {
         const glm::vec3 v = glm::vec3(f.view.eye + d * f.view.sun_dir);
         const aerial::Scattering<float> cpu = aerial::scatter(f, v);
         for (std::uint32_t sign : {0u, 1u}) {
-            aerial::ArbInterpreterOptions o;
+            aerial::validation::ArbInterpreterOptions o;
             o.relative_error = kOldHardwareError;
-            o.perturbed = aerial::kArbApproxRsq;
+            o.perturbed = aerial::validation::kArbApproxRsq;
             o.sign_pattern = sign;
-            const ArbResults r = aerial::run_arb_program(program, m, vertex_at(v), o);
+            const ArbResults r = aerial::validation::run_arb_program(program, m, vertex_at(v), o);
             for (int c = 0; c < 3; ++c) {
                 worst = std::max(
                     worst, lsb_difference(r.color_secondary.value[std::size_t(c)],
@@ -902,11 +907,11 @@ TEST(ArbProgram, AerialEvalPrintsExactlyTheGeneratedText) {
 
 // ---- The interpreter itself ------------------------------------------------------------------
 
-ArbResults run_text(const std::string& body, const aerial::ArbVertex& v = {},
-                    const aerial::ArbInterpreterOptions& o = {}) {
-    aerial::ArbMachine m;
+ArbResults run_text(const std::string& body, const aerial::validation::ArbVertex& v = {},
+                    const aerial::validation::ArbInterpreterOptions& o = {}) {
+    aerial::validation::ArbMachine m;
     m.local = {{1, 2, 3, 4}, {-0.5f, 0.25f, 8, 16}};
-    return aerial::run_arb_program(parse("!!ARBvp1.0\n" + body + "END\n"), m, v, o);
+    return aerial::validation::run_arb_program(parse("!!ARBvp1.0\n" + body + "END\n"), m, v, o);
 }
 
 TEST(ArbInterpreter, SwizzlesMasksAndNegationFollowTheSpec) {
@@ -973,14 +978,14 @@ TEST(ArbInterpreter, PerturbationFollowsTheSignPatternInProgramOrder) {
         "EX2 result.texcoord[0], b.z;\n"
         "MOV result.texcoord[1], b;\n"
         "RCP result.texcoord[2], b.z;\n";
-    aerial::ArbInterpreterOptions o;
+    aerial::validation::ArbInterpreterOptions o;
     o.relative_error = 1.0f / 2048.0f;
     o.sign_pattern = 0b10;  // first approximate instruction down, second up
     const ArbResults r = run_text(body, {}, o);
     EXPECT_EQ(r.texcoord[0].value[0], 256.0f * (1.0f - 1.0f / 2048.0f));
     EXPECT_EQ(r.texcoord[1].value[2], 8.0f) << "exact instructions are not perturbed";
     EXPECT_EQ(r.texcoord[2].value[0], 0.125f * (1.0f + 1.0f / 2048.0f));
-    o.perturbed = aerial::kArbApproxRcp;  // only RCP counts now: it is number 0, down
+    o.perturbed = aerial::validation::kArbApproxRcp;  // only RCP counts now: it is number 0, down
     const ArbResults only_rcp = run_text(body, {}, o);
     EXPECT_EQ(only_rcp.texcoord[0].value[0], 256.0f);
     EXPECT_EQ(only_rcp.texcoord[2].value[0], 0.125f * (1.0f - 1.0f / 2048.0f));
@@ -1011,7 +1016,7 @@ TEST(ArbInterpreter, ParseErrorsGiveTheLine) {
         {"!!ARBvp1.0\nADDRESS a;\nEND\n", "line 2", "ADDRESS"},
     };
     for (const Case& c : cases) {
-        const auto r = aerial::parse_arb_program(c.text);
+        const auto r = aerial::validation::parse_arb_program(c.text);
         ASSERT_FALSE(r.ok()) << c.text;
         EXPECT_EQ(r.error().field, c.field) << r.error().message;
         EXPECT_EQ(r.error().message.rfind(c.field, 0), 0u) << r.error().message;
@@ -1175,7 +1180,7 @@ std::string describe(const Case& k, const glm::dvec3& vertex) {
     return buffer;
 }
 
-aerial::ArbCpuProgram program(const ArbProgramOptions& o = {}) {
+aerial::validation::ArbCpuProgram program(const ArbProgramOptions& o = {}) {
     return parse(generate(options(o)).text);
 }
 
@@ -1264,7 +1269,8 @@ TEST(ArbHeightProgram, ReadsEveryDocumentedParameterAndNothingElse) {
     const auto outputs = [&](const Params& q) {
         std::vector<float> out;
         for (const glm::vec3& v : vertices) {
-            const ArbResults run = aerial::run_arb_program(program, machine_with(q), vertex_at(v));
+            const ArbResults run =
+                aerial::validation::run_arb_program(program, machine_with(q), vertex_at(v));
             for (std::size_t c = 0; c < 4; ++c) {
                 out.push_back(run.color_primary.value[c]);
                 out.push_back(run.color_secondary.value[c]);
@@ -1296,10 +1302,10 @@ TEST(ArbHeightProgram, OptionsChangeOnlyWhereParametersComeFromAndWhatIsPassedTh
         height::frame_for(preset("earth"), height::view_for({30, -20, 400}, direction(15, 40)));
     const Params p = height::parameters(f, 6.0f);
     const auto reference = height::program();
-    aerial::ArbVertex v = vertex_at({3000, 9000, 150});
+    aerial::validation::ArbVertex v = vertex_at({3000, 9000, 150});
     v.texcoord[0] = {0.25f, 0.5f, 0, 1};
     v.texcoord[1] = {1, 2, 3, 4};
-    const ArbResults base = aerial::run_arb_program(reference, machine_with(p), v);
+    const ArbResults base = aerial::validation::run_arb_program(reference, machine_with(p), v);
     EXPECT_EQ(base.position.written, 0xfu);
     EXPECT_EQ(base.color_primary.written, 0xfu);
     EXPECT_EQ(base.color_secondary.written, 0xfu);
@@ -1314,8 +1320,8 @@ TEST(ArbHeightProgram, OptionsChangeOnlyWhereParametersComeFromAndWhatIsPassedTh
             o.parameter_space = space;
             o.parameter_base = base_index;
             o.texcoord_units = 2;
-            const ArbResults r =
-                aerial::run_arb_program(height::program(o), machine_with(p, height::options(o)), v);
+            const ArbResults r = aerial::validation::run_arb_program(
+                height::program(o), machine_with(p, height::options(o)), v);
             EXPECT_EQ(r.color_primary.value, base.color_primary.value);
             EXPECT_EQ(r.color_secondary.value, base.color_secondary.value);
             EXPECT_EQ(r.fogcoord.value[0], base.fogcoord.value[0]);
@@ -1326,7 +1332,7 @@ TEST(ArbHeightProgram, OptionsChangeOnlyWhereParametersComeFromAndWhatIsPassedTh
     invariant.position_invariant = true;
     const aerial::ArbProgram text = generate(height::options(invariant));
     EXPECT_EQ(text.instruction_count, generate(height::options()).instruction_count - 4);
-    const ArbResults r = aerial::run_arb_program(parse(text.text), machine_with(p), v);
+    const ArbResults r = aerial::validation::run_arb_program(parse(text.text), machine_with(p), v);
     EXPECT_EQ(r.position.written, 0u);
     EXPECT_EQ(r.color_secondary.value, base.color_secondary.value);
 }
@@ -1355,10 +1361,11 @@ TEST(ArbHeightProgram, ExtinctionMatchesTheCpuModelWithin1LsbOverTheWholeGrid) {
         for (const glm::dvec3& eye : grid.eyes) {
             for (double sun : grid.sun_elevations) {
                 const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::ArbMachine m = machine_with(height::parameters(k.frame, k.exposure));
+                const aerial::validation::ArbMachine m =
+                    machine_with(height::parameters(k.frame, k.exposure));
                 for (std::size_t i = 0; i < k.vertices.size(); ++i) {
-                    const ArbResults r =
-                        aerial::run_arb_program(program, m, vertex_at(glm::vec3(k.vertices[i])));
+                    const ArbResults r = aerial::validation::run_arb_program(
+                        program, m, vertex_at(glm::vec3(k.vertices[i])));
                     worst.add(height::lsb_against(r, k.cpu[i], k.exposure).extinction,
                               height::describe(k, k.vertices[i]));
                 }
@@ -1388,10 +1395,11 @@ TEST(ArbHeightProgram, InScatteringMatchesTheCpuModelOnShortRaysAndStaysCloseInC
         for (const glm::dvec3& eye : grid.eyes) {
             for (double sun : grid.sun_elevations) {
                 const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::ArbMachine m = machine_with(height::parameters(k.frame, k.exposure));
+                const aerial::validation::ArbMachine m =
+                    machine_with(height::parameters(k.frame, k.exposure));
                 for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {  // not the deep ones
-                    const ArbResults r =
-                        aerial::run_arb_program(program, m, vertex_at(glm::vec3(k.vertices[i])));
+                    const ArbResults r = aerial::validation::run_arb_program(
+                        program, m, vertex_at(glm::vec3(k.vertices[i])));
                     const double d = glm::length(k.vertices[i] - k.view.eye);
                     const int b = d <= lengths[0] ? 0 : d <= lengths[1] ? 1 : 2;
                     by_length[b].add(height::lsb_against(r, k.cpu[i], k.exposure).in_scattering,
@@ -1441,12 +1449,13 @@ TEST(ArbHeightProgram, AgainstTheReferenceModelItErrsLikeTheCpuHeightModel) {
         for (const glm::dvec3& eye : grid.eyes) {
             for (double sun : {5.0, 20.0, 60.0}) {
                 const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::ArbMachine m = machine_with(height::parameters(k.frame, k.exposure));
+                const aerial::validation::ArbMachine m =
+                    machine_with(height::parameters(k.frame, k.exposure));
                 for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
                     const aerial::Scattering<double> truth =
                         aerial::reference_scattering(preset(name), k.view, k.vertices[i]);
-                    const ArbResults r =
-                        aerial::run_arb_program(program, m, vertex_at(glm::vec3(k.vertices[i])));
+                    const ArbResults r = aerial::validation::run_arb_program(
+                        program, m, vertex_at(glm::vec3(k.vertices[i])));
                     int model = 0;
                     for (int c = 0; c < 3; ++c) {
                         model = std::max(
@@ -1455,8 +1464,8 @@ TEST(ArbHeightProgram, AgainstTheReferenceModelItErrsLikeTheCpuHeightModel) {
                     }
                     const std::string where = height::describe(k, k.vertices[i]);
                     arb.add(height::lsb_against(r, truth, k.exposure).in_scattering, where);
-                    const ArbResults e =
-                        aerial::run_arb_program(exact, m, vertex_at(glm::vec3(k.vertices[i])));
+                    const ArbResults e = aerial::validation::run_arb_program(
+                        exact, m, vertex_at(glm::vec3(k.vertices[i])));
                     arb_exact.add(height::lsb_against(e, truth, k.exposure).in_scattering, where);
                     cpu.add(model, where);
                 }
@@ -1502,14 +1511,16 @@ TEST(ArbHeightProgram, StaysFiniteForDegenerateViews) {
                     const View view = height::view_for(eye, direction(sun, 70), meters_per_unit);
                     const Frame<float> f = height::frame_for(a, view);
                     for (float exposure : {1.0f, 1e4f}) {
-                        const aerial::ArbMachine m = machine_with(height::parameters(f, exposure));
+                        const aerial::validation::ArbMachine m =
+                            machine_with(height::parameters(f, exposure));
                         std::vector<glm::dvec3> offsets_m{
                             {0, 0, 0},   {1e-3, 0, 0},   {5000, 0, 0},
                             {3e5, 1, 0}, {0, 0, -20000}, {700, 0, -3e6},
                             {1e9, 0, 0}, {0, 0, 1e9},    {-3e4, 2e4, -eye_m.z}};
                         for (const glm::dvec3& offset : offsets_m) {
                             const glm::vec3 v = glm::vec3(eye + offset / meters_per_unit);
-                            const ArbResults r = aerial::run_arb_program(program, m, vertex_at(v));
+                            const ArbResults r =
+                                aerial::validation::run_arb_program(program, m, vertex_at(v));
                             ++checked;
                             const std::string where =
                                 name + " mpu " + std::to_string(meters_per_unit) + " eye z " +
@@ -1557,7 +1568,7 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
           aerial::ArbHeightFidelity::full}) {
         const ArbProgramOptions o = at_fidelity(level);
         const auto program = parse(generate(o).text);
-        const int approx = aerial::count_approximate_instructions(program);
+        const int approx = aerial::validation::count_approximate_instructions(program);
         height::Grid grid;
         grid.eyes = {{0, 0, 2}, {0, 0, 1000}};
         grid.sun_elevations = {10, 45};
@@ -1574,20 +1585,22 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
             for (const glm::dvec3& eye : grid.eyes) {
                 for (double sun : grid.sun_elevations) {
                     const height::Case k = height::make_case(name, eye, sun, grid);
-                    const aerial::ArbMachine m = machine_with(::parameters(k.frame, k.exposure, o));
+                    const aerial::validation::ArbMachine m =
+                        machine_with(::parameters(k.frame, k.exposure, o));
                     for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
                         if (!sample.keep()) continue;
-                        const aerial::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
-                        const height::Lsb exact = height::lsb_against(
-                            aerial::run_arb_program(program, m, v), k.cpu[i], k.exposure);
+                        const aerial::validation::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
+                        const height::Lsb exact =
+                            height::lsb_against(aerial::validation::run_arb_program(program, m, v),
+                                                k.cpu[i], k.exposure);
                         height::Lsb worst;
                         for (int pattern = 0; pattern < 48; ++pattern) {
-                            aerial::ArbInterpreterOptions rounding;
+                            aerial::validation::ArbInterpreterOptions rounding;
                             rounding.relative_error = kOldHardwareError;
                             rounding.sign_pattern = pattern == 0 ? 0u : pattern == 1 ? ~0u : next();
                             const height::Lsb e = height::lsb_against(
-                                aerial::run_arb_program(program, m, v, rounding), k.cpu[i],
-                                k.exposure);
+                                aerial::validation::run_arb_program(program, m, v, rounding),
+                                k.cpu[i], k.exposure);
                             worst.extinction = std::max(worst.extinction, e.extinction);
                             worst.in_scattering = std::max(worst.in_scattering, e.in_scattering);
                         }
@@ -1643,19 +1656,21 @@ TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
         for (const glm::dvec3& eye : grid.eyes) {
             for (double sun : grid.sun_elevations) {
                 const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::ArbMachine m = machine_with(height::parameters(k.frame, k.exposure));
+                const aerial::validation::ArbMachine m =
+                    machine_with(height::parameters(k.frame, k.exposure));
                 for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
                     if (glm::length(k.vertices[i] - k.view.eye) > 3.1e4) continue;
-                    const aerial::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
+                    const aerial::validation::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
                     const std::string where = height::describe(k, k.vertices[i]);
-                    const ArbResults a = aerial::run_arb_program(with, m, v);
+                    const ArbResults a = aerial::validation::run_arb_program(with, m, v);
                     ASSERT_TRUE(all_finite(a.color_secondary.value)) << where;
                     exact_worst.add(height::lsb_against(a, k.cpu[i], k.exposure).in_scattering,
                                     where);
-                    default_worst.add(height::lsb_against(aerial::run_arb_program(without, m, v),
-                                                          k.cpu[i], k.exposure)
-                                          .in_scattering,
-                                      where);
+                    default_worst.add(
+                        height::lsb_against(aerial::validation::run_arb_program(without, m, v),
+                                            k.cpu[i], k.exposure)
+                            .in_scattering,
+                        where);
                 }
             }
         }
@@ -1690,10 +1705,11 @@ TEST(ArbHeightProgram, FullFidelityMatchesTheCpuModelWithin1LsbOverTheWholeGrid)
         for (const glm::dvec3& eye : grid.eyes) {
             for (double sun : grid.sun_elevations) {
                 const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::ArbMachine m = machine_with(::parameters(k.frame, k.exposure, o));
+                const aerial::validation::ArbMachine m =
+                    machine_with(::parameters(k.frame, k.exposure, o));
                 for (std::size_t i = 0; i < k.vertices.size(); ++i) {
-                    const ArbResults r =
-                        aerial::run_arb_program(program, m, vertex_at(glm::vec3(k.vertices[i])));
+                    const ArbResults r = aerial::validation::run_arb_program(
+                        program, m, vertex_at(glm::vec3(k.vertices[i])));
                     const height::Lsb e = height::lsb_against(r, k.cpu[i], k.exposure);
                     const std::string where = height::describe(k, k.vertices[i]);
                     fex.add(e.extinction, where);
@@ -1845,9 +1861,9 @@ TEST(ArbHeightFidelity, FullProgramReadsEveryParameterItDocuments) {
                 for (const glm::vec3& offset : offsets) {
                     const glm::vec3 v = glm::vec3(eye) + offset;
                     const ArbResults a =
-                        aerial::run_arb_program(program, machine_with(p), vertex_at(v));
-                    const ArbResults b =
-                        aerial::run_arb_program(program, machine_with(changed), vertex_at(v));
+                        aerial::validation::run_arb_program(program, machine_with(p), vertex_at(v));
+                    const ArbResults b = aerial::validation::run_arb_program(
+                        program, machine_with(changed), vertex_at(v));
                     changed_somewhere |= a.color_primary.value != b.color_primary.value ||
                                          a.color_secondary.value != b.color_secondary.value ||
                                          a.fogcoord.value[0] != b.fogcoord.value[0];

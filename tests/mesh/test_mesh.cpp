@@ -10,6 +10,7 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/mesh.hpp"
+#include "aerial/validation/dense_error.hpp"
 
 namespace {
 
@@ -236,7 +237,7 @@ TEST(AdaptiveMesh, RefinedDomeMeetsTheTargetConformingAndUnflipped) {
     });
     expect_not_flipped(mesh, [&](const glm::dvec3& c) { return c - scene.dome.centre; });
     // The independent dense measure agrees within the estimate's sampling.
-    const auto dense = aerial::mesh::dense_error(mesh, scene.frame, settings.colour, 0.01);
+    const auto dense = aerial::validation::dense_error(mesh, scene.frame, settings.colour, 0.01);
     ASSERT_TRUE(dense.ok());
     EXPECT_LT(dense->max_lsb, 2.0 * settings.split_lsb);
 }

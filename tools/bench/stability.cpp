@@ -19,11 +19,21 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/arb_program.hpp"
+#include "aerial/validation/arb_executor.hpp"
 #include "support/cli.hpp"
 #include "render/renderer.hpp"
 
 namespace aerial::bench {
 namespace {
+
+using validation::ArbCpuProgram;
+using validation::ArbInterpreterOptions;
+using validation::ArbMachine;
+using validation::ArbResults;
+using validation::ArbVertex;
+using validation::count_approximate_instructions;
+using validation::parse_arb_program;
+using validation::run_arb_program;
 
 constexpr const char* kTool = "aerial-bench";
 constexpr double kDegree = kPi / 180.0;

@@ -146,22 +146,6 @@ float colour_error(const Frame<float>& frame, const ColourOptions& options, cons
                    const glm::dvec3& p1, const glm::dvec3& p2, const glm::vec3& c0,
                    const glm::vec3& c1, const glm::vec3& c2);
 
-/// An independent, dense measure of what a mesh shows against the exact per-pixel colour: every
-/// face sampled on a barycentric grid whose spacing, seen from the eye, is at most
-/// `spacing_rad` (at least the edge midpoints; at most `max_per_edge` per edge). Samples weigh
-/// alike. Deleted faces are skipped.
-struct DenseError {
-    double max_lsb = 0.0;
-    double p99_lsb = 0.0;
-    double rmse_lsb = 0.0;
-    double over1 = 0.0;  ///< fraction of samples off by more than 1 step
-    double over2 = 0.0;  ///< ... by more than 2 steps
-    std::size_t samples = 0;
-};
-Result<DenseError> dense_error(const Mesh& mesh, const Frame<float>& frame,
-                               const ColourOptions& options, double spacing_rad,
-                               int max_per_edge = 96);
-
 /// Live vertices and faces (not counting deleted ones).
 std::size_t live_vertices(const Mesh& mesh);
 std::size_t live_faces(const Mesh& mesh);

@@ -1,5 +1,4 @@
-// aerial/sky.hpp — the sky: per-vertex domes, a CPU cubemap, the sun sprite, and how each
-// compares with the `reference` model.
+// aerial/sky.hpp — the sky: per-vertex domes, a CPU cubemap and the sun sprite.
 //
 // How to use this:
 //   1. `auto sky = aerial::prepare_sky(atmosphere, view, aerial::SkyMethod::height_chained);`
@@ -12,8 +11,8 @@
 //      `aerial::cubemap_to_rgba8` turns them into texels (aerial/sky_gl.hpp draws them).
 //   4. The sun: `aerial::make_sun_sprite(...)` is the disc and the narrow Mie halo (g >= 0.9)
 //      that no per-vertex dome can carry; draw it additively (aerial/sky_gl.hpp).
-//   5. `aerial::measure_sky_*` compare a sky with `reference` by direction, in relative error and
-//      in 8-bit steps after exposure (the figures of the README's "Sky and sun" table).
+// How each compares with `reference` (the figures of the README's "Sky and sun" table) is
+// measured by aerial::validation (aerial/validation/sky_measure.hpp), for tests and tools.
 //
 // Radiance is per steradian in the units of Atmosphere::sun_irradiance (E_sun0), like L_in.
 // Rays end at the top of the atmosphere, or on the ground when they point below the horizon.
@@ -198,38 +197,5 @@ struct SunSprite {
 /// theta = 0. After exposure and tone curve; meant to be added to the sky (GL_ONE, GL_ONE).
 Result<SunSprite> make_sun_sprite(const SkyContext& sky, double exposure, ToneCurve curve,
                                   const SunSpriteOptions& options = {});
-
-// ---- Measurement against `reference` ---------------------------------------------------------
-
-/// Directions above the horizon (elevation 0 .. 90 deg, `elevation_steps` + 1 rows including
-/// both ends; `azimuth_steps` columns, offset so none lies on a dome seam) and the `reference`
-/// radiance and display value along each.
-struct SkyProbe {
-    std::vector<glm::dvec3> directions;
-    std::vector<double> elevations_rad;
-    std::vector<glm::dvec3> reference;
-    std::vector<glm::dvec3> reference_display;  ///< 0..255 after exposure and tone curve
-    double exposure = 1;
-    ToneCurve curve = ToneCurve::exponential;
-};
-/// exposure: auto_exposure for the sun and skylight at the eye.
-Result<SkyProbe> make_sky_probe(const Atmosphere& atmosphere, const View& view,
-                                int elevation_steps = 18, int azimuth_steps = 24,
-                                ToneCurve curve = ToneCurve::exponential);
-
-struct SkyError {
-    double max_relative = 0;  ///< max over directions and channels of |L - L_ref| / L_ref
-    double max_lsb = 0;       ///< max display difference, 8-bit steps
-    double mean_lsb = 0;
-};
-
-/// Each probe direction evaluated by `sky` (its exact value per direction).
-SkyError measure_sky_method(const SkyProbe& probe, const SkyContext& sky);
-/// A dome shaded per vertex by `sky`, its display colours interpolated across each triangle as
-/// the fixed pipeline does (perspective-correct: barycentric on the flat triangle).
-SkyError measure_sky_dome(const SkyProbe& probe, const SkyContext& sky, const SkyDomeMesh& mesh);
-/// An RGBA8 cubemap sampled bilinearly (sample_cubemap_rgba8). No relative error (8-bit data).
-SkyError measure_sky_cubemap(const SkyProbe& probe,
-                             const std::array<std::vector<std::uint8_t>, 6>& faces, int size);
 
 }  // namespace aerial

@@ -30,6 +30,7 @@
 
 #include "aerial/arb_program.hpp"
 #include "aerial/phase.hpp"
+#include "arb_parser.hpp"
 
 namespace aerial {
 namespace {
@@ -830,7 +831,7 @@ ArbHeightFidelity resolve_arb_height_fidelity(const ArbProgramOptions& options) 
         o.model = Model::height;
         o.height_fidelity = f;
         if (o.parameter_base + arb_parameter_count(o) > o.limits.max_parameters) continue;
-        const auto parsed = parse_arb_program(height_program_text(o, f));
+        const auto parsed = detail::parse_arb_text(height_program_text(o, f));
         if (parsed && !check_arb_limits(parsed->resources, o.limits, o.position_invariant)) {
             return f;
         }
@@ -889,7 +890,7 @@ Result<ArbProgram> generate_arb_program(const ArbProgramOptions& options) {
     } else {
         program.text = program_text(options);
     }
-    auto parsed = parse_arb_program(program.text);
+    auto parsed = detail::parse_arb_text(program.text);
     if (!parsed) {
         return Error{"text",
                      "text: aerial::generate_arb_program(): the generated program does not "

@@ -1,5 +1,5 @@
-// The colour error of interpolating per-vertex colours across a triangle, and the dense measure
-// the tools grade meshes with.
+// The colour error of interpolating per-vertex colours across a triangle (the dense measure the
+// tools grade meshes with is aerial::validation's, validation/src/dense_error.cpp).
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -12,6 +12,17 @@
 
 namespace aerial::mesh {
 namespace {
+
+// Samples per edge for the estimate: the Mie lobe's width (about 1 - g rad for the normalised
+// Henyey-Greenstein phase) is sampled at least twice across.
+int estimate_samples_per_edge(const Frame<float>& frame, const ColourOptions& options,
+                              const glm::dvec3 (&p)[3], int multiple) {
+    const double lobe_rad = std::max(1.0 - std::abs(double(frame.mie_g)), 0.02);
+    const double n = std::ceil(angular_size(frame, p) / (0.5 * lobe_rad));
+    return int(std::clamp(n, 2.0, double(options.max_samples_per_edge))) * multiple;
+}
+
+}  // namespace
 
 float channel_error_lsb(const glm::vec3& a, const glm::vec3& b) {
     const glm::vec3 d = glm::abs(a - b);
@@ -28,33 +39,6 @@ double angular_size(const Frame<float>& frame, const glm::dvec3 (&p)[3]) {
     nearest = std::max(nearest, 1e-6 * longest + 1e-9);
     return longest / nearest;
 }
-
-// Samples per edge for the estimate: the Mie lobe's width (about 1 - g rad for the normalised
-// Henyey-Greenstein phase) is sampled at least twice across.
-int estimate_samples_per_edge(const Frame<float>& frame, const ColourOptions& options,
-                              const glm::dvec3 (&p)[3], int multiple) {
-    const double lobe_rad = std::max(1.0 - std::abs(double(frame.mie_g)), 0.02);
-    const double n = std::ceil(angular_size(frame, p) / (0.5 * lobe_rad));
-    return int(std::clamp(n, 2.0, double(options.max_samples_per_edge))) * multiple;
-}
-
-template <class Visit>
-void visit_grid(int n, const bool (&skip_edge)[3], Visit&& visit) {
-    // Barycentric points (i, j, k) / n without the corners; edge e runs from vertex e to e + 1,
-    // so a point on it has a zero weight for vertex (e + 2) % 3.
-    for (int i = 0; i <= n; ++i) {
-        for (int j = 0; i + j <= n; ++j) {
-            const int k = n - i - j;
-            if (i == n || j == n || k == n) continue;
-            const int w[3] = {i, j, k};
-            bool skip = false;
-            for (int e = 0; e < 3; ++e) skip = skip || (skip_edge[e] && w[(e + 2) % 3] == 0);
-            if (!skip) visit(double(i) / n, double(j) / n, double(k) / n);
-        }
-    }
-}
-
-}  // namespace
 
 std::optional<Error> validate(const ColourOptions& options) {
     if (!(options.display.exposure > 0.0f) || !std::isfinite(options.display.exposure))
@@ -149,71 +133,6 @@ float colour_error(const Frame<float>& frame, const ColourOptions& options, cons
     const glm::vec3 c[3] = {c0, c1, c2};
     const bool skip[3] = {false, false, false};
     return colour_error_skipping(frame, options, p, c, skip);
-}
-
-Result<DenseError> dense_error(const Mesh& mesh, const Frame<float>& frame,
-                               const ColourOptions& options, double spacing_rad, int max_per_edge) {
-    if (auto e = validate(options)) return *e;
-    if (auto e = validate_mesh(mesh)) return *e;
-    if (!(spacing_rad > 0.0) || !std::isfinite(spacing_rad))
-        return Error{"spacing_rad", "spacing_rad: aerial::mesh::dense_error(): expected > 0, got " +
-                                        std::to_string(spacing_rad)};
-    if (max_per_edge < 2 || max_per_edge > 4096)
-        return Error{"max_per_edge",
-                     "max_per_edge: aerial::mesh::dense_error(): expected 2 .. "
-                     "4096, got " +
-                         std::to_string(max_per_edge)};
-    std::vector<glm::vec3> colour(mesh.n_vertices());
-    for (auto v : mesh.vertices())
-        if (!mesh.status(v).deleted())
-            colour[v.idx()] = display_colour(frame, options, to_glm(mesh.point(v)));
-    // Errors are binned at 1/64 step for the percentile (exact max kept apart).
-    constexpr double kBinsPerStep = 64.0;
-    std::vector<std::size_t> histogram(256 * 64 + 1, 0);
-    DenseError out;
-    double sum_sq = 0.0;
-    std::size_t over1 = 0, over2 = 0;
-    const bool no_skip[3] = {false, false, false};
-    for (auto f : mesh.faces()) {
-        if (mesh.status(f).deleted()) continue;
-        glm::dvec3 p[3];
-        glm::vec3 c[3];
-        int k = 0;
-        for (auto v : mesh.fv_range(f)) {
-            p[k] = to_glm(mesh.point(v));
-            c[k] = colour[v.idx()];
-            ++k;
-        }
-        const int n = int(
-            std::clamp(std::ceil(angular_size(frame, p) / spacing_rad), 2.0, double(max_per_edge)));
-        visit_grid(n, no_skip, [&](double a, double b, double d) {
-            const glm::dvec3 q = a * p[0] + b * p[1] + d * p[2];
-            const glm::vec3 interpolated = float(a) * c[0] + float(b) * c[1] + float(d) * c[2];
-            const double e = channel_error_lsb(interpolated, display_colour(frame, options, q));
-            out.max_lsb = std::max(out.max_lsb, e);
-            sum_sq += e * e;
-            over1 += e > 1.0 ? 1 : 0;
-            over2 += e > 2.0 ? 1 : 0;
-            histogram[std::size_t(std::min(e * kBinsPerStep, double(histogram.size() - 1)))]++;
-            ++out.samples;
-        });
-    }
-    if (out.samples > 0) {
-        const double n = double(out.samples);
-        out.rmse_lsb = std::sqrt(sum_sq / n);
-        out.over1 = double(over1) / n;
-        out.over2 = double(over2) / n;
-        const std::size_t rank = std::size_t(std::ceil(0.99 * n));
-        std::size_t seen = 0;
-        for (std::size_t b = 0; b < histogram.size(); ++b) {
-            seen += histogram[b];
-            if (seen >= rank) {
-                out.p99_lsb = std::min(double(b + 1) / kBinsPerStep, out.max_lsb);
-                break;
-            }
-        }
-    }
-    return out;
 }
 
 }  // namespace aerial::mesh

@@ -1,8 +1,9 @@
-// CPU interpreter of ARB vertex programs: the subset generate_arb_program emits plus the other
-// scalar instructions. A tokenizer, a parser that resolves every name to a register slot while
-// loading (as GL does), and an executor in float that follows the pseudo-code of the spec
-// (ARB_vertex_program, section 2.14.5), with optional perturbation of the approximate
-// instructions.
+// Parser of ARB vertex programs: the subset generate_arb_program emits plus the other scalar
+// instructions. A tokenizer and a parser that resolves every name to a register slot while
+// loading (as GL does). The generator counts its programs' resources with it; the CPU executor
+// of the parsed instructions is aerial::validation's (validation/src/arb_executor.cpp).
+#include "arb_parser.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -13,56 +14,8 @@
 #include <string>
 #include <system_error>
 
-#include "aerial/arb_program.hpp"
-
-namespace aerial {
-
-using Vec4 = std::array<float, 4>;
-
+namespace aerial::detail {
 namespace {
-
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-constexpr Vec4 kUndefined{kNaN, kNaN, kNaN, kNaN};
-
-enum class Opcode {
-    mov,
-    add,
-    sub,
-    mul,
-    mad,
-    dp3,
-    dp4,
-    dph,
-    min,
-    max,
-    sge,
-    slt,
-    swz,
-    ex2,
-    lg2,
-    exp,
-    log,
-    rcp,
-    rsq,
-    pow
-};
-
-/// How an instruction's operands are written.
-enum class Form {
-    vector1,  ///< OP dst, vector
-    vector2,  ///< OP dst, vector, vector
-    vector3,  ///< OP dst, vector, vector, vector
-    scalar1,  ///< OP dst, scalar
-    scalar2,  ///< OP dst, scalar, scalar
-    swizzle,  ///< SWZ dst, register, c, c, c, c
-};
-
-struct OpcodeInfo {
-    const char* name;
-    Opcode opcode;
-    Form form;
-    unsigned approx;  ///< ArbApprox bit, 0 for exact instructions
-};
 
 constexpr OpcodeInfo kOpcodes[] = {
     {"MOV", Opcode::mov, Form::vector1, 0},
@@ -78,13 +31,13 @@ constexpr OpcodeInfo kOpcodes[] = {
     {"SGE", Opcode::sge, Form::vector2, 0},
     {"SLT", Opcode::slt, Form::vector2, 0},
     {"SWZ", Opcode::swz, Form::swizzle, 0},
-    {"EX2", Opcode::ex2, Form::scalar1, kArbApproxEx2},
-    {"LG2", Opcode::lg2, Form::scalar1, kArbApproxLg2},
-    {"EXP", Opcode::exp, Form::scalar1, kArbApproxExp},
-    {"LOG", Opcode::log, Form::scalar1, kArbApproxLog},
-    {"RCP", Opcode::rcp, Form::scalar1, kArbApproxRcp},
-    {"RSQ", Opcode::rsq, Form::scalar1, kArbApproxRsq},
-    {"POW", Opcode::pow, Form::scalar2, kArbApproxPow},
+    {"EX2", Opcode::ex2, Form::scalar1, kArbApproxBitEx2},
+    {"LG2", Opcode::lg2, Form::scalar1, kArbApproxBitLg2},
+    {"EXP", Opcode::exp, Form::scalar1, kArbApproxBitExp},
+    {"LOG", Opcode::log, Form::scalar1, kArbApproxBitLog},
+    {"RCP", Opcode::rcp, Form::scalar1, kArbApproxBitRcp},
+    {"RSQ", Opcode::rsq, Form::scalar1, kArbApproxBitRsq},
+    {"POW", Opcode::pow, Form::scalar2, kArbApproxBitPow},
 };
 
 /// Keywords of the language (spec section 2.14.2) that may not name a variable.
@@ -94,59 +47,6 @@ constexpr const char* kReserved[] = {
     "MIN", "MOV", "MUL",     "OPTION", "OUTPUT", "PARAM",   "POW",    "RCP",   "RSQ",    "SGE",
     "SLT", "SUB", "SWZ",     "TEMP",   "XPD",    "program", "result", "state", "vertex",
 };
-
-enum class File : std::uint8_t { temp, attrib, param, output };
-
-// Attribute slots: 0 = vertex.position, 1 + n = vertex.texcoord[n].
-constexpr int kAttribPosition = 0;
-constexpr int kAttribTexcoord0 = 1;
-// Output slots.
-constexpr int kOutPosition = 0;
-constexpr int kOutPrimary = 1;
-constexpr int kOutSecondary = 2;
-constexpr int kOutFog = 3;
-constexpr int kOutTexcoord0 = 4;
-constexpr int kOutputCount = kOutTexcoord0 + kArbMaxTexcoordUnits;
-
-/// Swizzle selectors of SWZ beyond the four components.
-constexpr std::uint8_t kSelectZero = 4;
-constexpr std::uint8_t kSelectOne = 5;
-
-struct ParamBinding {
-    enum class Kind { local, env, mvp_row, constant } kind = Kind::constant;
-    int index = 0;  ///< local/env index or matrix row
-    Vec4 value{};   ///< constants
-};
-
-struct Source {
-    File file = File::temp;
-    int index = 0;
-    std::array<std::uint8_t, 4> select{0, 1, 2, 3};
-    bool negate = false;
-    std::array<bool, 4> negate_component{};  ///< SWZ only
-};
-
-struct Dest {
-    File file = File::temp;
-    int index = 0;
-    unsigned mask = 0xf;
-};
-
-struct Instruction {
-    const OpcodeInfo* info = nullptr;
-    Dest dst;
-    std::array<Source, 3> src;
-};
-
-}  // namespace
-
-struct ArbCpuProgramData {
-    std::vector<Instruction> instructions;
-    std::vector<ParamBinding> params;
-    int temporaries = 0;
-};
-
-namespace {
 
 // ---- Tokens ----------------------------------------------------------------------------------
 
@@ -165,7 +65,7 @@ class Parser {
   public:
     explicit Parser(std::string_view text) : text_(text) {}
 
-    Result<ArbCpuProgram> parse();
+    Result<ParsedArbProgram> parse();
 
   private:
     struct Symbol {
@@ -824,7 +724,7 @@ std::optional<Error> Parser::parse_statement() {
                             "supports");
 }
 
-Result<ArbCpuProgram> Parser::parse() {
+Result<ParsedArbProgram> Parser::parse() {
     if (auto e = tokenize()) return *e;
     while (peek().text == "OPTION") {
         next();
@@ -859,258 +759,15 @@ Result<ArbCpuProgram> Parser::parse() {
     r.parameters = static_cast<int>(distinct.size());
     r.attributes = static_cast<int>(attributes_.size());
 
-    ArbCpuProgram program;
+    ParsedArbProgram program;
     program.data = std::make_shared<const ArbCpuProgramData>(std::move(data_));
     program.resources = r;
     program.position_invariant = position_invariant_;
     return program;
 }
 
-// ---- Execution -------------------------------------------------------------------------------
-
-struct Machine {
-    std::vector<Vec4> temps;
-    std::vector<Vec4> params;
-    std::array<Vec4, 1 + kArbMaxTexcoordUnits> attribs;
-    std::array<ArbOutput, kOutputCount> outputs;
-};
-
-const Vec4& fetch(const Machine& m, File file, int index) {
-    switch (file) {
-        case File::temp:
-            return m.temps[static_cast<std::size_t>(index)];
-        case File::attrib:
-            return m.attribs[static_cast<std::size_t>(index)];
-        case File::param:
-            return m.params[static_cast<std::size_t>(index)];
-        case File::output:
-            break;
-    }
-    return kUndefined;  // outputs are write-only; the parser never produces this
-}
-
-Vec4 vector_load(const Machine& m, const Source& s) {
-    const Vec4& r = fetch(m, s.file, s.index);
-    Vec4 v;
-    for (std::size_t i = 0; i < 4; ++i) {
-        const float x = r[s.select[i]];
-        v[i] = s.negate ? -x : x;
-    }
-    return v;
-}
-
-float scalar_load(const Machine& m, const Source& s) {
-    const float x = fetch(m, s.file, s.index)[s.select[0]];
-    return s.negate ? -x : x;
-}
-
-Vec4 splat(float x) { return {x, x, x, x}; }
-
 }  // namespace
 
-Result<ArbCpuProgram> parse_arb_program(std::string_view text) { return Parser(text).parse(); }
+Result<ParsedArbProgram> parse_arb_text(std::string_view text) { return Parser(text).parse(); }
 
-int count_approximate_instructions(const ArbCpuProgram& program, unsigned perturbed) {
-    if (!program.data) return 0;
-    int n = 0;
-    for (const Instruction& ins : program.data->instructions) {
-        if (ins.info->approx & perturbed) ++n;
-    }
-    return n;
-}
-
-ArbResults run_arb_program(const ArbCpuProgram& program, const ArbMachine& machine,
-                           const ArbVertex& vertex, const ArbInterpreterOptions& options) {
-    ArbResults results;
-    const auto undefined_output = [] {
-        ArbOutput o;
-        o.value = kUndefined;
-        return o;
-    };
-    if (!program.data) {
-        results.position = results.color_primary = results.color_secondary = results.fogcoord =
-            undefined_output();
-        results.texcoord.fill(undefined_output());
-        return results;
-    }
-    const ArbCpuProgramData& d = *program.data;
-    Machine m;
-    m.temps.assign(static_cast<std::size_t>(d.temporaries), kUndefined);
-    m.params.resize(d.params.size());
-    for (std::size_t i = 0; i < d.params.size(); ++i) {
-        const ParamBinding& p = d.params[i];
-        const auto from = [&](const std::vector<Vec4>& v) {
-            return p.index >= 0 && static_cast<std::size_t>(p.index) < v.size()
-                       ? v[static_cast<std::size_t>(p.index)]
-                       : kUndefined;
-        };
-        switch (p.kind) {
-            case ParamBinding::Kind::local:
-                m.params[i] = from(machine.local);
-                break;
-            case ParamBinding::Kind::env:
-                m.params[i] = from(machine.env);
-                break;
-            case ParamBinding::Kind::mvp_row:
-                m.params[i] = machine.mvp[static_cast<std::size_t>(p.index)];
-                break;
-            case ParamBinding::Kind::constant:
-                m.params[i] = p.value;
-                break;
-        }
-    }
-    m.attribs[kAttribPosition] = vertex.position;
-    for (int u = 0; u < kArbMaxTexcoordUnits; ++u) {
-        m.attribs[static_cast<std::size_t>(kAttribTexcoord0 + u)] =
-            vertex.texcoord[static_cast<std::size_t>(u)];
-    }
-    m.outputs.fill(undefined_output());
-
-    int approx_index = 0;
-    // The factor of the next approximate instruction of kind `bit`.
-    const auto perturbation = [&](unsigned bit) {
-        if (!(options.perturbed & bit) || options.relative_error == 0.0f) return 0.0f;
-        const bool up = (options.sign_pattern >> (approx_index++ % 32)) & 1u;
-        return up ? options.relative_error : -options.relative_error;
-    };
-
-    for (const Instruction& ins : d.instructions) {
-        Vec4 r{};
-        const auto& src = ins.src;
-        switch (ins.info->opcode) {
-            case Opcode::mov:
-                r = vector_load(m, src[0]);
-                break;
-            case Opcode::add:
-            case Opcode::sub:
-            case Opcode::mul:
-            case Opcode::min:
-            case Opcode::max:
-            case Opcode::sge:
-            case Opcode::slt: {
-                const Vec4 a = vector_load(m, src[0]), b = vector_load(m, src[1]);
-                for (std::size_t i = 0; i < 4; ++i) {
-                    switch (ins.info->opcode) {
-                        case Opcode::add:
-                            r[i] = a[i] + b[i];
-                            break;
-                        case Opcode::sub:
-                            r[i] = a[i] - b[i];
-                            break;
-                        case Opcode::mul:
-                            r[i] = a[i] * b[i];
-                            break;
-                        case Opcode::min:
-                            r[i] = a[i] > b[i] ? b[i] : a[i];
-                            break;
-                        case Opcode::sge:
-                            r[i] = a[i] >= b[i] ? 1.0f : 0.0f;
-                            break;
-                        case Opcode::slt:
-                            r[i] = a[i] < b[i] ? 1.0f : 0.0f;
-                            break;
-                        default:
-                            r[i] = a[i] > b[i] ? a[i] : b[i];
-                            break;
-                    }
-                }
-                break;
-            }
-            case Opcode::mad: {
-                const Vec4 a = vector_load(m, src[0]), b = vector_load(m, src[1]),
-                           c = vector_load(m, src[2]);
-                for (std::size_t i = 0; i < 4; ++i) {
-                    const float product = a[i] * b[i];  // rounded, then added (no fused MAD)
-                    r[i] = product + c[i];
-                }
-                break;
-            }
-            case Opcode::dp3:
-            case Opcode::dp4:
-            case Opcode::dph: {
-                const Vec4 a = vector_load(m, src[0]), b = vector_load(m, src[1]);
-                float dot = a[0] * b[0];
-                dot = dot + a[1] * b[1];
-                dot = dot + a[2] * b[2];
-                if (ins.info->opcode == Opcode::dp4) dot = dot + a[3] * b[3];
-                if (ins.info->opcode == Opcode::dph) dot = dot + b[3];
-                r = splat(dot);
-                break;
-            }
-            case Opcode::swz: {
-                const Vec4 a = fetch(m, src[0].file, src[0].index);
-                for (std::size_t i = 0; i < 4; ++i) {
-                    const std::uint8_t s = src[0].select[i];
-                    const float x = s == kSelectZero ? 0.0f : s == kSelectOne ? 1.0f : a[s];
-                    r[i] = src[0].negate_component[i] ? -x : x;
-                }
-                break;
-            }
-            case Opcode::ex2: {
-                const float x = scalar_load(m, src[0]);
-                r = splat(std::exp2(x) * (1.0f + perturbation(kArbApproxEx2)));
-                break;
-            }
-            case Opcode::lg2: {
-                // The spec states log errors in absolute terms (log2 units): add the amount.
-                const float x = scalar_load(m, src[0]);
-                r = splat(std::log2(x) + perturbation(kArbApproxLg2));
-                break;
-            }
-            case Opcode::exp: {
-                const float x = scalar_load(m, src[0]);
-                const float floor_x = std::floor(x);
-                r = {std::exp2(floor_x), x - floor_x,
-                     std::exp2(x) * (1.0f + perturbation(kArbApproxExp)), 1.0f};
-                break;
-            }
-            case Opcode::log: {
-                const float x = std::fabs(scalar_load(m, src[0]));
-                int e = 0;
-                const float mantissa = std::frexp(x, &e);  // x = mantissa 2^e, mantissa in [0.5, 1)
-                r = {x > 0.0f && std::isfinite(x) ? static_cast<float>(e - 1) : std::log2(x),
-                     2.0f * mantissa, std::log2(x) + perturbation(kArbApproxLog), 1.0f};
-                break;
-            }
-            case Opcode::rcp: {
-                const float x = scalar_load(m, src[0]);
-                r = splat(1.0f / x * (1.0f + perturbation(kArbApproxRcp)));
-                break;
-            }
-            case Opcode::rsq: {
-                const float x = std::fabs(scalar_load(m, src[0]));
-                r = splat(1.0f / std::sqrt(x) * (1.0f + perturbation(kArbApproxRsq)));
-                break;
-            }
-            case Opcode::pow: {
-                const float a = scalar_load(m, src[0]), b = scalar_load(m, src[1]);
-                r = splat(std::pow(a, b) * (1.0f + perturbation(kArbApproxPow)));
-                break;
-            }
-        }
-        if (ins.dst.file == File::temp) {
-            Vec4& t = m.temps[static_cast<std::size_t>(ins.dst.index)];
-            for (std::size_t i = 0; i < 4; ++i) {
-                if (ins.dst.mask & (1u << i)) t[i] = r[i];
-            }
-        } else {
-            ArbOutput& o = m.outputs[static_cast<std::size_t>(ins.dst.index)];
-            for (std::size_t i = 0; i < 4; ++i) {
-                if (ins.dst.mask & (1u << i)) o.value[i] = r[i];
-            }
-            o.written |= ins.dst.mask;
-        }
-    }
-
-    results.position = m.outputs[kOutPosition];
-    results.color_primary = m.outputs[kOutPrimary];
-    results.color_secondary = m.outputs[kOutSecondary];
-    results.fogcoord = m.outputs[kOutFog];
-    for (int u = 0; u < kArbMaxTexcoordUnits; ++u) {
-        results.texcoord[static_cast<std::size_t>(u)] =
-            m.outputs[static_cast<std::size_t>(kOutTexcoord0 + u)];
-    }
-    return results;
-}
-
-}  // namespace aerial
+}  // namespace aerial::detail

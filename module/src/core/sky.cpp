@@ -9,6 +9,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "../common/names.hpp"
 #include "aerial/phase.hpp"
 #include "format.hpp"
 #include "sky_internal.hpp"
@@ -63,37 +64,28 @@ using detail::quantised;
 
 }  // namespace
 
+constexpr detail::NameTable<SkyMethod, 5> kSkyMethodNames{
+    {{SkyMethod::dome_hp, "dome-hp"},
+     {SkyMethod::dome_hp_single, "dome-hp-single"},
+     {SkyMethod::dome_height, "dome-height"},
+     {SkyMethod::height_chained, "height-chained"},
+     {SkyMethod::reference, "reference"}}};
+
 std::string_view sky_method_name(SkyMethod method) {
-    switch (method) {
-        case SkyMethod::dome_hp:
-            return "dome-hp";
-        case SkyMethod::dome_hp_single:
-            return "dome-hp-single";
-        case SkyMethod::dome_height:
-            return "dome-height";
-        case SkyMethod::height_chained:
-            return "height-chained";
-        case SkyMethod::reference:
-            return "reference";
-    }
-    return "unknown";
+    return detail::name_in(kSkyMethodNames, method);
 }
 
 const std::vector<SkyMethod>& all_sky_methods() {
-    static const std::vector<SkyMethod> methods{SkyMethod::dome_hp, SkyMethod::dome_hp_single,
-                                                SkyMethod::dome_height, SkyMethod::height_chained,
-                                                SkyMethod::reference};
+    static const std::vector<SkyMethod> methods = [] {
+        std::vector<SkyMethod> all;
+        for (const auto& entry : kSkyMethodNames) all.push_back(entry.value);
+        return all;
+    }();
     return methods;
 }
 
 Result<SkyMethod> parse_sky_method(std::string_view name) {
-    for (SkyMethod m : all_sky_methods()) {
-        if (sky_method_name(m) == name) return m;
-    }
-    return Error{"sky_method",
-                 "sky_method '" + std::string(name) +
-                     "' is unknown; known methods: dome-hp, dome-hp-single, dome-height, "
-                     "height-chained, reference"};
+    return detail::parse_in(kSkyMethodNames, "sky_method", name);
 }
 
 double VirtualDome::radius_at(double elevation_rad) const {

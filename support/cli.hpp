@@ -15,7 +15,7 @@
 
 namespace aerial::tools {
 
-/// Exit status for bad input (DESIGN.md §3).
+/// Exit status for bad input (docs/conventions.md, Interfaces).
 inline constexpr int kExitBadInput = 2;
 
 /// Parses one finite number that fills the whole text (surrounding spaces allowed).

@@ -1,5 +1,6 @@
 // aerial-compare: compares two 8-bit images and prints one line of differences in 8-bit steps
-// (LSB) and in CIEDE2000 (DESIGN.md §3), optionally writing an image of where they differ.
+// (LSB) and in CIEDE2000 (docs/conventions.md, Interfaces), optionally writing an image of where
+// they differ.
 #include <cstdio>
 #include <string>
 

@@ -1,5 +1,5 @@
 // aerial-eval: evaluates one model of the physics core at points read from a file or stdin and
-// prints CSV of raw linear values (DESIGN.md §3).
+// prints CSV of raw linear values (docs/conventions.md, Interfaces).
 #include <cstdio>
 #include <fstream>
 #include <iostream>

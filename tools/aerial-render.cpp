@@ -1,6 +1,6 @@
 // aerial-render: renders one frame of a scene file headless (OSMesa or EGL surfaceless) with one
-// backend and writes it as a PNG (DESIGN.md §3). The scene format is in render/scene.hpp and in
-// the README.
+// backend and writes it as a PNG (docs/conventions.md, Interfaces). The scene format is in
+// render/scene.hpp and in docs/scene.md.
 #include <cstdio>
 #include <string>
 
@@ -19,7 +19,7 @@ constexpr const char* kTool = "aerial-render";
 
 constexpr const char* kDescription =
     "Renders one frame of a scene (JSON: camera, sun, atmosphere, model, display, procedural\n"
-    "terrain and boxes; see the README) headless and writes it as an 8-bit RGB PNG.\n"
+    "terrain and boxes; see docs/scene.md) headless and writes it as an 8-bit RGB PNG.\n"
     "colour = texture x F_ex + L_in, with L_in through the scene's exposure and tone curve.\n"
     "Backends: cpu (aerial::shade_into per vertex, drawn by the fixed-function path of --path),\n"
     "arb (the ARB vertex program), perpixel (the model per pixel at positions reconstructed from\n"

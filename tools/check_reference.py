@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Independent single-scattering integrator, the oracle for aerial-eval's `reference` model.
 
-Pure Python 3, standard library only. It implements DESIGN.md §1 from scratch and shares no code
+Pure Python 3, standard library only. It implements docs/conventions.md (Physics) from scratch and
+shares no code
 and no numerical scheme with module/src/core/reference.cpp (which steps adaptively with 4-point
 Gauss-Legendre):
 
@@ -49,7 +50,7 @@ import sys
 TOOL = "check_reference.py"
 HEADER = "x,y,z,fex_r,fex_g,fex_b,lin_r,lin_g,lin_b,esun_r,esun_g,esun_b"
 
-# DESIGN.md §1, preset `earth`.
+# docs/conventions.md, Physics: preset `earth`.
 EARTH = {
     "rayleigh_scattering": [5.802e-6, 13.558e-6, 33.1e-6],
     "mie_scattering": [3.996e-6, 3.996e-6, 3.996e-6],

@@ -129,7 +129,8 @@ TEST(Accuracy, HeightModelAtGroundLevel) {
     low.print("eye and target <=2 km, rays <=30 km, sun >=5", Model::height);
     EXPECT_LT(low.extinction, 0.001);
     // Worst case (3 %): a 5 deg sun, 30 km rays climbing or descending 2 km, where the two
-    // components' share of the light changes along the ray (see README, failure regions).
+    // components' share of the light changes along the ray (see docs/models.md, where each model
+    // fails).
     EXPECT_LT(low.in_scattering, 0.04) << low.where_in_scattering;
 }
 
@@ -168,7 +169,7 @@ TEST(Accuracy, HeightBeatsHoffmanPreethamOnEveryPreset) {
     // Not a tolerance, an ordering: per preset, the height model's worst in-scattering error over
     // a mixed set of views is below the 2002 model's. A thin dense fog layer (`foggy`, 163 m
     // scale height) with a low sun is where the height model's 3-node sunlight quadrature errs
-    // most: up to 60 % (README: failure regions).
+    // most: up to 60 % (docs/models.md: where each model fails).
     for (const auto& name : aerial::atmosphere_preset_names()) {
         const Atmosphere a = *aerial::atmosphere_preset(name);
         Worst height, hp;

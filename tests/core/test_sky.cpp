@@ -30,7 +30,7 @@ aerial::SkyContext sky_for(aerial::SkyMethod method, double elevation_deg) {
     return *sky;
 }
 
-// Bounds measured with this probe (10 rows x 12 azimuths, eye 100 m, earth); the README's
+// Bounds measured with this probe (10 rows x 12 azimuths, eye 100 m, earth); docs/sky.md's
 // table uses a finer probe (aerial-sky-table), which finds larger errors next to a low sun.
 // Each bound is the measured value rounded up. Steps are of the unrounded display value for
 // exact methods and of interpolated 8-bit values for the dome and the cubemap.

@@ -1189,7 +1189,8 @@ aerial::validation::ArbCpuProgram program(const ArbProgramOptions& o = {}) {
 
 /// The height program against the CPU height model (double) over height::Grid, exposure from
 /// height::make_case: F_ex everywhere, L_in by preset and ray length with the sun >= 5 deg. The
-/// L_in figures are regression bounds measured with this program, not targets: the README's ARB
+/// L_in figures are regression bounds measured with this program, not targets:
+/// docs/arb-program.md's
 /// section says where and why it departs from the CPU model.
 constexpr int kHeightExtinctionLsb = 1;
 struct HeightInScatteringBound {

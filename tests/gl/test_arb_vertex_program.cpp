@@ -179,7 +179,7 @@ GLuint make_black_texture(const Api& gl) {
 constexpr int kParityLsb = 1;
 /// The 127-instruction height program leaves parts of the model out (aerial/arb_program.hpp);
 /// on this grid it is off the CPU model by up to 175 LSB (foggy, a ray leaving the fog layer).
-/// A regression bound, not parity: see the README's ARB section.
+/// A regression bound, not parity: see docs/arb-program.md.
 constexpr int kHeightProgramRegressionLsb = 180;
 
 void run_parity(Context& ctx, const aerial::ArbProgramOptions& options, const char* label,

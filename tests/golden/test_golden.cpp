@@ -1,4 +1,5 @@
-// Golden images (DESIGN.md §5): every image listed in goldens.txt is rendered afresh with
+// Golden images (docs/conventions.md, Tests and measurements): every image listed in goldens.txt
+// is rendered afresh with
 // aerial-render, on OSMesa and on EGL surfaceless (both llvmpipe, LP_NUM_THREADS pinned), and
 // compared with the stored one by aerial-compare within a tolerance in 8-bit steps; the fresh
 // image and a diff image stay in the build directory. The cross-backend checks render each scene

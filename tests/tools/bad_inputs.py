@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Every tool, a table of bad inputs: exit status 2, nothing on stdout, exactly one line on
 stderr that starts with "tool: " and names the offending flag, file, field or line, and no signal
-(DESIGN.md section 3).
+(docs/conventions.md, Interfaces).
 
 Usage: bad_inputs.py BIN_DIR [WORK_DIR]
 Prints one line per case and "N passed, M failed"; exits 1 when a case fails.

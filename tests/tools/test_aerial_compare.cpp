@@ -1,4 +1,5 @@
-// aerial-compare end to end (DESIGN.md §3): the figures of its one line on images with known
+// aerial-compare end to end (docs/conventions.md, Interfaces): the figures of its one line on
+// images with known
 // differences, the diff image, and for every kind of bad input exit status 2 with one stderr line
 // naming the culprit.
 #include <cmath>

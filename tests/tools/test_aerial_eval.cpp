@@ -1,4 +1,5 @@
-// aerial-eval end to end (DESIGN.md §3): runs the real binary with its standard streams
+// aerial-eval end to end (docs/conventions.md, Interfaces): runs the real binary with its standard
+// streams
 // redirected to files in a per-test temporary directory, and pins the command-line contract:
 // --help, the CSV it prints, the ways points and atmospheres reach it, and for every kind of bad
 // input exit status 2, empty stdout and exactly one stderr line naming the culprit.
@@ -26,7 +27,7 @@ constexpr size_t kColumns = 12;
 /// (%.9g) and of a different but equivalent order of operations.
 constexpr double kSameResultTolerance = 1e-7;
 
-/// The earth preset of DESIGN.md §1 as an atmosphere file.
+/// The earth preset of docs/conventions.md, Physics, as an atmosphere file.
 constexpr const char* kEarthJson = R"({
   "rayleigh_scattering": [5.802e-6, 13.558e-6, 33.1e-6],
   "mie_scattering": [3.996e-6, 3.996e-6, 3.996e-6],
@@ -135,7 +136,7 @@ struct Csv {
     return ::testing::AssertionSuccess();
 }
 
-/// The bad-input contract of DESIGN.md §3 for aerial-eval (tool_runner.hpp).
+/// The bad-input contract of docs/conventions.md, Interfaces, for aerial-eval (tool_runner.hpp).
 ::testing::AssertionResult rejected_naming(const RunResult& run,
                                            std::initializer_list<const char*> expected) {
     return aerial::test::rejected_naming(run, "aerial-eval", expected);
@@ -291,7 +292,8 @@ TEST_F(AerialEval, AtmosphereFileWithTheEarthValuesMatchesTheEarthPreset) {
         EXPECT_EQ(from_file.exit_code, 0) << from_file.err;
         EXPECT_EQ(from_file.out, preset.out) << "model " << model;
     }
-    // Missing fields keep the earth values (DESIGN.md §3 lists them as optional).
+    // Missing fields keep the earth values (docs/conventions.md, Interfaces, lists them as
+    // optional).
     const RunResult partial =
         run(with(view_, {"--atmosphere", file("partial.json", R"({"mie_g": 0.8})")}), kPoints);
     EXPECT_EQ(partial.exit_code, 0) << partial.err;

@@ -1,4 +1,5 @@
-// aerial-render end to end (DESIGN.md §3): a small scene renders to a PNG of the requested size
+// aerial-render end to end (docs/conventions.md, Interfaces): a small scene renders to a PNG of
+// the requested size
 // with the one-line report, the same every time; and every bad flag, file and scene field exits
 // 2 with one stderr line naming it, before any context is created.
 #include <string>

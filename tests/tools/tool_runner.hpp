@@ -1,6 +1,7 @@
 // Running the command-line tools end to end from GoogleTest: the real binary with its standard
 // streams redirected to files in a per-test temporary directory, and the bad-input contract of
-// DESIGN.md §3 (exit status 2, nothing on stdout, one stderr line "tool: ..." naming the culprit).
+// docs/conventions.md, Interfaces (exit status 2, nothing on stdout, one stderr line "tool: ..."
+// naming the culprit).
 //
 // How to use this:
 //   1. Derive the fixture from aerial::test::ToolTest; `file(name, text)` writes an input,

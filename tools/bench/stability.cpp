@@ -1,6 +1,6 @@
 // The stability map: one parameter swept at a time, every method against the `reference` model
 // in 8-bit steps of what the fixed pipeline is handed, with the artefacts flagged. See
-// stability.hpp; README ("Where methods fail") documents the CSV and the findings.
+// stability.hpp; docs/benchmarks.md ("Where methods fail") documents the CSV and the findings.
 #include "bench/stability.hpp"
 
 #include <algorithm>

@@ -6,7 +6,8 @@
 //      elevation, camera altitude, view distance, Mie g, turbidity and visibility, and measures
 //      every method in 8-bit steps (LSB) of the values the fixed pipeline is handed: F_ex and
 //      L_in after exposure and the GL clamp.
-//   3. It writes DIR/stability.csv (README, "Where methods fail", names the columns) and
+//   3. It writes DIR/stability.csv (docs/benchmarks.md, "Where methods fail", names the columns)
+// and
 //      DIR/stability.png through tools/plot_stability.py.
 #pragma once
 

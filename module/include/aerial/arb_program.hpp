@@ -54,7 +54,7 @@ struct ArbLimits {
 inline constexpr int kArbMaxTexcoordUnits = 8;
 
 /// How much of the CPU `height` model the height program computes. Each level is a different
-/// program with its own parameter count; README ("ARB vertex program") gives the measured error
+/// program with its own parameter count; docs/arb-program.md gives the measured error
 /// of each against the CPU model.
 enum class ArbHeightFidelity {
     /// The highest of the levels below whose program fits ArbProgramOptions::limits (the spec
@@ -164,7 +164,7 @@ inline constexpr int kArbParameterCount = 6;
 ///     the vertex's), which matters at a low sun on long rays;
 ///   - no per-node planet shadow: a sun below the eye's horizon is treated as blocked (the model
 ///     lights the parts of the segment that still see it: twilight is dark).
-/// The `full` fidelity leaves none of them out. README ("ARB vertex program") gives the measured
+/// The `full` fidelity leaves none of them out. docs/arb-program.md gives the measured
 /// error against the CPU and reference models.
 inline constexpr int kArbHeightParameterCount = 13;
 

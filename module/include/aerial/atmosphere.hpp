@@ -24,7 +24,8 @@
 
 namespace aerial {
 
-/// Physical description of a planet's atmosphere (DESIGN.md §1). Defaults are the `earth` preset.
+/// Physical description of a planet's atmosphere (docs/conventions.md, Physics). Defaults are the
+/// `earth` preset.
 /// Channels are R, G, B, taken at 680, 550 and 440 nm for `earth`.
 struct Atmosphere {
     /// Rayleigh (molecular) scattering coefficient at sea level, 1/m, each >= 0.
@@ -133,7 +134,8 @@ Result<Atmosphere> atmosphere_with_air_pollution(double pollution, const Atmosph
 
 // ---- JSON ------------------------------------------------------------------------------------
 
-/// Parses the atmosphere JSON of DESIGN.md §3: an object with any of `rayleigh_scattering` [3],
+/// Parses the atmosphere JSON of docs/conventions.md, Interfaces: an object with any of
+/// `rayleigh_scattering` [3],
 /// `mie_scattering` [3], `mie_absorption` [3], `mie_g`, `rayleigh_scale_height_m`,
 /// `mie_scale_height_m`, `planet_radius_m`, `atmosphere_radius_m`, `sun_irradiance` [3].
 /// Missing fields keep the `earth` values (mie_absorption defaults to 0); unknown fields,

@@ -51,7 +51,8 @@ struct Positions {
     }
 };
 
-/// How linear radiance becomes a displayable value in [0, 1] (DESIGN.md §1, Display).
+/// How linear radiance becomes a displayable value in [0, 1] (docs/conventions.md, Physics:
+/// Display).
 enum class ToneCurve {
     clamp,        ///< min(exposure * x, 1): linear, for scenes whose brightest L_in is known
     exponential,  ///< 1 - exp(-exposure * x): never clips, keeps noon and dawn readable

@@ -18,7 +18,8 @@
 // is below half a step, so a skipped mesh shows every channel within one code of a fresh shading
 // (half a step of change plus the half step of the first rounding).
 //
-// The bound is derived from the model (README, "When shading can be skipped"): it grows with the
+// The bound is derived from the model (docs/models.md, "When shading can be skipped"): it grows
+// with the
 // eye's move (m), the sun's turn (rad), the extinction and scattering coefficients, and the
 // nearness of the mesh. It covers the models' mathematics and the rounding of eye and sun to float
 // in prepare_frame<float>, not the kernels' arithmetic (a few 1e-5 steps for `simd`; `simd_fast`

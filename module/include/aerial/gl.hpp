@@ -73,7 +73,7 @@ enum class Path {
     /// EXT_texture3D. Touches on unit + 1: the texture targets' enables and TEXTURE_GEN_S/T/R, the
     /// 3D binding, the texture matrix (identity while drawing), the whole combine state, the
     /// texcoord array; GL_COLOR_SUM (off) where it exists. Measured within 1 LSB of the other
-    /// paths on llvmpipe and softpipe (README).
+    /// paths on llvmpipe and softpipe (docs/gl-paths.md).
     combiner,
     /// GL 1.1: pass 1 texture × F_ex with the engine's depth, blend and fog state; pass 2 L_in
     /// as the primary colour with texturing off on every unit, GL lighting off, blending ONE/ONE
@@ -81,7 +81,7 @@ enum class Path {
     /// otherwise as the engine had it) and, where fog is on, fog colour black: pass 1 already
     /// blended (1 - f) × the fog colour in, and pass 2 must add only f × L_in. Needs the depth
     /// test on for overlapping geometry, and assumes opaque geometry (pass 2 adds L_in in full
-    /// where pass 1 blended). Equal to one pass within 1 LSB (README).
+    /// where pass 1 blended). Equal to one pass within 1 LSB (docs/gl-paths.md).
     two_pass,
 };
 
@@ -125,7 +125,7 @@ struct VertexColours {
 /// on the hardware of the era), which costs up to 1 LSB between two texels 255 apart, and only
 /// 17/256 LSB between texels 17 apart. Measured against the secondary-colour path on llvmpipe,
 /// both sizes stay within 1 LSB, but against the two-pass path size 2 reaches 2 LSB on a few
-/// pixels and size 16 stays within 1 (README, "GL layer"). Sizes are those where
+/// pixels and size 16 stays within 1 (docs/gl-paths.md, "GL layer"). Sizes are those where
 /// 255 / (size - 1) is a whole number, so every texel is exact: 2, 4, 6, 16, 18.
 ///
 /// Move-only; the destructor deletes the texture (the context and `api` must still be alive).

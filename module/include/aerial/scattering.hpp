@@ -8,7 +8,8 @@
 //   3. Per vertex: `aerial::Scattering<float> s = aerial::scatter(*frame, vertex_position);`
 //      then colour = texel * s.extinction + s.in_scattering (both raw linear; apply exposure).
 //
-// Conventions (DESIGN.md §1): metres, right-handed world, sea level is the plane through the
+// Conventions (docs/conventions.md, Physics): metres, right-handed world, sea level is the plane
+// through the
 // origin perpendicular to `up`, the planet centre is at -planet_radius_m * up. Distances are
 // Euclidean |vertex - eye|. Every output is finite, 0 <= extinction <= 1, in_scattering >= 0.
 #pragma once
@@ -25,7 +26,7 @@
 
 namespace aerial {
 
-/// The physics models (DESIGN.md §1), cheapest first.
+/// The physics models (docs/conventions.md, Physics), cheapest first.
 enum class Model {
     /// The 2002 model: constant sea-level density, F_ex = exp(-beta_ex s),
     /// L_in = beta_sc(theta) / beta_ex * E_sun * (1 - F_ex), E_sun = E_sun0 * T_sun(eye).

@@ -11,7 +11,7 @@
 //      `aerial::cubemap_to_rgba8` turns them into texels (aerial/sky_gl.hpp draws them).
 //   4. The sun: `aerial::make_sun_sprite(...)` is the disc and the narrow Mie halo (g >= 0.9)
 //      that no per-vertex dome can carry; draw it additively (aerial/sky_gl.hpp).
-// How each compares with `reference` (the figures of the README's "Sky and sun" table) is
+// How each compares with `reference` (the figures of the table in docs/sky.md) is
 // measured by aerial::validation (aerial/validation/sky_measure.hpp), for tests and tools.
 //
 // Radiance is per steradian in the units of Atmosphere::sun_irradiance (E_sun0), like L_in.

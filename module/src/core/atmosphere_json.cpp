@@ -1,4 +1,5 @@
-// Atmosphere JSON (DESIGN.md §3): parsing with errors that name the field, and printing.
+// Atmosphere JSON (docs/conventions.md, Interfaces): parsing with errors that name the field, and
+// printing.
 #include <fstream>
 #include <sstream>
 

@@ -1,5 +1,6 @@
 // The per-mesh shading cache: a bound on how much the 8-bit outputs of a mesh can change between
-// two shadings that differ only in eye position and sun direction. README.md, "When shading can
+// two shadings that differ only in eye position and sun direction. docs/models.md, "When shading
+// can
 // be skipped", gives the derivation in prose; the formulas are next to the code below.
 //
 // Notation (lengths in metres, angles in radians, coefficients in 1/m, per channel):

@@ -1,6 +1,6 @@
 // aerial/validation/sky_measure.hpp — how a sky compares with the `reference` model, by
-// direction, in relative error and in 8-bit steps after exposure (the figures of the README's
-// "Sky and sun" table). For tests and tools (aerial::validation; engines do not link it).
+// direction, in relative error and in 8-bit steps after exposure (the figures of the table in
+// docs/sky.md). For tests and tools (aerial::validation; engines do not link it).
 #pragma once
 
 #include <array>

@@ -9,8 +9,8 @@
 #include <cstdio>
 #include <iostream>
 
-#include "support/png.hpp"
 #include "game.hpp"
+#include "support/png.hpp"
 
 namespace sample {
 namespace {

@@ -6,8 +6,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "support/cli.hpp"
 #include "common/image_metrics.hpp"
+#include "support/cli.hpp"
 #include "support/png.hpp"
 
 namespace {

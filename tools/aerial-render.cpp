@@ -8,10 +8,10 @@
 
 #include "aerial/gl.hpp"
 #include "aerial/headless.hpp"
-#include "support/cli.hpp"
-#include "support/png.hpp"
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
+#include "support/cli.hpp"
+#include "support/png.hpp"
 
 namespace {
 

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string_view>
 
-#include "support/cli.hpp"
 #include "fuzz_check.hpp"
+#include "support/cli.hpp"
 
 using aerial::fuzz::check;
 using aerial::fuzz::finite;

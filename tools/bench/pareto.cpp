@@ -22,8 +22,8 @@
 #include "aerial/mesh.hpp"
 #include "bench/methods.hpp"
 #include "common/image_metrics.hpp"
-#include "support/png.hpp"
 #include "render/renderer.hpp"
+#include "support/png.hpp"
 
 namespace aerial::bench {
 namespace {

@@ -20,8 +20,8 @@
 #include "aerial/aerial.hpp"
 #include "aerial/arb_program.hpp"
 #include "aerial/validation/arb_executor.hpp"
-#include "support/cli.hpp"
 #include "render/renderer.hpp"
+#include "support/cli.hpp"
 
 namespace aerial::bench {
 namespace {

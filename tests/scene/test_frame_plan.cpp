@@ -1,6 +1,7 @@
 // The renderer's frame plan without a GL context: what each node gets (skipped, cached, which
 // model) and the inputs it rejects.
 #include <memory>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -42,6 +43,9 @@ aerial::scene::FrameSettings settings_for(Model model, bool policy, double targe
 
 /// Prepares the frame and plans one node as the renderer does (geometry first).
 struct Planner {
+    explicit Planner(aerial::scene::FrameSettings s, aerial::scene::Camera c = {})
+        : camera(c), settings(std::move(s)) {}
+
     aerial::scene::Camera camera;
     aerial::scene::FrameSettings settings;
     Backend backend = Backend::cpu;
@@ -61,7 +65,7 @@ struct Planner {
 
 TEST(FramePlan, WithoutThePolicyEveryNodeGetsTheFramesModel) {
     for (Model model : {Model::hoffman_preetham, Model::height, Model::reference}) {
-        Planner p{{}, settings_for(model, false, 2.0)};
+        Planner p(settings_for(model, false, 2.0));
         const auto node = aerial::scene::make_mesh("near", square(5.0, 1.0));
         for (int frame = 0; frame < 2; ++frame) {
             const auto plan = p.plan(*node);
@@ -72,16 +76,16 @@ TEST(FramePlan, WithoutThePolicyEveryNodeGetsTheFramesModel) {
 }
 
 TEST(FramePlan, NegligibleScatteringIsSkippedAndDistantScatteringIsNot) {
-    Planner p{{}, settings_for(Model::height, true, 2.0)};
+    Planner p(settings_for(Model::height, true, 2.0));
     const auto near = aerial::scene::make_mesh("near", square(2.0, 0.5, 100.0f));
     EXPECT_EQ(p.plan(*near).method, Method::skipped);
-    Planner q{{}, settings_for(Model::height, true, 2.0)};
+    Planner q(settings_for(Model::height, true, 2.0));
     const auto far = aerial::scene::make_mesh("far", square(20000.0, 2000.0));
     EXPECT_NE(q.plan(*far).method, Method::skipped);
 }
 
 TEST(FramePlan, ColoursAreReusedUntilTheEyeMovesTooFar) {
-    Planner p{{}, settings_for(Model::height, true, 0.0)};
+    Planner p(settings_for(Model::height, true, 0.0));
     const auto node = aerial::scene::make_terrain_tile("tile", square(8000.0, 4000.0));
     EXPECT_EQ(p.plan(*node).method, Method::height);
     EXPECT_EQ(p.plan(*node).method, Method::cached);
@@ -95,11 +99,11 @@ TEST(FramePlan, ColoursAreReusedUntilTheEyeMovesTooFar) {
 
 TEST(FramePlan, TheCheaperModelIsTakenOnlyWithinTheTarget) {
     const auto node = aerial::scene::make_mesh("far", square(20000.0, 2000.0));
-    Planner strict{{}, settings_for(Model::height, true, 0.0)};
+    Planner strict(settings_for(Model::height, true, 0.0));
     strict.camera.eye = glm::dvec3(0.0, 0.0, 2000.0);
     strict.camera.target = glm::dvec3(0.0, 1000.0, 2000.0);
     EXPECT_EQ(strict.plan(*node).model, Model::height);
-    Planner loose{strict.camera, settings_for(Model::height, true, 255.0)};
+    Planner loose(settings_for(Model::height, true, 255.0), strict.camera);
     EXPECT_EQ(loose.plan(*node).model, Model::hoffman_preetham);
     EXPECT_EQ(loose.state.model, Model::hoffman_preetham);
 }

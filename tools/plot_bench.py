@@ -4,15 +4,11 @@ per-pixel image of the reference model), log-log, one chart per scene (DIR/paret
 an overview with a panel per scene (DIR/pareto.png). The Pareto front (no other row is both
 faster and more accurate) is drawn as a step line through its points, which are ringed.
 Usage: plot_bench.py bench.csv DIR"""
-import csv
 import math
 import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from plot_common import first_seen, label_panel, panel_grid, plt, read_rows
 
 COLOURS = {"gl-fog": "#7f7f7f", "fg-fog": "#bcbd22", "cpu-hp": "#1f77b4", "arb-hp": "#17becf",
            "cpu-height": "#d62728", "arb-height": "#ff7f0e", "lut-texture": "#9467bd",
@@ -51,43 +47,31 @@ def draw(ax, rows, scene, legend=True):
     ax.scatter(fx, fy, s=70, facecolors="none", edgecolors="black", linewidths=0.8, zorder=4)
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_title(scene, fontsize=9)
-    ax.set_xlabel("ms per frame (llvmpipe, best of several)", fontsize=8)
-    ax.set_ylabel("RMSE against reference (8-bit steps)", fontsize=8)
-    ax.tick_params(labelsize=7)
+    label_panel(ax, scene, "ms per frame (llvmpipe, best of several)",
+                "RMSE against reference (8-bit steps)")
     ax.grid(True, which="both", linewidth=0.3, alpha=0.5)
     if legend:
         ax.legend(fontsize=6, loc="best", title="o uniform, ^ adaptive", title_fontsize=6)
 
 
 def main():
-    if len(sys.argv) != 3:
-        print("usage: plot_bench.py bench.csv DIR", file=sys.stderr)
+    rows = read_rows(sys.argv, "plot_bench.py bench.csv DIR")
+    if rows is None:
         return 2
-    with open(sys.argv[1]) as f:
-        rows = list(csv.DictReader(f))
     if not rows:
         print("plot_bench.py: %s has no rows" % sys.argv[1], file=sys.stderr)
         return 2
     out = sys.argv[2]
-    scenes = []
-    for r in rows:
-        if r["scene"] not in scenes:
-            scenes.append(r["scene"])
+    scenes = first_seen(rows, "scene")
     for scene in scenes:
         fig, ax = plt.subplots(figsize=(6, 4.2))
         draw(ax, [r for r in rows if r["scene"] == scene], scene)
         fig.tight_layout()
         fig.savefig(os.path.join(out, "pareto-%s.png" % scene), dpi=100)
         plt.close(fig)
-    cols = min(3, len(scenes))
-    lines = math.ceil(len(scenes) / cols)
-    fig, axes = plt.subplots(lines, cols, figsize=(4.6 * cols, 3.6 * lines), squeeze=False)
+    fig, panel = panel_grid(len(scenes), min(3, len(scenes)), 4.6, 3.6)
     for i, scene in enumerate(scenes):
-        draw(axes[i // cols][i % cols], [r for r in rows if r["scene"] == scene], scene,
-             legend=(i == 0))
-    for j in range(len(scenes), lines * cols):
-        axes[j // cols][j % cols].axis("off")
+        draw(panel(i), [r for r in rows if r["scene"] == scene], scene, legend=(i == 0))
     fig.tight_layout()
     fig.savefig(os.path.join(out, "pareto.png"), dpi=90)
     plt.close(fig)

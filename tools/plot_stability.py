@@ -3,13 +3,9 @@
 against the swept parameter, one panel per sweep, a line at 2 LSB and markers where an artefact
 appears (x: NaN/Inf, ^: clamped, s: banding, D: popping).
 Usage: plot_stability.py stability.csv stability.png"""
-import csv
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from plot_common import first_seen, label_panel, panel_grid, plt, read_rows
 
 LOG_SWEEPS = {"altitude_m", "distance_m", "turbidity", "visibility_m"}
 # Colour by model (blue: the 2002 model, green: height, red/purple: fog, grey: interpolation),
@@ -24,23 +20,15 @@ ARTEFACTS = [("nonfinite", "x", "NaN/Inf"), ("clamped", "^", "clamped"),
 
 
 def main():
-    if len(sys.argv) != 3:
-        print("usage: plot_stability.py stability.csv stability.png", file=sys.stderr)
+    rows = read_rows(sys.argv, "plot_stability.py stability.csv stability.png")
+    if rows is None:
         return 2
-    rows = list(csv.DictReader(open(sys.argv[1])))
-    sweeps, methods = [], []
-    for r in rows:
-        if r["sweep"] not in sweeps:
-            sweeps.append(r["sweep"])
-        if r["method"] not in methods:
-            methods.append(r["method"])
+    sweeps, methods = first_seen(rows, "sweep"), first_seen(rows, "method")
     cmap = plt.get_cmap("tab10")
     colours = {m: STYLES.get(m, (cmap(i % 10), "-"))[0] for i, m in enumerate(methods)}
-    cols = 3
-    lines = (len(sweeps) + cols - 1) // cols
-    fig, axes = plt.subplots(lines, cols, figsize=(5.2 * cols, 3.8 * lines), squeeze=False)
+    fig, panel = panel_grid(len(sweeps), 3, 5.2, 3.8)
     for i, sweep in enumerate(sweeps):
-        ax = axes[i // cols][i % cols]
+        ax = panel(i)
         for m in methods:
             pts = [r for r in rows if r["sweep"] == sweep and r["method"] == m]
             xs = [float(r["value"]) for r in pts]
@@ -58,13 +46,8 @@ def main():
             ax.set_xscale("log")
         ax.set_yscale("symlog", linthresh=1.0)
         ax.set_ylim(0, 300)
-        ax.set_title(sweep, fontsize=9)
-        ax.set_xlabel(sweep, fontsize=8)
-        ax.set_ylabel("max error (LSB)", fontsize=8)
-        ax.tick_params(labelsize=7)
-    for j in range(len(sweeps), lines * cols):
-        axes[j // cols][j % cols].axis("off")
-    handles, labels = axes[0][0].get_legend_handles_labels()
+        label_panel(ax, sweep, sweep, "max error (LSB)")
+    handles, labels = panel(0).get_legend_handles_labels()
     for field, marker, name in ARTEFACTS:
         handles.append(plt.Line2D([], [], color="grey", marker=marker, linestyle="none",
                                   fillstyle="none"))

@@ -1,13 +1,15 @@
 // Shared by the GL tests that draw: the context each CTest registration asks for
-// (AERIAL_TEST_GL_BACKEND=osmesa|egl; GALLIUM_DRIVER and LP_NUM_THREADS come from CTest too), and
-// image comparison in 8-bit steps.
+// (AERIAL_TEST_GL_BACKEND=osmesa|egl; GALLIUM_DRIVER and LP_NUM_THREADS come from CTest too), a
+// fixture that makes it for every test, and image comparison in 8-bit steps.
 #pragma once
 
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -28,6 +30,23 @@ inline std::string context_label(const aerial::headless::Context& ctx) {
     return std::string(aerial::headless::backend_name(ctx.backend())) + " " +
            ctx.api().caps.renderer;
 }
+
+/// The base of the fixtures whose tests draw: SetUp makes a Width x Height context of the backend
+/// CTest asks for (the test fails when there is none) and records its renderer as the test's
+/// GL_RENDERER property.
+template <int Width, int Height>
+class DrawingTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        auto ctx = aerial::headless::Context::create({backend_from_environment(), Width, Height});
+        ASSERT_TRUE(ctx.ok()) << ctx.error().message;
+        ctx_.emplace(std::move(ctx).value());
+        RecordProperty("GL_RENDERER", ctx_->api().caps.renderer);
+    }
+    const aerial::gl::Api& gl() const { return ctx_->api(); }
+
+    std::optional<aerial::headless::Context> ctx_;
+};
 
 /// The largest difference of any R, G or B channel between two RGBA8 images (alpha ignored),
 /// and where it is.

@@ -35,18 +35,9 @@ glm::dvec3 direction(double elevation_deg, double azimuth_deg) {
     return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
 }
 
-class ArbVertexProgramGl : public ::testing::Test {
+class ArbVertexProgramGl : public aerial_test::DrawingTest<kWidth, kHeight> {
   protected:
-    void SetUp() override {
-        auto ctx = Context::create({aerial_test::backend_from_environment(), kWidth, kHeight});
-        ASSERT_TRUE(ctx.ok()) << ctx.error().message;
-        ctx_.emplace(std::move(ctx).value());
-        RecordProperty("GL_RENDERER", ctx_->api().caps.renderer);
-    }
-    const Api& gl() const { return ctx_->api(); }
     bool has_programs() const { return gl().caps.vertex_program; }
-
-    std::optional<Context> ctx_;
 };
 
 // The pixel a vertex lands on, and a projection that puts every position there: the program

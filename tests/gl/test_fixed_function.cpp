@@ -183,16 +183,8 @@ class Engine {
     GLuint texture_ = 0;
 };
 
-class FixedFunction : public ::testing::Test {
+class FixedFunction : public aerial_test::DrawingTest<kSize, kSize> {
   protected:
-    void SetUp() override {
-        auto ctx = Context::create({aerial_test::backend_from_environment(), kSize, kSize});
-        ASSERT_TRUE(ctx.ok()) << ctx.error().message;
-        ctx_.emplace(std::move(ctx).value());
-        RecordProperty("GL_RENDERER", ctx_->api().caps.renderer);
-    }
-    const Api& gl() const { return ctx_->api(); }
-
     // Renders the scene along `path`; fails the test if the path cannot run here.
     std::vector<std::uint8_t> render(const Scene& scene, Path path, Fog fog, bool textured = true,
                                      aerial::gl::CombinerTexture* combiner = nullptr) {
@@ -214,8 +206,6 @@ class FixedFunction : public ::testing::Test {
     }
 
     bool offers(Path path) const { return aerial::gl::choose_path(gl().caps, path).ok(); }
-
-    std::optional<Context> ctx_;
 };
 
 TEST_F(FixedFunction, PathsAgreeWithin1LsbOnATexturedMesh) {

@@ -61,13 +61,11 @@ glm::dvec3 pixel_direction(const Camera& c, int x, int row) {
     return glm::normalize(c.forward + ndc_x * c.right + ndc_y * c.up);
 }
 
-class SkyGl : public ::testing::Test {
+class SkyGl : public aerial_test::DrawingTest<kSize, kSize> {
   protected:
     void SetUp() override {
-        auto ctx = Context::create({aerial_test::backend_from_environment(), kSize, kSize});
-        ASSERT_TRUE(ctx.ok()) << ctx.error().message;
-        ctx_.emplace(std::move(ctx).value());
-        RecordProperty("GL_RENDERER", ctx_->api().caps.renderer);
+        DrawingTest::SetUp();
+        if (HasFatalFailure()) return;
         // The sky and its cubemap are the same for every test: computed once per process.
         static const auto shared = [] {
             aerial::View view;
@@ -84,13 +82,11 @@ class SkyGl : public ::testing::Test {
         sky_.emplace(shared.first);
         faces_ = shared.second;
     }
-    const aerial::gl::Api& gl() const { return ctx_->api(); }
     void clear() {
         gl().ClearColor(0, 0, 0, 1);
         gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     }
 
-    std::optional<Context> ctx_;
     std::optional<aerial::SkyContext> sky_;
     std::array<std::vector<std::uint8_t>, 6> faces_;
 };

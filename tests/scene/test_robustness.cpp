@@ -45,28 +45,23 @@ using Normal3fFn = void (*)(GLfloat, GLfloat, GLfloat);
 using TexGeniFn = void (*)(GLenum, GLenum, GLint);
 using StencilFuncFn = void (*)(GLenum, GLint, GLuint);
 
-class StateHygiene : public ::testing::Test {
+class StateHygiene : public aerial_test::DrawingTest<kWidth, kHeight> {
   protected:
     void SetUp() override {
-        auto ctx = aerial::headless::Context::create(
-            {aerial_test::backend_from_environment(), kWidth, kHeight});
-        ASSERT_TRUE(ctx) << ctx.error().message;
-        context_.emplace(std::move(ctx.value()));
-        std::printf("context: %s\n", aerial_test::context_label(*context_).c_str());
+        DrawingTest::SetUp();
+        if (ctx_) std::printf("context: %s\n", aerial_test::context_label(*ctx_).c_str());
     }
     void TearDown() override {
-        if (!context_) return;
+        if (!ctx_) return;
         if (!textures_.empty()) {
-            api().DeleteTextures(GLsizei(textures_.size()), textures_.data());
+            gl().DeleteTextures(GLsizei(textures_.size()), textures_.data());
         }
-        if (engine_program_ != 0) api().DeletePrograms(1, &engine_program_);
+        if (engine_program_ != 0) gl().DeletePrograms(1, &engine_program_);
     }
-
-    const aerial::gl::Api& api() const { return context_->api(); }
 
     template <typename Fn>
     Fn proc(const char* name) {
-        void* p = context_->loader()(context_->loader_user(), name);
+        void* p = ctx_->loader()(ctx_->loader_user(), name);
         EXPECT_NE(p, nullptr) << name;
         return reinterpret_cast<Fn>(p);
     }
@@ -74,7 +69,7 @@ class StateHygiene : public ::testing::Test {
     /// An engine in the middle of its frame: every piece of state the module may touch, and
     /// more, set away from GL's defaults.
     void set_unusual_engine_state() {
-        const aerial::gl::Api& g = api();
+        const aerial::gl::Api& g = gl();
         const aerial::gl::Caps& caps = g.caps;
         g.Viewport(3, 2, kWidth - 7, kHeight - 5);
         g.Enable(GL_SCISSOR_TEST);
@@ -194,18 +189,16 @@ class StateHygiene : public ::testing::Test {
     template <typename Fn>
     void expect_restored(const char* what, Fn&& fn) {
         SCOPED_TRACE(what);
-        const auto before = aerial::gl::capture_state(api());
+        const auto before = aerial::gl::capture_state(gl());
         ASSERT_GT(before.entries.size(), 60u);  // 84 on GL 1.1, several hundred on 4.5
         fn();
-        const auto changed =
-            aerial::gl::state_differences(before, aerial::gl::capture_state(api()));
+        const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
         std::string list;
         for (const std::string& line : changed) list += "\n  " + line;
         EXPECT_TRUE(changed.empty()) << what << " changed:" << list;
-        EXPECT_EQ(api().GetError(), GLenum(GL_NO_ERROR)) << what;
+        EXPECT_EQ(gl().GetError(), GLenum(GL_NO_ERROR)) << what;
     }
 
-    std::optional<aerial::headless::Context> context_;
     std::vector<GLuint> textures_;
     GLuint engine_program_ = 0;
     std::array<float, 64> engine_floats_{};
@@ -241,7 +234,7 @@ Colours shaded_triangle() {
 TEST_F(StateHygiene, TheSnapshotSeesTheEnginesUnusualState) {
     // Were a piece of state not read, the tests below could not see it change.
     set_unusual_engine_state();
-    const auto s = aerial::gl::capture_state(api());
+    const auto s = aerial::gl::capture_state(gl());
     const auto expect = [&](const char* name, const char* value) {
         const std::string* v = s.find(name);
         ASSERT_NE(v, nullptr) << name << " is not in the snapshot";
@@ -262,7 +255,7 @@ TEST_F(StateHygiene, TheSnapshotSeesTheEnginesUnusualState) {
     expect("GL_CURRENT_NORMAL", "0 0.600000024 0.800000012");
     expect("unit 0 GL_TEXTURE_GEN_S", "GL_TRUE");
     expect("unit 0 GL_TEXTURE_ENV_MODE", "GL_DECAL");
-    if (api().caps.vertex_program) {
+    if (gl().caps.vertex_program) {
         expect("program.env[5]", "5 -5 0.5 2");
         expect("program.local[7]", "-7 0.25 7 3");
     }
@@ -271,10 +264,10 @@ TEST_F(StateHygiene, TheSnapshotSeesTheEnginesUnusualState) {
 TEST_F(StateHygiene, EveryFixedFunctionPathRestoresTheEnginesState) {
     set_unusual_engine_state();
     const Colours c = shaded_triangle();
-    auto combiner = aerial::gl::CombinerTexture::create(api());
+    auto combiner = aerial::gl::CombinerTexture::create(gl());
     int drawn = 0;
     for (Path path : {Path::secondary_color, Path::combiner, Path::two_pass}) {
-        if (!aerial::gl::choose_path(api().caps, path)) continue;
+        if (!aerial::gl::choose_path(gl().caps, path)) continue;
         for (bool textured : {true, false}) {
             const std::string what =
                 std::string(aerial::gl::path_name(path)) + (textured ? " textured" : " untextured");
@@ -287,14 +280,14 @@ TEST_F(StateHygiene, EveryFixedFunctionPathRestoresTheEnginesState) {
                 colours.primary = c.fex.data();
                 colours.secondary = c.lin.data();
                 colours.vertex_count = 3;
-                auto stats = aerial::gl::draw_with_colours(api(), options, colours, [&] {
-                    api().Begin(GL_TRIANGLES);
+                auto stats = aerial::gl::draw_with_colours(gl(), options, colours, [&] {
+                    gl().Begin(GL_TRIANGLES);
                     for (int v = 0; v < 3; ++v) {
-                        api().Vertex3f(c.positions[std::size_t(3 * v)],
-                                       c.positions[std::size_t(3 * v + 1)],
-                                       c.positions[std::size_t(3 * v + 2)]);
+                        gl().Vertex3f(c.positions[std::size_t(3 * v)],
+                                      c.positions[std::size_t(3 * v + 1)],
+                                      c.positions[std::size_t(3 * v + 2)]);
                     }
-                    api().End();
+                    gl().End();
                 });
                 ASSERT_TRUE(stats) << stats.error().message;
                 ++drawn;
@@ -305,7 +298,7 @@ TEST_F(StateHygiene, EveryFixedFunctionPathRestoresTheEnginesState) {
 }
 
 TEST_F(StateHygiene, ArbProgramsRestoreTheEnginesStateAndParameters) {
-    if (!api().caps.vertex_program) GTEST_SKIP() << "no GL_ARB_vertex_program here";
+    if (!gl().caps.vertex_program) GTEST_SKIP() << "no GL_ARB_vertex_program here";
     set_unusual_engine_state();
     auto atmosphere = aerial::atmosphere_preset("earth");
     for (aerial::Model model : {aerial::Model::hoffman_preetham, aerial::Model::height}) {
@@ -315,7 +308,7 @@ TEST_F(StateHygiene, ArbProgramsRestoreTheEnginesStateAndParameters) {
             options.model = model;
             auto generated = aerial::generate_arb_program(options);
             ASSERT_TRUE(generated) << generated.error().message;
-            auto program = aerial::gl::ArbVertexProgram::create(api(), *generated);
+            auto program = aerial::gl::ArbVertexProgram::create(gl(), *generated);
             ASSERT_TRUE(program) << program.error().message;
             auto frame = aerial::prepare_frame<float>(*atmosphere, aerial::View{}, model);
             auto params = aerial::arb_program_parameters(*frame, aerial::Display{}, options);
@@ -326,11 +319,11 @@ TEST_F(StateHygiene, ArbProgramsRestoreTheEnginesStateAndParameters) {
                 apply.textured = textured;
                 auto stats = program->draw(
                     [&] {
-                        api().Begin(GL_TRIANGLES);
-                        api().Vertex3f(0, 10, 0);
-                        api().Vertex3f(10, 10, 0);
-                        api().Vertex3f(0, 10, 10);
-                        api().End();
+                        gl().Begin(GL_TRIANGLES);
+                        gl().Vertex3f(0, 10, 0);
+                        gl().Vertex3f(10, 10, 0);
+                        gl().Vertex3f(0, 10, 10);
+                        gl().End();
                     },
                     apply);
                 ASSERT_TRUE(stats) << stats.error().message;
@@ -351,22 +344,22 @@ TEST_F(StateHygiene, SkyBoxAndSunSpriteRestoreTheEnginesState) {
     auto cubemap = aerial::compute_sky_cubemap(*sky, kSize);
     ASSERT_TRUE(cubemap) << cubemap.error().message;
     const auto faces = aerial::cubemap_to_rgba8(*cubemap, 8.0, aerial::ToneCurve::exponential);
-    auto texture = aerial::gl::SkyCubemapTexture::create(api(), faces, kSize);
+    auto texture = aerial::gl::SkyCubemapTexture::create(gl(), faces, kSize);
     if (!texture) {
         EXPECT_EQ(texture.error().field, "cube_map") << texture.error().message;
         GTEST_SKIP() << "no cube maps here: " << texture.error().message;
     }
     expect_restored("sky box and sun sprite", [&] {
-        auto second = aerial::gl::SkyCubemapTexture::create(api(), faces, kSize);
+        auto second = aerial::gl::SkyCubemapTexture::create(gl(), faces, kSize);
         ASSERT_TRUE(second) << second.error().message;
         auto sprite = aerial::make_sun_sprite(*sky, 8.0, aerial::ToneCurve::exponential);
         ASSERT_TRUE(sprite) << sprite.error().message;
-        auto sun = aerial::gl::SunSpriteTexture::create(api(), *sprite);
+        auto sun = aerial::gl::SunSpriteTexture::create(gl(), *sprite);
         ASSERT_TRUE(sun) << sun.error().message;
-        const auto box_view = aerial::gl::sky_box_view_from_current_matrices(api());
-        ASSERT_FALSE(aerial::gl::draw_sky_box(api(), *second, box_view).has_value());
+        const auto box_view = aerial::gl::sky_box_view_from_current_matrices(gl());
+        ASSERT_FALSE(aerial::gl::draw_sky_box(gl(), *second, box_view).has_value());
         ASSERT_FALSE(
-            aerial::gl::draw_sun_sprite(api(), *sun, box_view, sky->view.sun_dir).has_value());
+            aerial::gl::draw_sun_sprite(gl(), *sun, box_view, sky->view.sun_dir).has_value());
         ASSERT_FALSE(second.value().update(faces, kSize).has_value());
         ASSERT_FALSE(sun.value().update(*sprite).has_value());
     });
@@ -417,14 +410,14 @@ TEST_F(StateHygiene, SceneRendererRestoresTheEnginesStateOnEveryBackendAndSky) {
           Case{"renderer arb hoffman-preetham", Backend::arb, false,
                aerial::Model::hoffman_preetham},
           Case{"renderer arb height cubemap", Backend::arb, true, aerial::Model::height}}) {
-        if (k.backend == Backend::arb && !api().caps.vertex_program) continue;
+        if (k.backend == Backend::arb && !gl().caps.vertex_program) continue;
         expect_restored(k.what, [&] {
             RendererOptions options;
             options.backend = k.backend;
-            auto renderer = SceneRenderer::create(api(), options);
+            auto renderer = SceneRenderer::create(gl(), options);
             ASSERT_TRUE(renderer) << renderer.error().message;
             if (k.cubemap) {
-                auto stats = install_cubemap_sky(renderer.value(), api());
+                auto stats = install_cubemap_sky(renderer.value(), gl());
                 if (!stats) {  // GL 1.1: no cube maps, the renderer keeps its dome
                     EXPECT_EQ(stats.error().field, "cube_map") << stats.error().message;
                 }
@@ -470,21 +463,21 @@ TEST_F(StateHygiene, NoCurrentContextIsAnErrorNamingTheContextEverywhere) {
     settings.atmosphere = aerial::atmosphere_preset("hazy").value();
     settings.sun_dir = glm::normalize(glm::dvec3(0.3, 0.8, 0.4));
     settings.display.exposure = 8.0f;
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     ASSERT_TRUE(renderer.value().render(*world, camera, settings));
-    const auto first = context_->read_rgba8();
-    const auto before = aerial::gl::capture_state(api());
-    if (!release_current(*context_)) GTEST_SKIP() << "cannot release the context here";
+    const auto first = ctx_->read_rgba8();
+    const auto before = aerial::gl::capture_state(gl());
+    if (!release_current(*ctx_)) GTEST_SKIP() << "cannot release the context here";
 
     const auto is_context_error = [](const aerial::Error& e) {
         return e.field == "context" &&
                e.message.find("no GL context is current") != std::string::npos;
     };
-    auto reloaded = aerial::gl::load_api(context_->loader(), context_->loader_user());
+    auto reloaded = aerial::gl::load_api(ctx_->loader(), ctx_->loader_user());
     ASSERT_FALSE(reloaded);
     EXPECT_EQ(reloaded.error().field, "glGetString") << reloaded.error().message;
-    auto created = SceneRenderer::create(api());
+    auto created = SceneRenderer::create(gl());
     ASSERT_FALSE(created);
     EXPECT_TRUE(is_context_error(created.error())) << created.error().message;
     auto rendered = renderer.value().render(*world, camera, settings);
@@ -496,33 +489,33 @@ TEST_F(StateHygiene, NoCurrentContextIsAnErrorNamingTheContextEverywhere) {
     colours.secondary = c.lin.data();
     colours.vertex_count = 3;
     bool called = false;
-    auto drawn = aerial::gl::draw_with_colours(api(), {}, colours, [&] { called = true; });
+    auto drawn = aerial::gl::draw_with_colours(gl(), {}, colours, [&] { called = true; });
     ASSERT_FALSE(drawn);
     EXPECT_TRUE(is_context_error(drawn.error())) << drawn.error().message;
     EXPECT_FALSE(called) << "the engine's draw callback must not run without a context";
-    auto combiner = aerial::gl::CombinerTexture::create(api());
+    auto combiner = aerial::gl::CombinerTexture::create(gl());
     ASSERT_FALSE(combiner);
     EXPECT_TRUE(is_context_error(combiner.error())) << combiner.error().message;
     auto generated = aerial::generate_arb_program(aerial::ArbProgramOptions{});
     ASSERT_TRUE(generated);
-    auto program = aerial::gl::ArbVertexProgram::create(api(), *generated);
+    auto program = aerial::gl::ArbVertexProgram::create(gl(), *generated);
     ASSERT_FALSE(program);
     EXPECT_TRUE(is_context_error(program.error())) << program.error().message;
     std::array<std::vector<std::uint8_t>, 6> faces;
     for (auto& f : faces) f.assign(4 * 4 * 4, 128);
-    auto cube = aerial::gl::SkyCubemapTexture::create(api(), faces, 4);
+    auto cube = aerial::gl::SkyCubemapTexture::create(gl(), faces, 4);
     ASSERT_FALSE(cube);
     EXPECT_TRUE(is_context_error(cube.error())) << cube.error().message;
 
-    ASSERT_FALSE(context_->make_current().has_value());
-    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(api()));
+    ASSERT_FALSE(ctx_->make_current().has_value());
+    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
     std::string list;
     for (const std::string& line : changed) list += "\n  " + line;
     EXPECT_TRUE(changed.empty()) << "calls without a context changed:" << list;
     // Nothing the renderer had is lost: the same frame again, from its caches.
-    api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ASSERT_TRUE(renderer.value().render(*world, camera, settings));
-    EXPECT_EQ(aerial_test::compare_rgb(first, context_->read_rgba8()).max_lsb, 0);
+    EXPECT_EQ(aerial_test::compare_rgb(first, ctx_->read_rgba8()).max_lsb, 0);
 }
 
 TEST_F(StateHygiene, APathOrProgramTheContextLacksIsAnErrorAndChangesNothing) {
@@ -530,14 +523,14 @@ TEST_F(StateHygiene, APathOrProgramTheContextLacksIsAnErrorAndChangesNothing) {
     const Colours c = shaded_triangle();
     int missing = 0;
     for (Path path : {Path::secondary_color, Path::combiner, Path::two_pass}) {
-        const auto chosen = aerial::gl::choose_path(api().caps, path);
+        const auto chosen = aerial::gl::choose_path(gl().caps, path);
         if (chosen) continue;
         ++missing;
         SCOPED_TRACE(aerial::gl::path_name(path));
-        const auto before = aerial::gl::capture_state(api());
+        const auto before = aerial::gl::capture_state(gl());
         RendererOptions options;
         options.path = path;
-        auto renderer = SceneRenderer::create(api(), options);
+        auto renderer = SceneRenderer::create(gl(), options);
         ASSERT_FALSE(renderer);
         EXPECT_EQ(renderer.error().field, chosen.error().field) << renderer.error().message;
         aerial::gl::ApplyOptions apply;
@@ -547,19 +540,18 @@ TEST_F(StateHygiene, APathOrProgramTheContextLacksIsAnErrorAndChangesNothing) {
         colours.secondary = c.lin.data();
         colours.vertex_count = 3;
         bool called = false;
-        auto drawn = aerial::gl::draw_with_colours(api(), apply, colours, [&] { called = true; });
+        auto drawn = aerial::gl::draw_with_colours(gl(), apply, colours, [&] { called = true; });
         ASSERT_FALSE(drawn);
         EXPECT_EQ(drawn.error().field, chosen.error().field) << drawn.error().message;
         EXPECT_FALSE(called);
-        EXPECT_TRUE(
-            aerial::gl::state_differences(before, aerial::gl::capture_state(api())).empty());
+        EXPECT_TRUE(aerial::gl::state_differences(before, aerial::gl::capture_state(gl())).empty());
     }
-    const auto before = aerial::gl::capture_state(api());
-    if (!api().caps.vertex_program) {
+    const auto before = aerial::gl::capture_state(gl());
+    if (!gl().caps.vertex_program) {
         ++missing;
         RendererOptions options;
         options.backend = Backend::arb;
-        auto renderer = SceneRenderer::create(api(), options);
+        auto renderer = SceneRenderer::create(gl(), options);
         ASSERT_FALSE(renderer);
         EXPECT_EQ(renderer.error().field, "GL_ARB_vertex_program") << renderer.error().message;
     } else {
@@ -569,13 +561,13 @@ TEST_F(StateHygiene, APathOrProgramTheContextLacksIsAnErrorAndChangesNothing) {
         garbage.text = "!!ARBvp1.0\nTEMP t;\nFROB t, vertex.position;\nEND\n";
         garbage.resources.instructions = 1;
         garbage.resources.temporaries = 1;
-        auto program = aerial::gl::ArbVertexProgram::create(api(), garbage);
+        auto program = aerial::gl::ArbVertexProgram::create(gl(), garbage);
         ASSERT_FALSE(program);
         EXPECT_NE(program.error().message.find("GL_PROGRAM_ERROR_POSITION_ARB"), std::string::npos)
             << program.error().message;
-        EXPECT_EQ(api().GetError(), GLenum(GL_INVALID_OPERATION)) << "left to the engine";
+        EXPECT_EQ(gl().GetError(), GLenum(GL_INVALID_OPERATION)) << "left to the engine";
     }
-    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(api()));
+    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
     EXPECT_TRUE(changed.empty()) << changed.front();
     std::printf("[ info     ] paths or programs missing here: %d\n", missing);
 }
@@ -599,31 +591,30 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
     settings.sun_dir = glm::normalize(glm::dvec3(0.3, 0.8, 0.4));
     settings.display.exposure = 8.0f;
     const auto good = small_world();
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
-    api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ASSERT_TRUE(renderer.value().render(*good, camera, settings));
-    const auto first = context_->read_rgba8();
+    const auto first = ctx_->read_rgba8();
 
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float inf = std::numeric_limits<float>::infinity();
     for (float bad : {nan, inf, -inf}) {
         auto world = small_world();
         world->add(make_mesh("bad box", mesh_of({0, 0, 0, 10, 0, 0, 0, bad, 10}, {0, 1, 2})));
-        const auto before = aerial::gl::capture_state(api());
+        const auto before = aerial::gl::capture_state(gl());
         auto report = renderer.value().render(*world, camera, settings);
         ASSERT_FALSE(report);
         EXPECT_NE(report.error().field.find("bad box"), std::string::npos)
             << report.error().field << ": " << report.error().message;
         EXPECT_NE(report.error().message.find("positions"), std::string::npos)
             << report.error().message;
-        EXPECT_TRUE(
-            aerial::gl::state_differences(before, aerial::gl::capture_state(api())).empty());
+        EXPECT_TRUE(aerial::gl::state_differences(before, aerial::gl::capture_state(gl())).empty());
     }
     // The renderer's caches are intact: the good world draws as before.
-    api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     ASSERT_TRUE(renderer.value().render(*good, camera, settings));
-    EXPECT_EQ(aerial_test::compare_rgb(first, context_->read_rgba8()).max_lsb, 0);
+    EXPECT_EQ(aerial_test::compare_rgb(first, ctx_->read_rgba8()).max_lsb, 0);
 
     // Empty, degenerate and non-manifold meshes, and a mesh 1e7 units away from the origin seen
     // from near it: valid frames, nothing crashes, the state is restored.
@@ -636,16 +627,16 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
                        mesh_of({0,   100, 0,  0, 100, 50,  40, 120, 20,  -40, 120, 20, 30, 80,  30,
                                 -30, 80,  10, 0, 100, 100, 0,  100, 150, 60,  100, 10, 61, 100, 10},
                                {0, 1, 2, 0, 1, 3, 0, 1, 4, 0, 1, 5, 0, 6, 7, 0, 6, 6, 8, 9, 0})));
-    const auto before = aerial::gl::capture_state(api());
+    const auto before = aerial::gl::capture_state(gl());
     FrameReport odd_report;
     for (int frame = 0; frame < 2; ++frame) {
-        api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         auto report = renderer.value().render(*odd, camera, settings);
         ASSERT_TRUE(report) << report.error().message;
         odd_report = *report;
     }
     EXPECT_GT(odd_report.vertices_drawn, 0u);
-    EXPECT_TRUE(aerial::gl::state_differences(before, aerial::gl::capture_state(api())).empty());
+    EXPECT_TRUE(aerial::gl::state_differences(before, aerial::gl::capture_state(gl())).empty());
 
     // 1e7 units: the same tiles moved there, the camera with them.
     const double far_away = 1e7;
@@ -654,11 +645,11 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
     Camera far_camera = camera;
     far_camera.eye += glm::dvec3(far_away, -far_away, 0.0);
     far_camera.target += glm::dvec3(far_away, -far_away, 0.0);
-    api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     auto far_report = renderer.value().render(*moved, far_camera, settings);
     ASSERT_TRUE(far_report) << far_report.error().message;
     EXPECT_GT(far_report->vertices_drawn, 0u) << "the moved tiles are in view";
-    EXPECT_TRUE(aerial::gl::state_differences(before, aerial::gl::capture_state(api())).empty());
+    EXPECT_TRUE(aerial::gl::state_differences(before, aerial::gl::capture_state(gl())).empty());
 }
 
 }  // namespace

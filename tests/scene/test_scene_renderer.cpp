@@ -94,30 +94,24 @@ glm::dvec3 turned(const glm::dvec3& v, double angle_rad) {
                       glm::dvec4(v, 0.0));
 }
 
-class SceneRendererTest : public ::testing::Test {
+class SceneRendererTest : public aerial_test::DrawingTest<kWidth, kHeight> {
   protected:
     void SetUp() override {
-        auto ctx = aerial::headless::Context::create(
-            {aerial_test::backend_from_environment(), kWidth, kHeight});
-        ASSERT_TRUE(ctx) << ctx.error().message;
-        context_.emplace(std::move(ctx.value()));
-        std::printf("context: %s\n", aerial_test::context_label(*context_).c_str());
+        DrawingTest::SetUp();
+        if (ctx_) std::printf("context: %s\n", aerial_test::context_label(*ctx_).c_str());
     }
-    const aerial::gl::Api& api() const { return context_->api(); }
 
     std::vector<std::uint8_t> draw(SceneRenderer& r, const TestScene& scene, const Camera& camera,
                                    const FrameSettings& settings, FrameReport* report = nullptr) {
-        api().ClearColor(0, 0, 0, 1);
-        api().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        api().Viewport(0, 0, kWidth, kHeight);
+        gl().ClearColor(0, 0, 0, 1);
+        gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        gl().Viewport(0, 0, kWidth, kHeight);
         auto result = r.render(*scene.root, camera, settings);
         EXPECT_TRUE(result) << result.error().message;
         if (result && report) *report = *result;
-        api().Finish();
-        return context_->read_rgba8();
+        gl().Finish();
+        return ctx_->read_rgba8();
     }
-
-    std::optional<aerial::headless::Context> context_;
 };
 
 std::size_t count(const FrameReport& r, Method m) {
@@ -135,7 +129,7 @@ const NodeReport& node(const FrameReport& r, const std::string& name) {
 }
 
 TEST_F(SceneRendererTest, StaticViewRecomputesNothingAndLooksTheSame) {
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     TestScene scene;
     FrameReport first, second;
@@ -150,7 +144,7 @@ TEST_F(SceneRendererTest, StaticViewRecomputesNothingAndLooksTheSame) {
 }
 
 TEST_F(SceneRendererTest, MovedSunRecomputesWhatItMust) {
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     TestScene scene;
     FrameSettings s = test_settings();
@@ -172,7 +166,7 @@ TEST_F(SceneRendererTest, MovedSunRecomputesWhatItMust) {
 }
 
 TEST_F(SceneRendererTest, MovedNodeAloneIsShadedAgain) {
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     TestScene scene;
     draw(renderer.value(), scene, test_camera(), test_settings());
@@ -185,7 +179,7 @@ TEST_F(SceneRendererTest, MovedNodeAloneIsShadedAgain) {
 }
 
 TEST_F(SceneRendererTest, CullsWhatIsOutsideTheFrustumAndSkipsNegligibleScattering) {
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     TestScene scene;
     FrameReport report;
@@ -220,7 +214,7 @@ TEST_F(SceneRendererTest, CullsWhatIsOutsideTheFrustumAndSkipsNegligibleScatteri
 }
 
 TEST_F(SceneRendererTest, PicksTheCheapestModelMeetingTheTarget) {
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     TestScene scene;
     FrameSettings s = test_settings();
@@ -237,7 +231,7 @@ TEST_F(SceneRendererTest, PicksTheCheapestModelMeetingTheTarget) {
 }
 
 TEST_F(SceneRendererTest, ReusedColoursStayWithinOneStepOfFreshOnes) {
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     TestScene scene;
     FrameSettings s = test_settings();
@@ -249,7 +243,7 @@ TEST_F(SceneRendererTest, ReusedColoursStayWithinOneStepOfFreshOnes) {
     const auto reused = draw(renderer.value(), scene, moved, s, &report);
     EXPECT_GT(report.cache_hits, 0u);
     s.policy = false;
-    auto fresh_renderer = SceneRenderer::create(api());
+    auto fresh_renderer = SceneRenderer::create(gl());
     const auto fresh = draw(fresh_renderer.value(), scene, moved, s);
     const auto d = aerial_test::compare_rgb(reused, fresh);
     EXPECT_LE(d.max_lsb, 1) << aerial_test::pixel_text(reused, d.pixel) << " vs "
@@ -257,20 +251,20 @@ TEST_F(SceneRendererTest, ReusedColoursStayWithinOneStepOfFreshOnes) {
 }
 
 TEST_F(SceneRendererTest, RestoresTheGlStateItTouches) {
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     TestScene scene;
-    const auto before = aerial::gl::capture_state(api());
+    const auto before = aerial::gl::capture_state(gl());
     draw(renderer.value(), scene, test_camera(), test_settings());
-    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(api()));
+    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
     EXPECT_TRUE(changed.empty()) << changed.front();
 }
 
 TEST_F(SceneRendererTest, ArbBackendShadesOnTheGpuEveryFrame) {
     RendererOptions options;
     options.backend = Backend::arb;
-    auto renderer = SceneRenderer::create(api(), options);
-    if (!api().caps.vertex_program) {
+    auto renderer = SceneRenderer::create(gl(), options);
+    if (!gl().caps.vertex_program) {
         ASSERT_FALSE(renderer);
         EXPECT_EQ(renderer.error().field, "GL_ARB_vertex_program") << renderer.error().message;
         return;
@@ -278,10 +272,10 @@ TEST_F(SceneRendererTest, ArbBackendShadesOnTheGpuEveryFrame) {
     ASSERT_TRUE(renderer) << renderer.error().message;
     TestScene scene;
     FrameReport first, second;
-    const auto before = aerial::gl::capture_state(api());
+    const auto before = aerial::gl::capture_state(gl());
     const auto a = draw(renderer.value(), scene, test_camera(), test_settings(), &first);
     const auto b = draw(renderer.value(), scene, test_camera(), test_settings(), &second);
-    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(api()));
+    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
     EXPECT_TRUE(changed.empty()) << changed.front();
     EXPECT_GT(first.vertices_shaded, 0u);
     EXPECT_EQ(second.vertices_shaded, first.vertices_shaded) << "the GPU shades every frame";
@@ -302,7 +296,7 @@ TEST_F(SceneRendererTest, ArbBackendShadesOnTheGpuEveryFrame) {
 }
 
 TEST_F(SceneRendererTest, DrawsABlueSkyAtNoonAndCallsReplacedDrawers) {
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     TestScene scene;
     Camera up = test_camera();
@@ -333,9 +327,9 @@ TEST_F(SceneRendererTest, DrawsABlueSkyAtNoonAndCallsReplacedDrawers) {
 }
 
 TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMust) {
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
-    auto sky = install_cubemap_sky(renderer.value(), api());
+    auto sky = install_cubemap_sky(renderer.value(), gl());
     TestScene scene;
     Camera up = test_camera();
     up.target = up.eye + glm::dvec3(0, 1000, 600);  // 31° up: only sky
@@ -343,7 +337,7 @@ TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMu
     clear.atmosphere = aerial::atmosphere_preset("earth").value();
     clear.sun_dir = glm::normalize(glm::dvec3(0.2, -0.3, 0.9));
     clear.display.exposure = 20.0f;
-    if (!aerial::gl::cube_maps_supported(api())) {  // GL 1.1: an error, the dome stays
+    if (!aerial::gl::cube_maps_supported(gl())) {  // GL 1.1: an error, the dome stays
         ASSERT_FALSE(sky);
         EXPECT_EQ(sky.error().field, "cube_map") << sky.error().message;
         const auto image = draw(renderer.value(), scene, up, clear);
@@ -353,9 +347,9 @@ TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMu
     }
     ASSERT_TRUE(sky) << sky.error().message;
     const CubemapSkyStats& stats = **sky;
-    const auto before = aerial::gl::capture_state(api());
+    const auto before = aerial::gl::capture_state(gl());
     const auto first = draw(renderer.value(), scene, up, clear);
-    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(api()));
+    const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
     EXPECT_TRUE(changed.empty()) << changed.front();
     EXPECT_TRUE(stats.error.empty()) << stats.error;
     EXPECT_EQ(stats.recomputes, 1);
@@ -409,13 +403,13 @@ TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMu
 
     CubemapSkyOptions bad;
     bad.cache.size = 0;
-    auto rejected = install_cubemap_sky(renderer.value(), api(), bad);
+    auto rejected = install_cubemap_sky(renderer.value(), gl(), bad);
     ASSERT_FALSE(rejected);
     EXPECT_EQ(rejected.error().field, "cache.size") << rejected.error().message;
 }
 
 TEST_F(SceneRendererTest, BadInputIsAnErrorNamingTheField) {
-    auto renderer = SceneRenderer::create(api());
+    auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     TestScene scene;
     Camera camera = test_camera();

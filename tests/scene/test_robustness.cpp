@@ -387,17 +387,29 @@ std::unique_ptr<Node> small_world() {
     return root;
 }
 
-TEST_F(StateHygiene, SceneRendererRestoresTheEnginesStateOnEveryBackendAndSky) {
-    set_unusual_engine_state();
-    const auto world = small_world();
+/// The camera the small-world tests draw with: 800 m before the tiles and 300 m up.
+Camera small_world_camera() {
     Camera camera;
     camera.eye = {0, -800, 300};
     camera.target = {0, 1000, 0};
     camera.aspect = double(kWidth) / kHeight;
+    return camera;
+}
+
+/// The frame settings the small-world tests draw with (hazy, a sun well above the horizon).
+FrameSettings small_world_settings() {
     FrameSettings settings;
     settings.atmosphere = aerial::atmosphere_preset("hazy").value();
     settings.sun_dir = glm::normalize(glm::dvec3(0.3, 0.8, 0.4));
     settings.display.exposure = 8.0f;
+    return settings;
+}
+
+TEST_F(StateHygiene, SceneRendererRestoresTheEnginesStateOnEveryBackendAndSky) {
+    set_unusual_engine_state();
+    const auto world = small_world();
+    const Camera camera = small_world_camera();
+    FrameSettings settings = small_world_settings();
     struct Case {
         const char* what;
         Backend backend;
@@ -455,14 +467,8 @@ bool release_current(const aerial::headless::Context& context) {
 TEST_F(StateHygiene, NoCurrentContextIsAnErrorNamingTheContextEverywhere) {
     set_unusual_engine_state();
     const auto world = small_world();
-    Camera camera;
-    camera.eye = {0, -800, 300};
-    camera.target = {0, 1000, 0};
-    camera.aspect = double(kWidth) / kHeight;
-    FrameSettings settings;
-    settings.atmosphere = aerial::atmosphere_preset("hazy").value();
-    settings.sun_dir = glm::normalize(glm::dvec3(0.3, 0.8, 0.4));
-    settings.display.exposure = 8.0f;
+    const Camera camera = small_world_camera();
+    const FrameSettings settings = small_world_settings();
     auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     ASSERT_TRUE(renderer.value().render(*world, camera, settings));
@@ -582,14 +588,8 @@ std::shared_ptr<MeshData> mesh_of(std::vector<float> positions,
 
 TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
     set_unusual_engine_state();
-    Camera camera;
-    camera.eye = {0, -800, 300};
-    camera.target = {0, 1000, 0};
-    camera.aspect = double(kWidth) / kHeight;
-    FrameSettings settings;
-    settings.atmosphere = aerial::atmosphere_preset("hazy").value();
-    settings.sun_dir = glm::normalize(glm::dvec3(0.3, 0.8, 0.4));
-    settings.display.exposure = 8.0f;
+    const Camera camera = small_world_camera();
+    const FrameSettings settings = small_world_settings();
     const auto good = small_world();
     auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;

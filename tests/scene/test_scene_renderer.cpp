@@ -89,6 +89,25 @@ FrameSettings test_settings() {
     return s;
 }
 
+/// The test camera turned 31° up: only sky.
+Camera sky_camera() {
+    Camera c = test_camera();
+    c.target = c.eye + glm::dvec3(0, 1000, 600);
+    return c;
+}
+
+/// Clear air (the earth preset) with the sun high, at exposure 20.
+FrameSettings clear_noon_settings() {
+    FrameSettings s = test_settings();
+    s.atmosphere = aerial::atmosphere_preset("earth").value();
+    s.sun_dir = glm::normalize(glm::dvec3(0.2, -0.3, 0.9));
+    s.display.exposure = 20.0f;
+    return s;
+}
+
+/// The byte offset of the image's centre pixel, (80, 45) of 160 x 90.
+constexpr std::size_t kCentre = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
+
 glm::dvec3 turned(const glm::dvec3& v, double angle_rad) {
     return glm::dvec3(glm::rotate(glm::dmat4(1.0), angle_rad, glm::dvec3(0, 0, 1)) *
                       glm::dvec4(v, 0.0));
@@ -299,16 +318,12 @@ TEST_F(SceneRendererTest, DrawsABlueSkyAtNoonAndCallsReplacedDrawers) {
     auto renderer = SceneRenderer::create(gl());
     ASSERT_TRUE(renderer) << renderer.error().message;
     TestScene scene;
-    Camera up = test_camera();
-    up.target = up.eye + glm::dvec3(0, 1000, 600);  // 31° up: only sky
-    FrameSettings clear = test_settings();
-    clear.atmosphere = aerial::atmosphere_preset("earth").value();
-    clear.sun_dir = glm::normalize(glm::dvec3(0.2, -0.3, 0.9));
-    clear.display.exposure = 20.0f;
+    const Camera up = sky_camera();
+    FrameSettings clear = clear_noon_settings();
     for (aerial::Model model : {aerial::Model::hoffman_preetham, aerial::Model::height}) {
         clear.model = model;
         const auto image = draw(renderer.value(), scene, up, clear);
-        const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
+        const std::size_t p = kCentre;
         EXPECT_GT(image[p + 2], image[p])
             << aerial::model_name(model) << ": " << aerial_test::pixel_text(image, p / 4);
         EXPECT_GT(image[p + 2], 60) << aerial::model_name(model);
@@ -322,7 +337,7 @@ TEST_F(SceneRendererTest, DrawsABlueSkyAtNoonAndCallsReplacedDrawers) {
     renderer.value().set_sun_drawer(nullptr);
     const auto image = draw(renderer.value(), scene, up, clear);
     EXPECT_EQ(sky_calls, 1);
-    const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
+    const std::size_t p = kCentre;
     EXPECT_EQ(image[p] + image[p + 1] + image[p + 2], 0) << "the replaced sky drew nothing";
 }
 
@@ -331,17 +346,13 @@ TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMu
     ASSERT_TRUE(renderer) << renderer.error().message;
     auto sky = install_cubemap_sky(renderer.value(), gl());
     TestScene scene;
-    Camera up = test_camera();
-    up.target = up.eye + glm::dvec3(0, 1000, 600);  // 31° up: only sky
-    FrameSettings clear = test_settings();
-    clear.atmosphere = aerial::atmosphere_preset("earth").value();
-    clear.sun_dir = glm::normalize(glm::dvec3(0.2, -0.3, 0.9));
-    clear.display.exposure = 20.0f;
+    const Camera up = sky_camera();
+    const FrameSettings clear = clear_noon_settings();
     if (!aerial::gl::cube_maps_supported(gl())) {  // GL 1.1: an error, the dome stays
         ASSERT_FALSE(sky);
         EXPECT_EQ(sky.error().field, "cube_map") << sky.error().message;
         const auto image = draw(renderer.value(), scene, up, clear);
-        const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
+        const std::size_t p = kCentre;
         EXPECT_GT(image[p + 2], 60) << "the dome still draws the sky";
         return;
     }
@@ -371,7 +382,7 @@ TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMu
     const glm::dvec3 direction = forward + right * (0.5 / (kWidth / 2.0) * half_h * up.aspect) +
                                  upward * (0.5 / (kHeight / 2.0) * half_h);
     const glm::dvec3 expected = aerial::sample_cubemap_rgba8(faces, cpu.cubemap().size, direction);
-    const std::size_t p = 4 * (std::size_t(kHeight / 2) * kWidth + kWidth / 2);
+    const std::size_t p = kCentre;
     for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(first[p + std::size_t(c)], expected[c], 2.0)
             << "channel " << c << ": " << aerial_test::pixel_text(first, p / 4);

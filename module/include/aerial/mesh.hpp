@@ -291,6 +291,18 @@ class AdaptiveMesh {
     void stamp(OpenMesh::FaceHandle f, float error);
     bool face_stale(OpenMesh::FaceHandle f) const;
 
+    // The steps of update(), in order, and the state one update passes between them.
+    struct Pass;
+    void queue_indexed(Pass& pass);  ///< re-estimate through the index, queue faces to refine
+    void queue_sweep(Pass& pass);    ///< the same by a round-robin sweep over every face
+    void refine(Pass& pass);
+    void split_towards(Pass& pass, OpenMesh::FaceHandle f0);
+    OpenMesh::EdgeHandle terminal_edge(OpenMesh::FaceHandle f, OpenMesh::EdgeHandle e) const;
+    void coarsen(Pass& pass);
+    void continue_fades(UpdateStats& stats);
+    void end_index(bool indexed);
+    bool garbage_over_ratio() const;
+
     Mesh mesh_;
     Surface surface_;
     AdaptiveSettings settings_;

@@ -1,6 +1,7 @@
 // aerial-render: renders one frame of a scene file headless (OSMesa or EGL surfaceless) with one
-// backend and writes it as a PNG (docs/conventions.md, Interfaces). The scene format is in
-// render/scene.hpp and in docs/scene.md.
+// backend and writes it as a PNG (docs/conventions.md, Interfaces): a command line over
+// aerial::validation::render_scene_file, which draws through aerial::scene::SceneRenderer. The
+// scene format is aerial/scene_file.hpp's (docs/scene.md).
 #include <cstdio>
 #include <string>
 
@@ -8,8 +9,8 @@
 
 #include "aerial/gl.hpp"
 #include "aerial/headless.hpp"
-#include "render/renderer.hpp"
-#include "render/scene.hpp"
+#include "aerial/scene_file.hpp"
+#include "aerial/validation/scene_render.hpp"
 #include "support/cli.hpp"
 #include "support/png.hpp"
 
@@ -44,12 +45,9 @@ int main(int argc, char** argv) {
     app.add_option("--out", out_path, "Output PNG")->required();
     if (auto status = tools::parse_command_line(app, argc, argv, kTool)) return *status;
 
-    render::RenderOptions options;
-    const auto backend = render::parse_backend(backend_text);
-    if (!backend) {
-        return tools::fail(kTool, "--backend: expected cpu, arb, perpixel, fog or none, got '" +
-                                      backend_text + "'");
-    }
+    validation::RenderOptions options;
+    const auto backend = validation::parse_render_backend(backend_text, "--backend");
+    if (!backend) return tools::fail(kTool, backend.error().message);
     options.backend = *backend;
     const auto gl = headless::parse_backend(gl_text);
     if (!gl) return tools::fail(kTool, "--gl: expected osmesa or egl, got '" + gl_text + "'");
@@ -63,9 +61,9 @@ int main(int argc, char** argv) {
                                path_text + "'");
     }
     options.path = *path;
-    const auto scene = render::load_scene(scene_path);
+    const auto scene = scene::load_scene_file(scene_path);
     if (!scene) return tools::fail(kTool, "--scene " + scene.error().message);
-    if (auto e = render::check_backend(*scene, options, path_opt->count() > 0)) {
+    if (auto e = validation::check_backend(*scene, options, path_opt->count() > 0)) {
         return tools::fail(kTool, e->message);
     }
 
@@ -75,7 +73,7 @@ int main(int argc, char** argv) {
                      context.error().message.c_str());
         return 1;
     }
-    const auto image = render::render_scene(*context, *scene, options);
+    const auto image = validation::render_scene_file(*context, *scene, options);
     if (!image) {
         std::fprintf(stderr, "%s: %s\n", kTool, image.error().message.c_str());
         return 1;
@@ -85,10 +83,10 @@ int main(int argc, char** argv) {
         return tools::fail(kTool, "--out " + *error);
     }
     const char* path_name =
-        options.backend == render::Backend::cpu ? gl::path_name(image->path_used) : "-";
+        options.backend == validation::RenderBackend::cpu ? gl::path_name(image->path_used) : "-";
     std::printf("backend=%s path=%s gl=%s size=%dx%d ms=%.2f program=%s renderer=\"%s\"\n",
-                render::backend_name(options.backend), path_name, gl_text.c_str(), image->width,
-                image->height, image->milliseconds, image->program.c_str(),
+                validation::render_backend_name(options.backend), path_name, gl_text.c_str(),
+                image->width, image->height, image->milliseconds, image->program.c_str(),
                 context->api().caps.renderer.c_str());
     if (std::fflush(stdout) != 0) return tools::fail(kTool, "cannot write output");
     return 0;

@@ -1,4 +1,4 @@
-// libFuzzer target: the scene files of aerial-render (render::scene_from_json). An accepted
+// libFuzzer target: the scene files (aerial::scene::scene_file_from_json). An accepted
 // scene must give a valid view, finite geometry with indices in range, a texture of the size it
 // asked for, finite fog parameters and finite shading of its vertices (what aerial-render does,
 // without GL).
@@ -10,9 +10,9 @@
 
 #include "aerial/batch.hpp"
 #include "aerial/scattering.hpp"
+#include "aerial/scene_file.hpp"
+#include "aerial/validation/scene_render.hpp"
 #include "fuzz_check.hpp"
-#include "render/renderer.hpp"
-#include "render/scene.hpp"
 
 namespace {
 
@@ -22,15 +22,15 @@ using aerial::fuzz::check;
 constexpr double kMaxVertices = 20000;
 constexpr int kMaxTextureSize = 256;
 
-double vertex_estimate(const aerial::render::Scene& scene) {
+double vertex_estimate(const aerial::scene::SceneFile& scene) {
     double count = 0;
     if (scene.terrain) count += std::pow(scene.terrain->resolution + 1.0, 2.0);
     for (const auto& box : scene.boxes) count += 6.0 * std::pow(box.subdivisions + 1.0, 2.0);
     return count;
 }
 
-void check_geometry(const aerial::render::Scene& scene, const aerial::Frame<float>& frame) {
-    const auto mesh = aerial::render::build_geometry(scene);
+void check_geometry(const aerial::scene::SceneFile& scene, const aerial::Frame<float>& frame) {
+    const auto mesh = aerial::scene::scene_geometry(scene);
     check(mesh.positions.size() % 3 == 0 && mesh.texcoords.size() / 2 == mesh.vertex_count(),
           "geometry arrays of different lengths");
     check(mesh.indices.size() % 3 == 0, "geometry indices are not triangles");
@@ -64,7 +64,7 @@ void check_geometry(const aerial::render::Scene& scene, const aerial::Frame<floa
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);
-    auto scene = aerial::render::scene_from_json(text);
+    auto scene = aerial::scene::scene_file_from_json(text);
     if (!scene) {
         check(!scene.error().message.empty(), "an error without a message");
         return 0;
@@ -72,18 +72,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     check(!aerial::validate(scene->view()), "an accepted scene whose view is invalid");
     check(!aerial::validate(scene->atmosphere), "an accepted scene whose atmosphere is invalid");
     if (scene->texture.size <= kMaxTextureSize) {
-        const auto texture = aerial::render::build_texture(scene->texture);
-        check(!texture.levels.empty() && texture.levels[0].size == scene->texture.size &&
-                  texture.levels.back().size == 1,
+        const auto texture = aerial::scene::scene_texture(scene->texture);
+        check(texture.width == scene->texture.size && texture.height == scene->texture.size &&
+                  !aerial::scene::validate(texture),
               "a texture of the wrong size");
-        for (const auto& level : texture.levels) {
-            check(level.rgb.size() == std::size_t(level.size) * std::size_t(level.size) * 3,
-                  "a texture level of the wrong length");
-        }
+        const auto levels = aerial::scene::mipmap_levels(texture);
+        check(levels.back().size() == 3, "a mipmap chain that does not end at 1x1");
     }
     auto frame = aerial::prepare_frame<float>(scene->atmosphere, scene->view(), scene->model);
     if (!frame) return 0;
-    const auto fog = aerial::render::fog_parameters(*frame, scene->display);
+    const auto fog = aerial::validation::fog_parameters(*frame, scene->display);
     check(std::isfinite(fog.density) && std::isfinite(fog.colour[0]) &&
               std::isfinite(fog.colour[1]) && std::isfinite(fog.colour[2]),
           "non-finite fog parameters");

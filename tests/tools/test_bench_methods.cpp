@@ -17,9 +17,10 @@
 #include "aerial/gl_api.hpp"
 #include "aerial/gl_state.hpp"
 #include "aerial/headless.hpp"
+#include "aerial/scene_file.hpp"
+#include "aerial/validation/scene_render.hpp"
+#include "bench/frame_gl.hpp"
 #include "bench/methods.hpp"
-#include "render/renderer.hpp"
-#include "render/scene.hpp"
 
 namespace {
 
@@ -66,8 +67,8 @@ TEST(FlightGearFog, VisibilityIsOneGreenAttenuationLengthAtTheEye) {
     const double extinction_green =
         earth.rayleigh_scattering[1] + earth.mie_scattering[1] + earth.mie_absorption[1];
     EXPECT_NEAR(fog.visibility_m, 1.0 / extinction_green, 1e-3 / extinction_green);
-    const aerial::render::FogParameters gl_fog =
-        aerial::render::fog_parameters(frame, aerial::Display{8.0f});
+    const aerial::validation::FogParameters gl_fog =
+        aerial::validation::fog_parameters(frame, aerial::Display{8.0f});
     for (int c = 0; c < 4; ++c) {
         EXPECT_EQ(fog.colour[c], gl_fog.colour[c]) << "the haze colour of gl-fog, channel " << c;
     }
@@ -80,10 +81,10 @@ class BenchMethodsGl : public ::testing::Test {
             aerial::headless::Context::create({aerial::headless::Backend::osmesa, kWidth, kHeight});
         ASSERT_TRUE(ctx.ok()) << ctx.error().message;
         ctx_.emplace(std::move(ctx).value());
-        auto scene = aerial::render::scene_from_json(kScene);
+        auto scene = aerial::scene::scene_file_from_json(kScene);
         ASSERT_TRUE(scene.ok()) << scene.error().message;
         scene_ = scene.value();
-        mesh_ = aerial::render::build_geometry(scene_);
+        mesh_ = aerial::scene::scene_geometry(scene_);
         frame_ = aerial::prepare_frame<float>(scene_.atmosphere, scene_.view(),
                                               aerial::Model::hoffman_preetham)
                      .value();
@@ -99,11 +100,11 @@ class BenchMethodsGl : public ::testing::Test {
         api.ClearColor(0.0f, 0.0f, 0.0f, 1.0f);
         api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         api.Enable(GL_DEPTH_TEST);
-        const auto m = aerial::render::camera_matrices(scene_.camera, kWidth, kHeight);
-        aerial::render::load_matrix(api, GL_PROJECTION, m.projection);
-        aerial::render::load_matrix(api, GL_MODELVIEW, m.view);
-        const aerial::render::BoundTexture texture(api,
-                                                   aerial::render::build_texture(scene_.texture));
+        const auto m = aerial::bench::camera_matrices(scene_.camera_for(kWidth, kHeight));
+        aerial::bench::load_matrix(api, GL_PROJECTION, m.projection);
+        aerial::bench::load_matrix(api, GL_MODELVIEW, m.view);
+        const aerial::bench::BoundTexture texture(api,
+                                                  aerial::scene::scene_texture(scene_.texture));
         api.Color4f(1.0f, 1.0f, 1.0f, 1.0f);
         draw_with([&] {
             api.EnableClientState(GL_VERTEX_ARRAY);
@@ -130,8 +131,8 @@ class BenchMethodsGl : public ::testing::Test {
     }
 
     std::optional<aerial::headless::Context> ctx_;
-    aerial::render::Scene scene_;
-    aerial::render::Mesh mesh_;
+    aerial::scene::SceneFile scene_;
+    aerial::scene::MeshData mesh_;
     aerial::Frame<float> frame_;
 };
 
@@ -222,7 +223,7 @@ TEST_F(BenchMethodsGl, FlightGearFogDrawsTheFogFunctionAndRestoresTheState) {
     EXPECT_TRUE(changed.empty()) << changed.front();
     // Along the middle column: the ground each pixel shows (its ray from the eye meets z = 0),
     // fogged by f = exp(-x - x^4) towards the fog colour.
-    const auto m = aerial::render::camera_matrices(scene_.camera, kWidth, kHeight);
+    const auto m = aerial::bench::camera_matrices(scene_.camera_for(kWidth, kHeight));
     const glm::dmat4 world_from_clip =
         glm::inverse(glm::dmat4(glm::mat4(m.projection)) * glm::dmat4(glm::mat4(m.view)));
     int checked = 0, largest = 0;

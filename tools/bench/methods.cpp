@@ -7,7 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "aerial/gl_api.hpp"
-#include "render/renderer.hpp"
+#include "aerial/validation/scene_render.hpp"
 
 namespace aerial::bench {
 namespace {
@@ -94,7 +94,7 @@ std::pair<double, double> distance_and_cosine(const Frame<float>& frame, const f
 }  // namespace
 
 FlightGearFog flightgear_fog(const Frame<float>& frame, const Display& display) {
-    const render::FogParameters gl_fog = render::fog_parameters(frame, display);
+    const validation::FogParameters gl_fog = validation::fog_parameters(frame, display);
     FlightGearFog fog;
     // GL fog's density is the green extinction per engine unit; its inverse in metres is one
     // attenuation length.

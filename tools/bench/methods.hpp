@@ -35,7 +35,8 @@ namespace aerial::bench {
 /// distance d is f = exp(-x - x^4), x = d / visibility, where the visibility is one attenuation
 /// length (FlightGear ALS notes, "Visibility and fog function"). Here the attenuation length is
 /// that of the green channel at the eye's altitude and the haze colour that of the fog backend of
-/// aerial-render (render::fog_parameters: an infinitely long ray, phase averaged over the sphere).
+/// aerial-render (aerial::validation::fog_parameters: an infinitely long ray, phase averaged over
+/// the sphere).
 struct FlightGearFog {
     double visibility_m = 0.0;  ///< one attenuation length, metres
     float colour[4] = {0, 0, 0, 1};

@@ -20,9 +20,10 @@
 #include "aerial/gl_api.hpp"
 #include "aerial/headless.hpp"
 #include "aerial/mesh.hpp"
+#include "aerial/validation/scene_render.hpp"
+#include "bench/frame_gl.hpp"
 #include "bench/methods.hpp"
 #include "common/image_metrics.hpp"
-#include "render/renderer.hpp"
 #include "support/png.hpp"
 
 namespace aerial::bench {
@@ -86,7 +87,7 @@ struct MeshEntry {
     std::string tessellation;          ///< "uniform" or "adaptive"
     Model adapted_to = Model::height;  ///< adaptive: the model its colour error was measured in
     bool is_default = false;
-    render::Mesh mesh;
+    scene::MeshData mesh;
     std::vector<std::uint8_t> reference;  ///< RGBA8, top row first
     double max_distance_m = 0.0;          ///< farthest vertex from the eye
 
@@ -147,7 +148,7 @@ Result<BenchScene> load_bench_scene(const std::string& path) {
         const Json& v = it.value();
         if (key == "scene") {
             if (!v.is_object()) return bad(path, "scene", "expected an object");
-            auto scene = render::scene_from_json(v.dump());
+            auto scene = scene::scene_file_from_json(v.dump());
             if (!scene) return bad(path, "scene." + scene.error().field, scene.error().message);
             s.scene = std::move(scene.value());
         } else if (key == "description") {
@@ -213,8 +214,8 @@ namespace {
 
 // ---- Meshes -----------------------------------------------------------------------------------
 
-render::Mesh to_render_mesh(const mesh::Mesh& m, double texture_repeat, bool textured) {
-    render::Mesh out;
+scene::MeshData to_mesh_data(const mesh::Mesh& m, double texture_repeat, bool textured) {
+    scene::MeshData out;
     std::vector<std::int64_t> index(m.n_vertices(), -1);
     for (auto f : m.faces()) {
         if (m.status(f).deleted()) continue;
@@ -234,7 +235,7 @@ render::Mesh to_render_mesh(const mesh::Mesh& m, double texture_repeat, bool tex
     return out;
 }
 
-double farthest_m(const render::Mesh& m, const render::Scene& scene) {
+double farthest_m(const scene::MeshData& m, const scene::SceneFile& scene) {
     double far = 0.0;
     for (std::size_t i = 0; i < m.vertex_count(); ++i) {
         const glm::dvec3 p(m.positions[3 * i], m.positions[3 * i + 1], m.positions[3 * i + 2]);
@@ -262,25 +263,25 @@ std::vector<int> budgets(const BenchScene& s, bool quick, int& default_level) {
     return levels;
 }
 
-glm::vec3 brightest_texel(const render::TextureSpec& t) {
+glm::vec3 brightest_texel(const scene::TextureSpec& t) {
     return glm::vec3(glm::max(t.colors[0], t.colors[1]));
 }
 
 /// Builds the uniform and adaptive meshes of a scene.
 Result<std::vector<std::unique_ptr<MeshEntry>>> build_meshes(const BenchScene& s, bool quick) {
-    const render::Scene& scene = s.scene;
+    const scene::SceneFile& scene = s.scene;
     const bool dome = s.sky_dome_radius > 0.0;
     int default_level = 0;
     const std::vector<int> levels = budgets(s, quick, default_level);
     const double repeat =
-        scene.terrain ? scene.terrain->texture_repeat : render::TerrainSpec{}.texture_repeat;
+        scene.terrain ? scene.terrain->texture_repeat : scene::TerrainSpec{}.texture_repeat;
     mesh::DomeOptions dome_options;
     dome_options.centre = scene.camera.eye;
     dome_options.radius_m = s.sky_dome_radius;
     mesh::Heightfield field;
     if (!dome) {
-        const render::TerrainSpec t = *scene.terrain;
-        field.height_m = [t](double x, double y) { return render::terrain_height(t, x, y); };
+        const scene::TerrainSpec t = *scene.terrain;
+        field.height_m = [t](double x, double y) { return scene::terrain_height(t, x, y); };
         field.x0 = t.center.x - 0.5 * t.size;
         field.y0 = t.center.y - 0.5 * t.size;
         field.size_x_m = field.size_y_m = t.size;
@@ -296,7 +297,7 @@ Result<std::vector<std::unique_ptr<MeshEntry>>> build_meshes(const BenchScene& s
         auto e = std::make_unique<MeshEntry>();
         e->tessellation = "uniform";
         e->is_default = level == default_level;
-        e->mesh = to_render_mesh(*m, repeat, !dome);
+        e->mesh = to_mesh_data(*m, repeat, !dome);
         e->max_distance_m = farthest_m(e->mesh, scene);
         meshes.push_back(std::move(e));
     }
@@ -332,7 +333,7 @@ Result<std::vector<std::unique_ptr<MeshEntry>>> build_meshes(const BenchScene& s
             auto e = std::make_unique<MeshEntry>();
             e->tessellation = "adaptive";
             e->adapted_to = model;
-            e->mesh = to_render_mesh(am.mesh(), repeat, !dome);
+            e->mesh = to_mesh_data(am.mesh(), repeat, !dome);
             e->max_distance_m = farthest_m(e->mesh, scene);
             meshes.push_back(std::move(e));
         }
@@ -342,12 +343,12 @@ Result<std::vector<std::unique_ptr<MeshEntry>>> build_meshes(const BenchScene& s
 
 // ---- Frames -----------------------------------------------------------------------------------
 
-void begin_frame(const gl::Api& api, const render::Scene& scene, const render::Matrices& m) {
+void begin_frame(const gl::Api& api, const scene::SceneFile& scene, const Matrices& m) {
     api.ClearColor(float(scene.background.r), float(scene.background.g), float(scene.background.b),
                    1.0f);
     api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    render::load_matrix(api, GL_PROJECTION, m.projection);
-    render::load_matrix(api, GL_MODELVIEW, m.view);
+    load_matrix(api, GL_PROJECTION, m.projection);
+    load_matrix(api, GL_MODELVIEW, m.view);
     api.Color4f(1.0f, 1.0f, 1.0f, 1.0f);
 }
 
@@ -357,20 +358,20 @@ Error framed(const char* method, const Error& e) {
 
 /// One frame of a variant, from the per-frame constants to glFinish (per-pixel: to its
 /// composited image). The image is left in the colour buffer or, per-pixel, in `pixels`.
-std::optional<Error> render_frame(const headless::Context& context, const render::Scene& scene,
-                                  const render::Matrices& matrices, Variant& v, SceneGl& sgl,
+std::optional<Error> render_frame(const headless::Context& context, const scene::SceneFile& scene,
+                                  const Matrices& matrices, Variant& v, SceneGl& sgl,
                                   std::vector<std::uint8_t>& pixels) {
     const gl::Api& api = context.api();
-    const render::Mesh& mesh = v.mesh->mesh;
+    const scene::MeshData& mesh = v.mesh->mesh;
     const char* name = method_name(v.method);
-    const std::function<void()> draw = [&] { render::draw_arrays(api, mesh); };
+    const std::function<void()> draw = [&] { draw_arrays(api, mesh); };
     begin_frame(api, scene, matrices);
     auto frame = prepare_frame<float>(scene.atmosphere, scene.view(), method_model(v.method));
     if (!frame) return framed(name, frame.error());
     const std::size_t n = mesh.vertex_count();
     switch (v.method) {
         case Method::gl_fog: {
-            const render::FogParameters fog = render::fog_parameters(*frame, scene.display);
+            const validation::FogParameters fog = validation::fog_parameters(*frame, scene.display);
             api.Fogi(GL_FOG_MODE, GL_EXP);
             api.Fogf(GL_FOG_DENSITY, fog.density);
             api.Fogfv(GL_FOG_COLOR, fog.colour);
@@ -425,7 +426,8 @@ std::optional<Error> render_frame(const headless::Context& context, const render
             draw();
             api.Finish();
             pixels = context.read_rgba8();
-            if (auto e = render::shade_per_pixel(context, *frame, scene.display, matrices, pixels))
+            if (auto e = validation::shade_per_pixel(context, *frame, scene.display,
+                                                     matrices.projection, matrices.view, pixels))
                 return framed(name, *e);
             return std::nullopt;
         }
@@ -456,17 +458,18 @@ Result<gl::ArbVertexProgram> make_program(const gl::Api& api, Model model) {
 
 /// The per-pixel image of the `reference` model on this mesh.
 Result<std::vector<std::uint8_t>> reference_image(const headless::Context& context,
-                                                  const render::Scene& scene,
-                                                  const render::Matrices& matrices,
-                                                  const render::Mesh& mesh) {
+                                                  const scene::SceneFile& scene,
+                                                  const Matrices& matrices,
+                                                  const scene::MeshData& mesh) {
     const gl::Api& api = context.api();
     auto frame = prepare_frame<float>(scene.atmosphere, scene.view(), Model::reference);
     if (!frame) return frame.error();
     begin_frame(api, scene, matrices);
-    render::draw_arrays(api, mesh);
+    draw_arrays(api, mesh);
     api.Finish();
     std::vector<std::uint8_t> pixels = context.read_rgba8();
-    if (auto e = render::shade_per_pixel(context, *frame, scene.display, matrices, pixels))
+    if (auto e = validation::shade_per_pixel(context, *frame, scene.display, matrices.projection,
+                                             matrices.view, pixels))
         return *e;
     return pixels;
 }
@@ -474,9 +477,9 @@ Result<std::vector<std::uint8_t>> reference_image(const headless::Context& conte
 /// The per-pixel image of the `reference` model on the sphere a sky dome stands for: each
 /// pixel's ray from the eye (the dome's centre) to the sphere of `radius`; below the horizon
 /// (where the open dome draws nothing) the background. Independent of the dome's tessellation.
-Result<std::vector<std::uint8_t>> dome_reference_image(const render::Scene& scene,
-                                                       const render::Matrices& matrices, int w,
-                                                       int h, double radius) {
+Result<std::vector<std::uint8_t>> dome_reference_image(const scene::SceneFile& scene,
+                                                       const Matrices& matrices, int w, int h,
+                                                       double radius) {
     auto frame = prepare_frame<float>(scene.atmosphere, scene.view(), Model::reference);
     if (!frame) return frame.error();
     const glm::dmat4 world_from_clip = glm::inverse(glm::dmat4(glm::mat4(matrices.projection)) *
@@ -508,8 +511,8 @@ Result<std::vector<std::uint8_t>> dome_reference_image(const render::Scene& scen
     settings.display = scene.display;
     auto stats = shade_into(*frame, Positions::aos(positions.data(), pixels.size()), out, settings);
     if (!stats) return stats.error();
-    // The dome's texture is black: the sky shows L_in alone (render::shade_per_pixel's rule with
-    // a texel of 0).
+    // The dome's texture is black: the sky shows L_in alone (validation::shade_per_pixel's rule
+    // with a texel of 0).
     for (std::size_t i = 0; i < pixels.size(); ++i) {
         for (std::size_t c = 0; c < 3; ++c) {
             rgba[4 * pixels[i] + c] =
@@ -530,7 +533,7 @@ std::optional<Error> write_image(const std::string& dir, const std::string& name
 Result<std::vector<BenchRow>> run_scene(const headless::Context& context, const BenchScene& bs,
                                         const BenchOptions& options, std::FILE* progress) {
     const gl::Api& api = context.api();
-    const render::Scene& scene = bs.scene;
+    const scene::SceneFile& scene = bs.scene;
     const int w = context.width(), h = context.height();
     const auto start = Clock::now();
     auto built = build_meshes(bs, options.quick);
@@ -542,8 +545,8 @@ Result<std::vector<BenchRow>> run_scene(const headless::Context& context, const 
     api.Viewport(0, 0, w, h);
     api.Enable(GL_DEPTH_TEST);
     api.DepthFunc(GL_LEQUAL);
-    const render::Matrices matrices = render::camera_matrices(scene.camera, w, h);
-    const render::BoundTexture texture(api, render::build_texture(scene.texture));
+    const Matrices matrices = camera_matrices(scene.camera_for(w, h));
+    const BoundTexture texture(api, scene::scene_texture(scene.texture));
 
     // The reference image of each mesh (of a dome: of the sphere, shared by all).
     std::optional<std::vector<std::uint8_t>> dome_reference;

@@ -17,12 +17,12 @@
 #include <vector>
 
 #include "aerial/error.hpp"
-#include "render/scene.hpp"
+#include "aerial/scene_file.hpp"
 
 namespace aerial::bench {
 
 /// A bench scene file (JSON object; unknown fields are errors):
-///   "scene": {...}               an aerial-render scene (render/scene.hpp), required
+///   "scene": {...}               a scene file (aerial/scene_file.hpp), required
 ///   "description": "..."         one line, optional
 ///   "quick": false               part of the --quick run
 ///   "sky_dome_radius": r         draw a geodesic sky dome of this radius (engine units) around
@@ -35,7 +35,7 @@ struct BenchScene {
     std::string name;  ///< the file name without .json
     std::string description;
     bool quick = false;
-    render::Scene scene;
+    scene::SceneFile scene;
     double sky_dome_radius = 0.0;  ///< 0: the terrain
     int sky_dome_frequency = 32;
 };

@@ -20,7 +20,7 @@
 #include "aerial/aerial.hpp"
 #include "aerial/arb_program.hpp"
 #include "aerial/validation/arb_executor.hpp"
-#include "render/renderer.hpp"
+#include "aerial/validation/scene_render.hpp"
 #include "support/cli.hpp"
 
 namespace aerial::bench {
@@ -291,7 +291,7 @@ Result<CaseResult> evaluate_case(const Case& c, const Programs& programs) {
 
     // gl-fog: GL_EXP with the density and colour aerial-render's fog backend fits (the G
     // channel's extinction and the isotropic haze colour at the eye's altitude).
-    const render::FogParameters fog = render::fog_parameters(*height, display);
+    const validation::FogParameters fog = validation::fog_parameters(*height, display);
     const std::array<double, 3> fog_colour{fog.colour[0], fog.colour[1], fog.colour[2]};
     // fg-fog: FlightGear's exp(-x - x^4), x = d / lambda, with the same attenuation length
     // lambda = 1 / density, and its haze colour: grey haze (the G channel's single-scattering

@@ -14,7 +14,7 @@
 #include "aerial/gl.hpp"
 #include "aerial/gl_api.hpp"
 #include "aerial/headless.hpp"
-#include "render/renderer.hpp"
+#include "aerial/validation/scene_render.hpp"
 
 namespace aerial::tess {
 namespace {
@@ -153,7 +153,7 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
         const std::vector<std::uint8_t> rgba = g.context.read_rgba8();
         api.PixelStorei(GL_PACK_ALIGNMENT, 1);
         api.ReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-        render::positions_from_depth(depth, size, size, projection, view, points, pixels);
+        validation::positions_from_depth(depth, size, size, projection, view, points, pixels);
         if (pixels.empty()) continue;
         if (options.dome) {
             // The sky in the pixel's direction: the sphere's point along the ray from its centre

@@ -51,14 +51,19 @@ namespace aerial::scene {
 enum class Backend {
     cpu,  ///< aerial::shade_into into RGBA8 arrays, drawn by aerial::gl::draw_with_colours
     arb,  ///< the generated ARB vertex programs (hoffman-preetham and height) on the GPU
+    /// No scattering: every node drawn with F_ex = 1 and L_in = 0 (the texture alone; terrain
+    /// keeps its sun and sky lighting), along the cpu backend's fixed-function path. What a
+    /// frame looks like without the library, and the base of aerial::validation's per-pixel
+    /// reference and fog baseline.
+    none,
 };
-/// "cpu", "arb".
+/// "cpu", "arb", "none".
 const char* backend_name(Backend backend);
 Result<Backend> parse_backend(std::string_view name);
 
 struct RendererOptions {
     Backend backend = Backend::cpu;
-    gl::Path path = gl::Path::automatic;  ///< cpu backend: the fixed-function path
+    gl::Path path = gl::Path::automatic;  ///< cpu and none backends: the fixed-function path
 };
 
 /// A pinhole camera, engine units.
@@ -98,8 +103,9 @@ enum class Method {
     hoffman_preetham,  ///< shaded with the 2002 model
     height,            ///< shaded with the height model
     reference,         ///< shaded with the reference model (cpu backend)
+    unshaded,          ///< the none backend: drawn with F_ex = 1, L_in = 0
 };
-/// "culled", "skipped", "cached", "hoffman-preetham", "height", "reference".
+/// "culled", "skipped", "cached", "hoffman-preetham", "height", "reference", "unshaded".
 const char* method_name(Method method);
 
 struct NodeReport {
@@ -126,7 +132,7 @@ struct FrameReport {
     gl::Path path = gl::Path::automatic;  ///< the fixed-function path of the cpu backend
     glm::vec3 ambient{0.0f};              ///< the sky irradiance used for terrain
     /// The method of most shaded vertices this frame ("hoffman-preetham", "height", ...), or
-    /// "cached" / "skipped" / "none" when nothing was shaded.
+    /// "cached" / "skipped" / "unshaded" / "none" when nothing was shaded.
     std::string main_method() const;
 };
 

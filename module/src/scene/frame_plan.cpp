@@ -243,6 +243,12 @@ NodePlan plan_node(FrameInputs& f, NodeState& st, const Node& node) {
         plan.lit ? double(settings.display.exposure) * max3(glm::dvec3(albedo)) *
                        (max3(settings.atmosphere.sun_irradiance) + max3(glm::dvec3(f.ambient)))
                  : 1.0;
+    // 0. The none backend computes no scattering at all.
+    if (f.backend == Backend::none) {
+        plan.method = Method::unshaded;
+        plan.model = settings.model;
+        return plan;
+    }
     // 1. Negligible scattering.
     if (settings.policy &&
         scattering_bound_lsb(f.bound, st.bounds, settings.display, lit_max) < kSkipBelowLsb) {

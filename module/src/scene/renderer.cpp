@@ -150,8 +150,8 @@ struct SceneRenderer::Impl {
 
 // ---- Names -------------------------------------------------------------------------------------
 
-constexpr aerial::detail::NameTable<Backend, 2> kBackendNames{
-    {{Backend::cpu, "cpu"}, {Backend::arb, "arb"}}};
+constexpr aerial::detail::NameTable<Backend, 3> kBackendNames{
+    {{Backend::cpu, "cpu"}, {Backend::arb, "arb"}, {Backend::none, "none"}}};
 
 const char* backend_name(Backend backend) {
     return aerial::detail::name_in(kBackendNames, backend);
@@ -161,13 +161,14 @@ Result<Backend> parse_backend(std::string_view name) {
     return aerial::detail::parse_in(kBackendNames, "backend", name);
 }
 
-constexpr aerial::detail::NameTable<Method, 6> kMethodNames{
+constexpr aerial::detail::NameTable<Method, 7> kMethodNames{
     {{Method::culled, "culled"},
      {Method::skipped, "skipped"},
      {Method::cached, "cached"},
      {Method::hoffman_preetham, "hoffman-preetham"},
      {Method::height, "height"},
-     {Method::reference, "reference"}}};
+     {Method::reference, "reference"},
+     {Method::unshaded, "unshaded"}}};
 
 const char* method_name(Method method) { return aerial::detail::name_in(kMethodNames, method); }
 
@@ -187,6 +188,7 @@ std::string FrameReport::main_method() const {
     if (most > 0) return method_name(best);
     if (vertices[Method::cached] > 0) return "cached";
     if (vertices[Method::skipped] > 0) return "skipped";
+    if (vertices[Method::unshaded] > 0) return "unshaded";
     return "none";
 }
 
@@ -260,7 +262,7 @@ Result<SceneRenderer> SceneRenderer::create(const gl::Api& api, const RendererOp
     impl->api = &api;
     impl->options = options;
     const std::string where = std::string("backend ") + backend_name(options.backend) + ": ";
-    if (options.backend == Backend::cpu) {
+    if (options.backend != Backend::arb) {
         auto path = gl::choose_path(api.caps, options.path);
         if (!path) return Error{path.error().field, where + path.error().message};
         impl->path = *path;
@@ -371,8 +373,8 @@ std::optional<Error> SceneRenderer::Impl::shade_node(const Node& node, detail::N
                                                      FrameReport& report) {
     const std::size_t n = st.positions.size() / 3;
     const bool cpu = options.backend == Backend::cpu;
-    if (plan.method == Method::skipped) {
-        ++report.skipped;
+    if (plan.method == Method::skipped || plan.method == Method::unshaded) {
+        if (plan.method == Method::skipped) ++report.skipped;
         detail::skipped_colours(frame, st, plan.lit, node.albedo);
     } else if (cpu && plan.method != Method::cached) {
         BatchOutputs out;
@@ -395,7 +397,7 @@ std::optional<Error> SceneRenderer::Impl::shade_node(const Node& node, detail::N
         st.has_colours = true;
         st.skip_colours = false;
         report.vertices_shaded += n;
-    } else if (!cpu) {
+    } else if (options.backend == Backend::arb) {
         report.vertices_shaded += n;
     }
     if (plan.method == Method::cached) ++report.cache_hits;
@@ -453,7 +455,7 @@ std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const deta
     };
     gl::ApplyOptions node_apply = apply;
     node_apply.textured = textured;
-    if (options.backend == Backend::cpu || plan.method == Method::skipped) {
+    if (options.backend != Backend::arb || plan.method == Method::skipped) {
         gl::VertexColours colours{st.primary.data(), st.secondary.data(), 0, 0, n};
         auto drawn = gl::draw_with_colours(gl, node_apply, colours, draw);
         if (!drawn) return node_error(node, drawn.error());

@@ -1,12 +1,17 @@
-// The scene file of aerial-render: a camera, a sun, an atmosphere, a model, a display, and
-// procedural geometry (a textured terrain height field and boxes), all deterministic, so that a
-// scene file plus a backend gives the same image on every run (the golden images rely on it).
+// aerial/scene_file.hpp — the scene file: a camera, a sun, an atmosphere, a model, a display and
+// procedural geometry (a textured terrain height field and boxes) in JSON, all deterministic, so
+// that a scene file plus a backend gives the same image on every run (the golden images, the
+// speed-against-accuracy chart and the tessellation tools rely on it). aerial-render draws it.
 //
 // How to use this:
-//   1. `auto scene = aerial::render::load_scene(path);` (or scene_from_json(text)); the error
-//      names the field ("camera.fov_y_deg", "terrain.resolution", ...) and the bad value.
-//   2. `build_geometry(*scene)` gives one indexed triangle mesh (positions in engine units,
-//      texture coordinates) and `build_texture(scene->texture)` its RGB8 texture with mipmaps.
+//   1. `auto file = aerial::scene::load_scene_file(path);` (or scene_file_from_json(text)); the
+//      error names the field ("camera.fov_y_deg", "terrain.resolution", "boxes[1].size", ...) and
+//      the bad value, as the atmosphere JSON does.
+//   2. `auto root = aerial::scene::scene_graph(*file);` is the scene as a graph (one textured mesh
+//      node, unlit); `file->frame_settings()` and `file->camera_for(width, height)` are what
+//      SceneRenderer::render takes with it.
+//   3. Tools that tessellate the surface themselves use terrain_height, scene_geometry and
+//      scene_texture directly.
 //
 // The format (JSON object; every field optional unless marked; unknown fields are errors):
 //   "camera": {
@@ -53,6 +58,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -65,19 +71,15 @@
 #include "aerial/batch.hpp"
 #include "aerial/error.hpp"
 #include "aerial/scattering.hpp"
+#include "aerial/scene.hpp"
+#include "aerial/scene_renderer.hpp"
 
-namespace aerial::render {
-
-struct Camera {
-    glm::dvec3 eye{0.0, 0.0, 300.0};
-    glm::dvec3 target{0.0, 1.0, 300.0};  ///< a point looked at (from look_at or direction)
-    glm::dvec3 up{0.0, 0.0, 1.0};
-    double fov_y_rad = 0.8726646259971648;  // 50 deg
-    double near_units = 10.0;
-    double far_units = 100000.0;
-};
+namespace aerial::scene {
 
 enum class TextureKind { checker, noise };
+/// "checker", "noise".
+const char* texture_kind_name(TextureKind kind);
+Result<TextureKind> parse_texture_kind(std::string_view name);
 
 struct TextureSpec {
     TextureKind kind = TextureKind::checker;
@@ -103,8 +105,9 @@ struct BoxSpec {
     int subdivisions = 4;
 };
 
-struct Scene {
-    Camera camera;
+struct SceneFile {
+    /// The file's camera; `aspect` is the viewport's, not the file's (camera_for sets it).
+    Camera camera = default_camera();
     glm::dvec3 sun_dir{0.0, 0.0, 1.0};  ///< unit, towards the sun
     Atmosphere atmosphere;
     Model model = Model::hoffman_preetham;
@@ -115,38 +118,34 @@ struct Scene {
     std::optional<TerrainSpec> terrain;
     std::vector<BoxSpec> boxes;
 
+    /// The camera of a file without one: eye (0, 0, 300), 50 degrees, near 10, far 100000.
+    static Camera default_camera();
     /// The aerial::View of this scene (world up +z).
     View view() const;
+    /// The camera with the aspect ratio of a width x height viewport.
+    Camera camera_for(int width, int height) const;
+    /// What SceneRenderer::render takes: the scene's atmosphere, sun, display and model, world
+    /// up +z, the update policy off (every node shaded with `model` every frame) and no sky.
+    FrameSettings frame_settings() const;
 };
 
-/// Parses a scene; errors name the field (dotted path, "boxes[1].size") and the value.
-Result<Scene> scene_from_json(std::string_view json_text);
+/// Parses a scene file; errors name the field (dotted path, "boxes[1].size") and the value.
+Result<SceneFile> scene_file_from_json(std::string_view json_text);
 /// Reads and parses a file; errors start with the path.
-Result<Scene> load_scene(const std::string& path);
+Result<SceneFile> load_scene_file(const std::string& path);
 
-/// One indexed triangle mesh, ready for glVertexPointer / glTexCoordPointer / glDrawElements.
-struct Mesh {
-    std::vector<float> positions;  ///< x, y, z per vertex, engine units
-    std::vector<float> texcoords;  ///< s, t per vertex
-    std::vector<std::uint32_t> indices;
-    std::size_t vertex_count() const { return positions.size() / 3; }
-};
-
-/// Height of the terrain at (x, y), engine units: the surface build_geometry samples at its
+/// Height of the terrain at (x, y), engine units: the surface scene_geometry samples at its
 /// grid vertices (fractal value noise, flat valley floors at z = 0).
 double terrain_height(const TerrainSpec& terrain, double x, double y);
 
-/// The terrain and the boxes of the scene as one mesh.
-Mesh build_geometry(const Scene& scene);
+/// The terrain and the boxes of the scene as one mesh (positions, texture coordinates).
+MeshData scene_geometry(const SceneFile& scene);
 
-/// An RGB8 texture and its mipmap chain (level 0 first, down to 1×1, box-filtered).
-struct Texture {
-    struct Level {
-        int size = 0;
-        std::vector<std::uint8_t> rgb;
-    };
-    std::vector<Level> levels;
-};
-Texture build_texture(const TextureSpec& spec);
+/// The scene's RGB8 texture (level 0; SceneRenderer builds the mipmaps with mipmap_levels).
+Texture scene_texture(const TextureSpec& spec);
 
-}  // namespace aerial::render
+/// The scene as a graph: a group "scene" holding one mesh node "geometry" (scene_geometry with
+/// scene_texture).
+std::unique_ptr<Node> scene_graph(const SceneFile& scene);
+
+}  // namespace aerial::scene

@@ -1,4 +1,5 @@
-#include "render/scene.hpp"
+// The scene file (aerial/scene_file.hpp): JSON parsing with errors that name the field.
+#include "aerial/scene_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,11 +10,13 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
-namespace aerial::render {
+#include "aerial/phase.hpp"
+#include "aerial/sun.hpp"
+
+namespace aerial::scene {
 namespace {
 
 using Json = nlohmann::json;
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegree = kPi / 180.0;
 
 std::string describe(const Json& j) { return std::string(j.type_name()) + " " + j.dump(); }
@@ -111,6 +114,21 @@ std::optional<Error> read_vector(const Json& j, const std::string& field, glm::v
 
 std::optional<Error> read_colour(const Json& j, const std::string& field, glm::dvec3& out) {
     return read_vector<3>(j, field, out, 0.0, 1.0);
+}
+
+/// A name of one of the library's enums, through its parse function (the name table's error,
+/// under this field).
+template <class Enum, class Parse>
+std::optional<Error> read_name(const Json& j, const std::string& field, Parse parse, Enum& out) {
+    if (!j.is_string()) return bad(field, "must be a string, got " + describe(j));
+    auto value = parse(j.get<std::string>());
+    if (!value) {
+        const std::string& message = value.error().message;
+        const auto colon = message.find(": ");
+        return bad(field, colon == std::string::npos ? message : message.substr(colon + 2));
+    }
+    out = *value;
+    return std::nullopt;
 }
 
 std::optional<Error> read_camera(const Json& j, Camera& camera) {
@@ -221,13 +239,7 @@ std::optional<Error> read_display(const Json& j, Display& display) {
         display.exposure = float(exposure);
     }
     if (const Json* v = o.get("tone")) {
-        if (*v == "clamp") {
-            display.tone = ToneCurve::clamp;
-        } else if (*v == "exponential") {
-            display.tone = ToneCurve::exponential;
-        } else {
-            return bad("display.tone", "must be \"clamp\" or \"exponential\", got " + v->dump());
-        }
+        if (auto e = read_name(*v, "display.tone", parse_tone_curve, display.tone)) return e;
     }
     return std::nullopt;
 }
@@ -237,13 +249,7 @@ std::optional<Error> read_texture(const Json& j, TextureSpec& t) {
     const Object o(j, "texture");
     if (auto e = o.check_known({"kind", "size", "cells", "colors", "seed"})) return e;
     if (const Json* v = o.get("kind")) {
-        if (*v == "checker") {
-            t.kind = TextureKind::checker;
-        } else if (*v == "noise") {
-            t.kind = TextureKind::noise;
-        } else {
-            return bad("texture.kind", "must be \"checker\" or \"noise\", got " + v->dump());
-        }
+        if (auto e = read_name(*v, "texture.kind", parse_texture_kind, t.kind)) return e;
     }
     if (const Json* v = o.get("size")) {
         if (auto e = read_int(*v, "texture.size", t.size, 2, 1024)) return e;
@@ -327,7 +333,7 @@ std::optional<Error> read_box(const Json& j, const std::string& path, BoxSpec& b
     return std::nullopt;
 }
 
-std::optional<Error> read_scene(const Json& root, Scene& s) {
+std::optional<Error> read_scene(const Json& root, SceneFile& s) {
     if (!root.is_object()) return bad("scene", "must be a JSON object, got " + describe(root));
     const Object o(root, "");
     if (auto e = o.check_known({"camera", "sun", "atmosphere", "model", "display",
@@ -344,12 +350,9 @@ std::optional<Error> read_scene(const Json& root, Scene& s) {
         if (auto e = read_atmosphere(*v, s.atmosphere)) return e;
     }
     if (const Json* v = o.get("model")) {
-        if (!v->is_string()) return bad("model", "must be a string, got " + describe(*v));
-        auto m = parse_model(v->get<std::string>());
-        if (!m) return bad("model", m.error().message);
-        if (*m == Model::reference)
+        if (auto e = read_name(*v, "model", parse_model, s.model)) return e;
+        if (s.model == Model::reference)
             return bad("model", "reference is too slow to render; use hoffman-preetham or height");
-        s.model = *m;
     }
     if (const Json* v = o.get("display")) {
         if (auto e = read_display(*v, s.display)) return e;
@@ -384,124 +387,21 @@ std::optional<Error> read_scene(const Json& root, Scene& s) {
     return std::nullopt;
 }
 
-// ---- Procedural content ---------------------------------------------------------------------
-
-/// A 32-bit integer hash (lowbias32) of a lattice point and a seed.
-std::uint32_t hash(std::int64_t x, std::int64_t y, std::uint32_t seed) {
-    std::uint32_t h =
-        seed * 0x9E3779B9u ^ std::uint32_t(x) * 0x85EBCA6Bu ^ std::uint32_t(y) * 0xC2B2AE35u;
-    h ^= h >> 16;
-    h *= 0x7FEB352Du;
-    h ^= h >> 15;
-    h *= 0x846CA68Bu;
-    h ^= h >> 16;
-    return h;
-}
-
-double lattice(std::int64_t x, std::int64_t y, std::uint32_t seed) {
-    return double(hash(x, y, seed) >> 8) / double(1u << 24);
-}
-
-/// Value noise in [0, 1] with smoothstep interpolation; with period > 0 the lattice repeats
-/// every `period` cells (a seamless tile).
-double value_noise(double x, double y, std::uint32_t seed, std::int64_t period = 0) {
-    const double fx = std::floor(x), fy = std::floor(y);
-    const auto ix = std::int64_t(fx), iy = std::int64_t(fy);
-    const double tx = x - fx, ty = y - fy;
-    const double sx = tx * tx * (3.0 - 2.0 * tx), sy = ty * ty * (3.0 - 2.0 * ty);
-    const auto wrap = [period](std::int64_t i) { return period > 0 ? i % period : i; };
-    const double a = lattice(wrap(ix), wrap(iy), seed), b = lattice(wrap(ix + 1), wrap(iy), seed);
-    const double c = lattice(wrap(ix), wrap(iy + 1), seed);
-    const double d = lattice(wrap(ix + 1), wrap(iy + 1), seed);
-    return (a + (b - a) * sx) + ((c + (d - c) * sx) - (a + (b - a) * sx)) * sy;
-}
-
-/// Five octaves of value noise, normalised to [0, 1].
-double fractal_noise(double x, double y, std::uint32_t seed) {
-    double sum = 0.0, weight = 1.0, total = 0.0;
-    for (int octave = 0; octave < 5; ++octave) {
-        sum += weight * value_noise(x, y, seed + std::uint32_t(octave));
-        total += weight;
-        weight *= 0.5;
-        x *= 2.0;
-        y *= 2.0;
-    }
-    return sum / total;
-}
-
 }  // namespace
 
-double terrain_height(const TerrainSpec& t, double x, double y) {
-    // Fractal noise mostly lies in [0.25, 0.75]: stretch it to [0, 1] and square it, for flat
-    // valley floors between steeper hills.
-    const double noise = fractal_noise(x / t.feature_size, y / t.feature_size, t.seed);
-    const double u = std::clamp((noise - 0.25) / 0.5, 0.0, 1.0);
-    return t.height_amplitude * u * u;
+Camera SceneFile::default_camera() {
+    Camera c;
+    c.eye = {0.0, 0.0, 300.0};
+    c.target = {0.0, 1.0, 300.0};
+    c.up = {0.0, 0.0, 1.0};
+    c.fov_y_rad = 50.0 * kDegree;
+    c.aspect = 1.0;
+    c.near_units = 10.0;
+    c.far_units = 100000.0;
+    return c;
 }
 
-namespace {
-
-void add_terrain(const TerrainSpec& t, Mesh& mesh) {
-    const int n = t.resolution;
-    const auto base = std::uint32_t(mesh.vertex_count());
-    for (int j = 0; j <= n; ++j) {
-        for (int i = 0; i <= n; ++i) {
-            const double x = t.center.x + t.size * (double(i) / n - 0.5);
-            const double y = t.center.y + t.size * (double(j) / n - 0.5);
-            const double z = terrain_height(t, x, y);
-            mesh.positions.insert(mesh.positions.end(), {float(x), float(y), float(z)});
-            mesh.texcoords.insert(mesh.texcoords.end(),
-                                  {float(x / t.texture_repeat), float(y / t.texture_repeat)});
-        }
-    }
-    const auto row = std::uint32_t(n + 1);
-    for (std::uint32_t j = 0; j < std::uint32_t(n); ++j) {
-        for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
-            const std::uint32_t a = base + j * row + i, b = a + 1, c = a + row, d = c + 1;
-            mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
-        }
-    }
-}
-
-void add_box(const BoxSpec& box, double texture_repeat, Mesh& mesh) {
-    const int n = box.subdivisions;
-    const glm::dvec3 half = 0.5 * box.size;
-    // Each face: an outward axis and two in-plane axes that make a counter-clockwise quad.
-    for (int axis = 0; axis < 3; ++axis) {
-        for (int sign = -1; sign <= 1; sign += 2) {
-            const int u_axis = (axis + 1) % 3, v_axis = (axis + 2) % 3;
-            const auto base = std::uint32_t(mesh.vertex_count());
-            for (int j = 0; j <= n; ++j) {
-                for (int i = 0; i <= n; ++i) {
-                    glm::dvec3 p = box.center;
-                    p[axis] += sign * half[axis];
-                    p[u_axis] += half[u_axis] * (2.0 * i / n - 1.0);
-                    p[v_axis] += half[v_axis] * (2.0 * j / n - 1.0);
-                    mesh.positions.insert(mesh.positions.end(),
-                                          {float(p.x), float(p.y), float(p.z)});
-                    mesh.texcoords.insert(
-                        mesh.texcoords.end(),
-                        {float(p[u_axis] / texture_repeat), float(p[v_axis] / texture_repeat)});
-                }
-            }
-            const auto row = std::uint32_t(n + 1);
-            for (std::uint32_t j = 0; j < std::uint32_t(n); ++j) {
-                for (std::uint32_t i = 0; i < std::uint32_t(n); ++i) {
-                    const std::uint32_t a = base + j * row + i, b = a + 1, c = a + row, d = c + 1;
-                    if (sign > 0) {
-                        mesh.indices.insert(mesh.indices.end(), {a, b, d, a, d, c});
-                    } else {
-                        mesh.indices.insert(mesh.indices.end(), {a, d, b, a, c, d});
-                    }
-                }
-            }
-        }
-    }
-}
-
-}  // namespace
-
-View Scene::view() const {
+View SceneFile::view() const {
     View v;
     v.eye = camera.eye;
     v.sun_dir = sun_dir;
@@ -510,7 +410,25 @@ View Scene::view() const {
     return v;
 }
 
-Result<Scene> scene_from_json(std::string_view json_text) {
+Camera SceneFile::camera_for(int width, int height) const {
+    Camera c = camera;
+    c.aspect = double(width) / double(height);
+    return c;
+}
+
+FrameSettings SceneFile::frame_settings() const {
+    FrameSettings settings;
+    settings.atmosphere = atmosphere;
+    settings.sun_dir = sun_dir;
+    settings.up = view().up;
+    settings.meters_per_unit = meters_per_unit;
+    settings.display = display;
+    settings.model = model;
+    settings.policy = false;
+    return settings;
+}
+
+Result<SceneFile> scene_file_from_json(std::string_view json_text) {
     Json root;
     try {
         root = Json::parse(json_text.begin(), json_text.end());
@@ -520,74 +438,19 @@ Result<Scene> scene_from_json(std::string_view json_text) {
         if (bracket != std::string::npos) what = what.substr(bracket + 2);
         return Error{"json", "JSON: " + what};
     }
-    Scene scene;
+    SceneFile scene;
     if (auto e = read_scene(root, scene)) return *e;
     return scene;
 }
 
-Result<Scene> load_scene(const std::string& path) {
+Result<SceneFile> load_scene_file(const std::string& path) {
     std::ifstream file(path, std::ios::binary);
     if (!file) return Error{path, path + ": cannot open file"};
     const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
     if (file.bad()) return Error{path, path + ": cannot read file"};
-    auto scene = scene_from_json(text);
+    auto scene = scene_file_from_json(text);
     if (!scene) return Error{scene.error().field, path + ": " + scene.error().message};
     return scene;
 }
 
-Mesh build_geometry(const Scene& scene) {
-    Mesh mesh;
-    const double repeat =
-        scene.terrain ? scene.terrain->texture_repeat : TerrainSpec{}.texture_repeat;
-    if (scene.terrain) add_terrain(*scene.terrain, mesh);
-    for (const BoxSpec& box : scene.boxes) add_box(box, repeat, mesh);
-    return mesh;
-}
-
-Texture build_texture(const TextureSpec& spec) {
-    Texture texture;
-    Texture::Level level;
-    level.size = spec.size;
-    level.rgb.resize(std::size_t(spec.size) * std::size_t(spec.size) * 3);
-    const int cell = spec.size / spec.cells;
-    for (int y = 0; y < spec.size; ++y) {
-        for (int x = 0; x < spec.size; ++x) {
-            double t = 0.0;
-            if (spec.kind == TextureKind::checker) {
-                t = ((x / cell + y / cell) % 2) ? 1.0 : 0.0;
-            } else {
-                // Tiles seamlessly: the noise lattice repeats every `cells` cells.
-                const double scale = double(spec.cells) / spec.size;
-                t = value_noise(x * scale, y * scale, spec.seed, spec.cells);
-            }
-            const glm::dvec3 c = spec.colors[0] + (spec.colors[1] - spec.colors[0]) * t;
-            for (int k = 0; k < 3; ++k) {
-                level.rgb[(std::size_t(y) * spec.size + x) * 3 + k] = to_unorm8(float(c[k]));
-            }
-        }
-    }
-    texture.levels.push_back(std::move(level));
-    while (texture.levels.back().size > 1) {
-        const Texture::Level& fine = texture.levels.back();
-        Texture::Level coarse;
-        coarse.size = fine.size / 2;
-        coarse.rgb.resize(std::size_t(coarse.size) * std::size_t(coarse.size) * 3);
-        for (int y = 0; y < coarse.size; ++y) {
-            for (int x = 0; x < coarse.size; ++x) {
-                for (int k = 0; k < 3; ++k) {
-                    auto at = [&](int fx, int fy) {
-                        return int(fine.rgb[(std::size_t(fy) * fine.size + fx) * 3 + k]);
-                    };
-                    const int sum = at(2 * x, 2 * y) + at(2 * x + 1, 2 * y) + at(2 * x, 2 * y + 1) +
-                                    at(2 * x + 1, 2 * y + 1);
-                    coarse.rgb[(std::size_t(y) * coarse.size + x) * 3 + k] =
-                        std::uint8_t((sum + 2) / 4);
-                }
-            }
-        }
-        texture.levels.push_back(std::move(coarse));
-    }
-    return texture;
-}
-
-}  // namespace aerial::render
+}  // namespace aerial::scene

@@ -188,12 +188,12 @@ class Reader {
     std::string prefix_;
 };
 
-}  // namespace
-
-StateSnapshot capture_state(const Api& api) {
-    const Caps& caps = api.caps;
-    Reader r(api);
+// Each group below adds its entries in the order capture_state lists them.
 #define AERIAL_ENABLED(cap) r.enabled(#cap, cap)
+
+// Enables, blending, depth and colour masks.
+void enables_and_blending(Reader& r, const Api& api) {
+    const Caps& caps = api.caps;
     if (caps.secondary_color || caps.vertex_program) AERIAL_ENABLED(GL_COLOR_SUM);
     AERIAL_ENABLED(GL_BLEND);
     AERIAL_ENABLED(GL_FOG);
@@ -220,6 +220,11 @@ StateSnapshot capture_state(const Api& api) {
     r.enumeration("GL_DEPTH_FUNC", GL_DEPTH_FUNC);
     r.booleans("GL_DEPTH_WRITEMASK", GL_DEPTH_WRITEMASK, 1);
     r.booleans("GL_COLOR_WRITEMASK", GL_COLOR_WRITEMASK, 4);
+}
+
+// Fog, colour material, shading, rasterisation (polygon, viewport, culling) and the alpha test.
+void fog_material_and_raster(Reader& r, const Api& api) {
+    const Caps& caps = api.caps;
     r.floats("GL_FOG_COLOR", GL_FOG_COLOR, 4);
     if (caps.fog_coord) r.enumeration("GL_FOG_COORD_SRC", GL_FOG_COORD_SRC);
     r.enumeration("GL_COLOR_MATERIAL_FACE", GL_COLOR_MATERIAL_FACE);
@@ -259,6 +264,11 @@ StateSnapshot capture_state(const Api& api) {
     r.floats("GL_FOG_START", GL_FOG_START, 1);
     r.floats("GL_FOG_END", GL_FOG_END, 1);
     r.floats("GL_CURRENT_NORMAL", GL_CURRENT_NORMAL, 3);
+}
+
+// Matrix stacks, the framebuffer binding and the pixel unpack state.
+void matrices_and_unpack(Reader& r, const Api& api) {
+    const Caps& caps = api.caps;
     r.enumeration("GL_MATRIX_MODE", GL_MATRIX_MODE);
     r.integer("GL_MODELVIEW_STACK_DEPTH", GL_MODELVIEW_STACK_DEPTH);
     r.integer("GL_PROJECTION_STACK_DEPTH", GL_PROJECTION_STACK_DEPTH);
@@ -274,6 +284,20 @@ StateSnapshot capture_state(const Api& api) {
     if (caps.pixel_buffer_object && api.BindBuffer) {
         r.integer("GL_PIXEL_UNPACK_BUFFER_BINDING", GL_PIXEL_UNPACK_BUFFER_BINDING);
     }
+}
+
+// The first kProgramParameters vertex program parameters of one kind (env or local).
+void parameters(Reader& r, const char* name, PFNGLGETPROGRAMENVPARAMETERFVARBPROC get) {
+    for (GLuint i = 0; i < kProgramParameters; ++i) {
+        std::array<GLfloat, 4> v{};
+        get(GL_VERTEX_PROGRAM_ARB, i, v.data());
+        r.add((std::string(name) + "[" + std::to_string(i) + "]").c_str(), float_text(v.data(), 4));
+    }
+}
+
+// The bound ARB vertex program and its parameters, and the bound GLSL program.
+void programs(Reader& r, const Api& api) {
+    const Caps& caps = api.caps;
     if (caps.vertex_program) {
         GLint bound = 0;
         api.GetProgramiv(GL_VERTEX_PROGRAM_ARB, GL_PROGRAM_BINDING_ARB, &bound);
@@ -281,18 +305,15 @@ StateSnapshot capture_state(const Api& api) {
         // The vertex program parameters an engine's programs read: program.env, and
         // program.local of the engine's bound program (the first kProgramParameters of each,
         // the minimum every implementation has).
-        for (GLuint i = 0; i < kProgramParameters; ++i) {
-            std::array<GLfloat, 4> v{};
-            api.GetProgramEnvParameterfv(GL_VERTEX_PROGRAM_ARB, i, v.data());
-            r.add(("program.env[" + std::to_string(i) + "]").c_str(), float_text(v.data(), 4));
-        }
-        for (GLuint i = 0; bound != 0 && i < kProgramParameters; ++i) {
-            std::array<GLfloat, 4> v{};
-            api.GetProgramLocalParameterfv(GL_VERTEX_PROGRAM_ARB, i, v.data());
-            r.add(("program.local[" + std::to_string(i) + "]").c_str(), float_text(v.data(), 4));
-        }
+        parameters(r, "program.env", api.GetProgramEnvParameterfv);
+        if (bound != 0) parameters(r, "program.local", api.GetProgramLocalParameterfv);
     }
     if (api.UseProgram) r.integer("GL_CURRENT_PROGRAM", GL_CURRENT_PROGRAM);
+}
+
+// The active units, the current colours and the client arrays that are not per unit.
+void client_arrays(Reader& r, const Api& api) {
+    const Caps& caps = api.caps;
     if (caps.multitexture) {
         r.enumeration("GL_ACTIVE_TEXTURE", GL_ACTIVE_TEXTURE);
         r.enumeration("GL_CLIENT_ACTIVE_TEXTURE", GL_CLIENT_ACTIVE_TEXTURE);
@@ -316,8 +337,61 @@ StateSnapshot capture_state(const Api& api) {
                 GL_FOG_COORD_ARRAY_STRIDE, GL_FOG_COORD_ARRAY_POINTER,
                 GL_FOG_COORD_ARRAY_BUFFER_BINDING);
     }
+}
 
-    // Per unit. Selecting units changes the active units: read them first (above) and restore.
+// The state of the texture unit that is active (and client-active), prefixed "unit N ".
+void texture_unit(Reader& r, const Api& api, const std::vector<GLenum>& targets) {
+    const Caps& caps = api.caps;
+    AERIAL_ENABLED(GL_TEXTURE_1D);
+    AERIAL_ENABLED(GL_TEXTURE_2D);
+    if (caps.texture_3d) AERIAL_ENABLED(GL_TEXTURE_3D);
+    if (targets.back() == GL_TEXTURE_CUBE_MAP) AERIAL_ENABLED(GL_TEXTURE_CUBE_MAP);
+    AERIAL_ENABLED(GL_TEXTURE_GEN_S);
+    AERIAL_ENABLED(GL_TEXTURE_GEN_T);
+    AERIAL_ENABLED(GL_TEXTURE_GEN_R);
+    AERIAL_ENABLED(GL_TEXTURE_GEN_Q);
+    for (GLenum target : targets) {
+        const GLenum q = detail::texture_binding_query(target);
+        const char* name = q == GL_TEXTURE_BINDING_1D   ? "GL_TEXTURE_BINDING_1D"
+                           : q == GL_TEXTURE_BINDING_2D ? "GL_TEXTURE_BINDING_2D"
+                           : q == GL_TEXTURE_BINDING_3D ? "GL_TEXTURE_BINDING_3D"
+                                                        : "GL_TEXTURE_BINDING_CUBE_MAP";
+        r.integer(name, q);
+    }
+    r.tex_env_enum("GL_TEXTURE_ENV_MODE", GL_TEXTURE_ENV_MODE);
+    r.tex_env_floats("GL_TEXTURE_ENV_COLOR", GL_TEXTURE_ENV_COLOR, 4);
+    if (caps.texture_env_combine) {
+#define AERIAL_ENV(e) r.tex_env_enum(#e, e)
+        AERIAL_ENV(GL_COMBINE_RGB);
+        AERIAL_ENV(GL_COMBINE_ALPHA);
+        AERIAL_ENV(GL_SOURCE0_RGB);
+        AERIAL_ENV(GL_SOURCE1_RGB);
+        AERIAL_ENV(GL_SOURCE2_RGB);
+        AERIAL_ENV(GL_SOURCE0_ALPHA);
+        AERIAL_ENV(GL_SOURCE1_ALPHA);
+        AERIAL_ENV(GL_SOURCE2_ALPHA);
+        AERIAL_ENV(GL_OPERAND0_RGB);
+        AERIAL_ENV(GL_OPERAND1_RGB);
+        AERIAL_ENV(GL_OPERAND2_RGB);
+        AERIAL_ENV(GL_OPERAND0_ALPHA);
+        AERIAL_ENV(GL_OPERAND1_ALPHA);
+        AERIAL_ENV(GL_OPERAND2_ALPHA);
+#undef AERIAL_ENV
+        r.tex_env_floats("GL_RGB_SCALE", GL_RGB_SCALE, 1);
+        r.tex_env_floats("GL_ALPHA_SCALE", GL_ALPHA_SCALE, 1);
+    }
+    r.floats("GL_TEXTURE_MATRIX", GL_TEXTURE_MATRIX, 16);
+    r.integer("GL_TEXTURE_STACK_DEPTH", GL_TEXTURE_STACK_DEPTH);
+    r.floats("GL_CURRENT_TEXTURE_COORDS", GL_CURRENT_TEXTURE_COORDS, 4);
+    r.array("GL_TEXTURE_COORD_ARRAY", GL_TEXTURE_COORD_ARRAY, GL_TEXTURE_COORD_ARRAY_SIZE,
+            GL_TEXTURE_COORD_ARRAY_TYPE, GL_TEXTURE_COORD_ARRAY_STRIDE,
+            GL_TEXTURE_COORD_ARRAY_POINTER, GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING);
+}
+
+// Every unit the module saves. Selecting units changes the active units: client_arrays records
+// them before, and they are restored after.
+void texture_units(Reader& r, const Api& api) {
+    const Caps& caps = api.caps;
     GLint active = GL_TEXTURE0, client_active = GL_TEXTURE0;
     if (caps.multitexture) {
         api.GetIntegerv(GL_ACTIVE_TEXTURE, &active);
@@ -330,56 +404,26 @@ StateSnapshot capture_state(const Api& api) {
             api.ClientActiveTexture(static_cast<GLenum>(GL_TEXTURE0 + unit));
         }
         r.prefix("unit " + std::to_string(unit) + " ");
-        AERIAL_ENABLED(GL_TEXTURE_1D);
-        AERIAL_ENABLED(GL_TEXTURE_2D);
-        if (caps.texture_3d) AERIAL_ENABLED(GL_TEXTURE_3D);
-        if (targets.back() == GL_TEXTURE_CUBE_MAP) AERIAL_ENABLED(GL_TEXTURE_CUBE_MAP);
-        AERIAL_ENABLED(GL_TEXTURE_GEN_S);
-        AERIAL_ENABLED(GL_TEXTURE_GEN_T);
-        AERIAL_ENABLED(GL_TEXTURE_GEN_R);
-        AERIAL_ENABLED(GL_TEXTURE_GEN_Q);
-        for (GLenum target : targets) {
-            const GLenum q = detail::texture_binding_query(target);
-            const char* name = q == GL_TEXTURE_BINDING_1D   ? "GL_TEXTURE_BINDING_1D"
-                               : q == GL_TEXTURE_BINDING_2D ? "GL_TEXTURE_BINDING_2D"
-                               : q == GL_TEXTURE_BINDING_3D ? "GL_TEXTURE_BINDING_3D"
-                                                            : "GL_TEXTURE_BINDING_CUBE_MAP";
-            r.integer(name, q);
-        }
-        r.tex_env_enum("GL_TEXTURE_ENV_MODE", GL_TEXTURE_ENV_MODE);
-        r.tex_env_floats("GL_TEXTURE_ENV_COLOR", GL_TEXTURE_ENV_COLOR, 4);
-        if (caps.texture_env_combine) {
-#define AERIAL_ENV(e) r.tex_env_enum(#e, e)
-            AERIAL_ENV(GL_COMBINE_RGB);
-            AERIAL_ENV(GL_COMBINE_ALPHA);
-            AERIAL_ENV(GL_SOURCE0_RGB);
-            AERIAL_ENV(GL_SOURCE1_RGB);
-            AERIAL_ENV(GL_SOURCE2_RGB);
-            AERIAL_ENV(GL_SOURCE0_ALPHA);
-            AERIAL_ENV(GL_SOURCE1_ALPHA);
-            AERIAL_ENV(GL_SOURCE2_ALPHA);
-            AERIAL_ENV(GL_OPERAND0_RGB);
-            AERIAL_ENV(GL_OPERAND1_RGB);
-            AERIAL_ENV(GL_OPERAND2_RGB);
-            AERIAL_ENV(GL_OPERAND0_ALPHA);
-            AERIAL_ENV(GL_OPERAND1_ALPHA);
-            AERIAL_ENV(GL_OPERAND2_ALPHA);
-#undef AERIAL_ENV
-            r.tex_env_floats("GL_RGB_SCALE", GL_RGB_SCALE, 1);
-            r.tex_env_floats("GL_ALPHA_SCALE", GL_ALPHA_SCALE, 1);
-        }
-        r.floats("GL_TEXTURE_MATRIX", GL_TEXTURE_MATRIX, 16);
-        r.integer("GL_TEXTURE_STACK_DEPTH", GL_TEXTURE_STACK_DEPTH);
-        r.floats("GL_CURRENT_TEXTURE_COORDS", GL_CURRENT_TEXTURE_COORDS, 4);
-        r.array("GL_TEXTURE_COORD_ARRAY", GL_TEXTURE_COORD_ARRAY, GL_TEXTURE_COORD_ARRAY_SIZE,
-                GL_TEXTURE_COORD_ARRAY_TYPE, GL_TEXTURE_COORD_ARRAY_STRIDE,
-                GL_TEXTURE_COORD_ARRAY_POINTER, GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING);
+        texture_unit(r, api, targets);
     }
-#undef AERIAL_ENABLED
     if (caps.multitexture) {
         api.ActiveTexture(static_cast<GLenum>(active));
         api.ClientActiveTexture(static_cast<GLenum>(client_active));
     }
+}
+
+#undef AERIAL_ENABLED
+
+}  // namespace
+
+StateSnapshot capture_state(const Api& api) {
+    Reader r(api);
+    enables_and_blending(r, api);
+    fog_material_and_raster(r, api);
+    matrices_and_unpack(r, api);
+    programs(r, api);
+    client_arrays(r, api);
+    texture_units(r, api);
     return r.take();
 }
 

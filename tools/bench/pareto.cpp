@@ -88,6 +88,7 @@ struct MeshEntry {
     Model adapted_to = Model::height;  ///< adaptive: the model its colour error was measured in
     bool is_default = false;
     scene::MeshData mesh;
+    std::unique_ptr<scene::Node> graph;   ///< the mesh as a scene graph (per-vertex methods)
     std::vector<std::uint8_t> reference;  ///< RGBA8, top row first
     double max_distance_m = 0.0;          ///< farthest vertex from the eye
 
@@ -105,15 +106,13 @@ struct Variant {
     std::vector<std::uint8_t> image;
 };
 
-/// GL objects of one scene that an engine creates once: the programs and the tables.
+/// What an engine creates once per scene: the library's renderers (cpu and arb backends: the
+/// per-vertex methods draw through aerial::scene::SceneRenderer, as engines do) and the tables
+/// of the lookup-texture baseline.
 struct SceneGl {
-    std::optional<gl::ArbVertexProgram> arb[2];  ///< hoffman-preetham, height
+    std::optional<scene::SceneRenderer> renderer[2];  ///< cpu, arb
     std::optional<LutTexture> lut;
-    std::optional<gl::CombinerTexture> combiner;
-    gl::ApplyOptions apply;
-    // Scratch arrays reused across frames.
-    std::vector<std::uint8_t> primary, secondary;
-    std::vector<float> coords;
+    std::vector<float> coords;  ///< scratch reused across frames
 };
 
 // ---- Scene files ------------------------------------------------------------------------------
@@ -388,33 +387,15 @@ std::optional<Error> render_frame(const headless::Context& context, const scene:
             break;
         }
         case Method::cpu_hp:
-        case Method::cpu_height: {
-            sgl.primary.resize(4 * n);
-            sgl.secondary.resize(4 * n);
-            BatchOutputs out;
-            out.extinction_rgba8 = sgl.primary.data();
-            out.in_scattering_rgba8 = sgl.secondary.data();
-            BatchSettings settings;
-            settings.display = scene.display;
-            auto stats =
-                shade_into(*frame, Positions::aos(mesh.positions.data(), n), out, settings);
-            if (!stats) return framed(name, stats.error());
-            gl::VertexColours colours;
-            colours.primary = sgl.primary.data();
-            colours.secondary = sgl.secondary.data();
-            colours.vertex_count = n;
-            auto drawn = gl::draw_with_colours(api, sgl.apply, colours, draw);
-            if (!drawn) return framed(name, drawn.error());
-            break;
-        }
+        case Method::cpu_height:
         case Method::arb_hp:
         case Method::arb_height: {
-            const gl::ArbVertexProgram& p = *sgl.arb[v.method == Method::arb_hp ? 0 : 1];
-            auto parameters = arb_program_parameters(*frame, scene.display, p.program().options);
-            if (!parameters) return framed(name, parameters.error());
-            if (auto e = p.set_parameters(*parameters)) return framed(name, *e);
-            auto drawn = p.draw(draw);
-            if (!drawn) return framed(name, drawn.error());
+            const bool arb = v.method == Method::arb_hp || v.method == Method::arb_height;
+            scene::FrameSettings settings = scene.frame_settings();
+            settings.model = method_model(v.method);
+            auto report = sgl.renderer[arb ? 1 : 0]->render(
+                *v.mesh->graph, scene.camera_for(context.width(), context.height()), settings);
+            if (!report) return framed(name, report.error());
             break;
         }
         case Method::lut_texture: {
@@ -434,26 +415,6 @@ std::optional<Error> render_frame(const headless::Context& context, const scene:
     }
     api.Finish();
     return std::nullopt;
-}
-
-/// The ARB program of `model` at the highest height fidelity the driver takes natively.
-Result<gl::ArbVertexProgram> make_program(const gl::Api& api, Model model) {
-    ArbProgramOptions arb;
-    arb.model = model;
-    arb.limits = gl::native_arb_limits(api);
-    auto text = generate_arb_program(arb);
-    if (!text) return text.error();
-    auto program = gl::ArbVertexProgram::create(api, *text);
-    while (!program && model == Model::height &&
-           text->options.height_fidelity != ArbHeightFidelity::spec_minimum) {
-        arb.height_fidelity = text->options.height_fidelity == ArbHeightFidelity::full
-                                  ? ArbHeightFidelity::exact_optical_depth
-                                  : ArbHeightFidelity::spec_minimum;
-        text = generate_arb_program(arb);
-        if (!text) return text.error();
-        program = gl::ArbVertexProgram::create(api, *text);
-    }
-    return program;
 }
 
 /// The per-pixel image of the `reference` model on this mesh.
@@ -575,19 +536,19 @@ Result<std::vector<BenchRow>> run_scene(const headless::Context& context, const 
 
     // What an engine creates once: programs, tables, the combiner path's texture.
     SceneGl sgl;
-    auto chosen = gl::choose_path(api.caps, gl::Path::automatic);
-    if (!chosen) return Error{chosen.error().field, bs.name + ": " + chosen.error().message};
-    sgl.apply.path = *chosen;
-    if (*chosen == gl::Path::combiner) {
-        auto created = gl::CombinerTexture::create(api);
-        if (!created) return Error{created.error().field, bs.name + ": " + created.error().message};
-        sgl.combiner.emplace(std::move(created.value()));
-        sgl.apply.combiner = &*sgl.combiner;
-    }
     for (int i = 0; i < 2; ++i) {
-        auto p = make_program(api, i == 0 ? Model::hoffman_preetham : Model::height);
-        if (!p) return Error{p.error().field, bs.name + ": " + p.error().message};
-        sgl.arb[i].emplace(std::move(p.value()));
+        scene::RendererOptions renderer_options;
+        renderer_options.backend = i == 0 ? scene::Backend::cpu : scene::Backend::arb;
+        auto renderer = scene::SceneRenderer::create(api, renderer_options);
+        if (!renderer)
+            return Error{renderer.error().field, bs.name + ": " + renderer.error().message};
+        sgl.renderer[i].emplace(std::move(renderer.value()));
+    }
+    const auto texture_data = std::make_shared<scene::Texture>(scene::scene_texture(scene.texture));
+    for (const auto& m : meshes) {
+        m->graph = scene::make_group(bs.name);
+        m->graph->add(scene::make_mesh(m->tessellation, std::make_shared<scene::MeshData>(m->mesh),
+                                       texture_data));
     }
     const MeshEntry* default_mesh = nullptr;
     for (const auto& m : meshes)

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <regex>
 #include <string>
 #include <utility>
@@ -230,28 +231,36 @@ TEST(ArbProgram, CountsOnlyExecutableInstructions) {
     EXPECT_EQ(synthetic.resources.attributes, 1);
 }
 
-TEST(ArbProgram, ReadsOnlyTheDocumentedParameterIndices) {
+/// In both parameter spaces and at each base in BASES, the program generated with OPTIONS reads
+/// program.SPACE[base .. base + COUNT) and nothing else, and every one of them.
+void expect_reads_exactly_its_parameters(const ArbProgramOptions& options, int count,
+                                         std::initializer_list<int> bases) {
     const std::regex use(R"(program\.(local|env)\[(\d+)\])");
     for (auto space : {aerial::ParameterSpace::local, aerial::ParameterSpace::env}) {
-        for (int base : {0, 7, 90}) {
-            ArbProgramOptions o;
+        for (int base : bases) {
+            ArbProgramOptions o = options;
             o.parameter_space = space;
             o.parameter_base = base;
             const std::string text = generate(o).text;
-            std::vector<bool> used(aerial::kArbParameterCount, false);
+            std::vector<bool> used(static_cast<std::size_t>(count), false);
             for (auto it = std::sregex_iterator(text.begin(), text.end(), use);
                  it != std::sregex_iterator(); ++it) {
                 const int index = std::stoi((*it)[2].str());
                 EXPECT_EQ((*it)[1].str(), space == aerial::ParameterSpace::local ? "local" : "env");
                 ASSERT_GE(index, base) << text;
-                ASSERT_LT(index, base + aerial::kArbParameterCount) << text;
+                ASSERT_LT(index, base + count) << text;
                 used[static_cast<std::size_t>(index - base)] = true;
             }
-            for (int i = 0; i < aerial::kArbParameterCount; ++i) {
+            for (int i = 0; i < count; ++i) {
                 EXPECT_TRUE(used[static_cast<std::size_t>(i)]) << "parameter " << i << " unused";
             }
         }
     }
+}
+
+TEST(ArbProgram, ReadsOnlyTheDocumentedParameterIndices) {
+    ASSERT_NO_FATAL_FAILURE(expect_reads_exactly_its_parameters(
+        ArbProgramOptions{}, aerial::kArbParameterCount, {0, 7, 90}));
 }
 
 TEST(ArbProgram, WritesEveryOutputItUsesAndNothingElse) {
@@ -1227,27 +1236,9 @@ TEST(ArbHeightProgram, FitsTheSpecMinimumsWithUpToTwoTextureUnits) {
 }
 
 TEST(ArbHeightProgram, ReadsEveryDocumentedParameterAndNothingElse) {
-    const std::regex use(R"(program\.(local|env)\[(\d+)\])");
-    for (auto space : {aerial::ParameterSpace::local, aerial::ParameterSpace::env}) {
-        for (int base : {0, 5, 96 - aerial::kArbHeightParameterCount}) {
-            ArbProgramOptions o = height::options();
-            o.parameter_space = space;
-            o.parameter_base = base;
-            const std::string text = generate(o).text;
-            std::vector<bool> used(aerial::kArbHeightParameterCount, false);
-            for (auto it = std::sregex_iterator(text.begin(), text.end(), use);
-                 it != std::sregex_iterator(); ++it) {
-                const int index = std::stoi((*it)[2].str());
-                EXPECT_EQ((*it)[1].str(), space == aerial::ParameterSpace::local ? "local" : "env");
-                ASSERT_GE(index, base);
-                ASSERT_LT(index, base + aerial::kArbHeightParameterCount);
-                used[static_cast<std::size_t>(index - base)] = true;
-            }
-            for (int i = 0; i < aerial::kArbHeightParameterCount; ++i) {
-                EXPECT_TRUE(used[std::size_t(i)]) << "parameter " << i << " unused";
-            }
-        }
-    }
+    ASSERT_NO_FATAL_FAILURE(
+        expect_reads_exactly_its_parameters(height::options(), aerial::kArbHeightParameterCount,
+                                            {0, 5, 96 - aerial::kArbHeightParameterCount}));
     ArbProgramOptions beyond = height::options();
     beyond.parameter_base = 96 - aerial::kArbHeightParameterCount + 1;
     const auto r = aerial::generate_arb_program(beyond);

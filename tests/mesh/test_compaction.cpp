@@ -10,32 +10,15 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/mesh.hpp"
+#include "frames.hpp"
 
 namespace {
 
 using aerial::mesh::AdaptiveMesh;
 using aerial::mesh::AdaptiveSettings;
 using aerial::mesh::Mesh;
-
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
-
-glm::dvec3 sun_at(double elevation_deg, double azimuth_deg) {
-    const double e = elevation_deg * kDegree, a = azimuth_deg * kDegree;
-    return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
-}
-
-aerial::Frame<float> make_frame(const glm::dvec3& eye, const glm::dvec3& sun) {
-    auto atmosphere = aerial::atmosphere_preset("earth");
-    EXPECT_TRUE(atmosphere.ok());
-    aerial::Atmosphere a = atmosphere.value();
-    a.mie_g = 0.9;
-    aerial::View view;
-    view.eye = eye;
-    view.sun_dir = glm::normalize(sun);
-    auto frame = aerial::prepare_frame<float>(a, view, aerial::Model::height);
-    EXPECT_TRUE(frame.ok()) << frame.error().message;
-    return frame.value();
-}
+using aerial_test::make_frame;
+using aerial_test::sun_at;
 
 // What an engine can see of the mesh, in handle order with the deleted elements left out: each
 // live face's corner positions and estimate, each live vertex's position, morph weight, parents'
@@ -111,7 +94,7 @@ void expect_compaction_gives_the_results_of_never_compacting(bool relocate, int 
         // The sun goes round and up and down; the eye climbs and comes back down.
         const glm::dvec3 sun = sun_at(3.0 + 20.0 * (1.0 - std::cos(i * 0.3)), 40.0 * i);
         const glm::dvec3 eye{0.0, 0.0, 2.0 + 40.0 * (i % 30)};
-        const auto frame = make_frame(eye, sun);
+        const auto frame = make_frame(eye, sun, 0.9);
         const auto a = automatic.update(frame);
         const auto r = reference.update(frame);
         const auto h = by_hand.update(frame);

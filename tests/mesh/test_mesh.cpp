@@ -11,36 +11,20 @@
 #include "aerial/aerial.hpp"
 #include "aerial/mesh.hpp"
 #include "aerial/validation/dense_error.hpp"
+#include "frames.hpp"
 
 namespace {
 
 using aerial::mesh::AdaptiveMesh;
 using aerial::mesh::AdaptiveSettings;
 using aerial::mesh::Mesh;
+using aerial_test::make_frame;
+using aerial_test::sun_at;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegree = kPi / 180.0;
 
 glm::dvec3 to_glm(const Mesh::Point& p) { return {p[0], p[1], p[2]}; }
-
-glm::dvec3 sun_at(double elevation_deg, double azimuth_deg = 0.0) {
-    const double e = elevation_deg * kDegree, a = azimuth_deg * kDegree;
-    return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
-}
-
-aerial::Frame<float> make_frame(const glm::dvec3& eye, const glm::dvec3& sun, double mie_g,
-                                const char* preset = "earth") {
-    auto atmosphere = aerial::atmosphere_preset(preset);
-    EXPECT_TRUE(atmosphere.ok());
-    aerial::Atmosphere a = atmosphere.value();
-    a.mie_g = mie_g;
-    aerial::View view;
-    view.eye = eye;
-    view.sun_dir = glm::normalize(sun);
-    auto frame = aerial::prepare_frame<float>(a, view, aerial::Model::height);
-    EXPECT_TRUE(frame.ok()) << frame.error().message;
-    return frame.value();
-}
 
 // The dome scene of the tests: eye 2 m above sea level, dome of 80 km, only L_in shown, exposure
 // putting the sky 90 degrees from the sun at mid-grey.

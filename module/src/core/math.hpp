@@ -1,7 +1,10 @@
 // Internal: numerically stable scalar helpers shared by the models (templated on float/double).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+
+#include "height_constants.hpp"
 
 namespace aerial::detail {
 
@@ -15,11 +18,11 @@ T one_minus_exp_over_x(T x) {
 }
 
 /// (1 - exp(-x)) / x for any x >= -80 (the mean of exp(-x u) over u in [0, 1]); x is clamped
-/// there so that float cannot overflow.
+/// there (height::kMaxExponent) so that float cannot overflow.
 template <class T>
 T exponential_average(T x) {
     if (x >= T(0)) return one_minus_exp_over_x(x);
-    const T a = std::min(-x, T(80));
+    const T a = std::min(-x, T(height::kMaxExponent));
     return a < T(1e-3) ? one_minus_exp_over_x(x) : std::expm1(a) / a;
 }
 

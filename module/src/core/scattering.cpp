@@ -11,6 +11,7 @@
 #include "../common/names.hpp"
 #include "aerial/phase.hpp"
 #include "format.hpp"
+#include "height_constants.hpp"
 #include "math.hpp"
 
 namespace aerial {
@@ -23,9 +24,10 @@ template <class T>
 using Vec3 = glm::vec<3, T>;
 
 constexpr double kUnitLengthTolerance = 1e-3;
-/// log of the sun's column (m) beyond which it counts as blocked by the planet; exp of it still
-/// fits a float.
-constexpr double kBlockedLogColumn = 80.0;
+
+using detail::height::kBlockedLogColumn;
+using detail::height::kMaxExponent;
+using detail::height::kMaxFitSlope;
 
 }  // namespace
 
@@ -107,7 +109,7 @@ namespace {
 template <class T>
 T log_chapman_factor(T altitude_m, T cos_zenith, T planet_radius_m, T scale_height_m,
                      T min_altitude_m) {
-    constexpr double kSqrtHalfPi = 1.2533141373155002512;
+    using detail::height::kSqrtHalfPi;
     const T h = std::max(altitude_m, min_altitude_m);
     const T x = (planet_radius_m + h) / scale_height_m;
     const T mu = std::clamp(cos_zenith, T(-1), T(1));
@@ -125,7 +127,8 @@ T log_chapman_factor(T altitude_m, T cos_zenith, T planet_radius_m, T scale_heig
     const T x_t = (planet_radius_m + tangent_altitude) / scale_height_m;
     const T rise = (h - tangent_altitude) / scale_height_m;  // >= 0
     const T horizontal = T(kSqrtHalfPi) * std::sqrt(x_t);
-    const T factor = std::max(T(2) * horizontal - upward * std::exp(-rise), T(1e-30));
+    const T factor = std::max(T(2) * horizontal - upward * std::exp(-rise),
+                              T(detail::height::kMinChapmanFactor));
     return std::min(rise + std::log(scale_height_m * factor), T(kBlockedLogColumn));
 }
 
@@ -135,8 +138,10 @@ Vec3<T> transmittance_from_log_factors(const Frame<T>& f, T h, T log_factor_r, T
     if (log_factor_r >= T(kBlockedLogColumn) || log_factor_m >= T(kBlockedLogColumn)) {
         return Vec3<T>(0);
     }
-    const T column_r = std::exp(std::min(log_factor_r - h * f.inv_rayleigh_scale_height, T(80)));
-    const T column_m = std::exp(std::min(log_factor_m - h * f.inv_mie_scale_height, T(80)));
+    const T column_r =
+        std::exp(std::min(log_factor_r - h * f.inv_rayleigh_scale_height, T(kMaxExponent)));
+    const T column_m =
+        std::exp(std::min(log_factor_m - h * f.inv_mie_scale_height, T(kMaxExponent)));
     return glm::exp(-(f.rayleigh_scattering * column_r + f.mie_extinction * column_m));
 }
 
@@ -180,15 +185,14 @@ Scattering<T> hoffman_preetham_closed_form(const Frame<T>& f, T distance_m, T co
 
 namespace {
 
-/// 3-point Gauss–Legendre on [0, 1].
-constexpr double kSunNodes[3] = {0.11270166537925831148, 0.5, 0.88729833462074168852};
-constexpr double kSunWeights[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+using detail::height::kSunNodes;
+using detail::height::kSunWeights;
 
 /// The u in [0, 1] below which a fraction v of the weight exp(-k u) on [0, 1] lies (its inverse
 /// CDF), for |k| <= 80.
 template <class T>
 T exponential_quantile(T v, T k) {
-    if (std::abs(k) < T(1e-4)) return v - k * v * (T(1) - v) * T(0.5);
+    if (std::abs(k) < T(detail::height::kLinearFitLimit)) return v - k * v * (T(1) - v) * T(0.5);
     return std::clamp(-std::log1p(v * std::expm1(-k)) / k, T(0), T(1));
 }
 
@@ -221,7 +225,7 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
     // A straight segment sags below the line joining its end altitudes by u (1 - u) s^2 / (2 R)
     // at fraction u; its mean sag s^2 / (12 R) lowers the altitude of the density average.
     const T sag = s * s / (T(2) * f.planet_radius_m);
-    const T h_low = std::max(std::min(h0, h1) - sag * T(1.0 / 6.0), min_h);
+    const T h_low = std::max(std::min(h0, h1) - sag * T(detail::height::kMeanSagFraction), min_h);
 
     // Path-averaged density of each component over a segment whose altitude goes linearly from
     // h0 to h1: exp(-h_low/H) (1 - exp(-dh/H)) / (dh/H), exact when dh = 0.
@@ -273,24 +277,28 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
     const T tau_mix_g = s * (f.rayleigh_scattering.y * rho_r + f.mie_extinction.y * rho_m);
     if ((lit0 || lit1) && k_total > T(0)) {
         const T tau_total = tau_to(T(1));
-        const T k_end =
-            k_r0 * std::exp(std::min(-a_r, T(80))) + k_m0 * std::exp(std::min(-a_m, T(80)));
-        const T a_fit = std::clamp(k_end > T(0) ? std::log(k_total / k_end) : T(80), T(-80), T(80));
+        const T k_end = k_r0 * std::exp(std::min(-a_r, T(kMaxExponent))) +
+                        k_m0 * std::exp(std::min(-a_m, T(kMaxExponent)));
+        const T a_fit = std::clamp(k_end > T(0) ? std::log(k_total / k_end) : T(kMaxFitSlope),
+                                   T(-kMaxFitSlope), T(kMaxFitSlope));
         const T log_scale =
             detail::log_one_minus_exp_over_x(a_fit) + detail::log_one_minus_exp_over_x(tau_total);
         for (int n = 0; n < 3; ++n) {
             const T y = T(kSunNodes[n]);
             // Fitted optical depth to the node, then the u where the fit reaches it.
-            const T tau_fit =
-                tau_total < T(1e-4) ? y * tau_total : -std::log1p(y * std::expm1(-tau_total));
+            const T tau_fit = tau_total < T(detail::height::kLinearDepthLimit)
+                                  ? y * tau_total
+                                  : -std::log1p(y * std::expm1(-tau_total));
             const T fraction = tau_total > T(0) ? std::clamp(tau_fit / tau_total, T(0), T(1)) : y;
             const T u = exponential_quantile(fraction, a_fit);
             if (in_planet_shadow(f, f.eye_m + d * u)) continue;
             const T h = std::max(h0 + rise * u - sag * u * (T(1) - u), min_h);
             // log of du/dy times the exact over the fitted attenuation, plus the scale.
             const T log_jacobian = tau_fit - tau_to(u) + a_fit * u + log_scale;
-            const T w_r = std::exp(std::min(log_jacobian - h * f.inv_rayleigh_scale_height, T(80)));
-            const T w_m = std::exp(std::min(log_jacobian - h * f.inv_mie_scale_height, T(80)));
+            const T w_r =
+                std::exp(std::min(log_jacobian - h * f.inv_rayleigh_scale_height, T(kMaxExponent)));
+            const T w_m =
+                std::exp(std::min(log_jacobian - h * f.inv_mie_scale_height, T(kMaxExponent)));
             const Vec3<T> sun =
                 T(kSunWeights[n]) *
                 transmittance_from_log_factors(f, h, lr0 + (lr1 - lr0) * u, lm0 + (lm1 - lm0) * u);

@@ -12,6 +12,7 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/batch.hpp"
+#include "split_batch.hpp"
 
 namespace {
 
@@ -95,11 +96,7 @@ AllOutputs shade_all(const aerial::Frame<float>& frame, const std::vector<Vertex
     out.extinction_rgb = o.extinction_rgb.data();
     out.in_scattering_rgb = o.in_scattering_rgb.data();
     out.sun_irradiance_rgb = o.sun_rgb.data();
-    aerial::BatchSettings settings;
-    settings.kernel = kernel;
-    settings.threads = threads;
-    settings.min_vertices_per_thread = 1000;
-    settings.display.exposure = exposure;
+    auto settings = aerial_test::split_batch(kernel, threads, 1000, {exposure});
     settings.lighting = &lighting;
     const auto positions = aerial::Positions::aos(v.data()->position, n, sizeof(Vertex));
     const auto stats = aerial::shade_into(frame, positions, out, settings);

@@ -17,6 +17,7 @@
 #include "aerial/batch.hpp"
 #include "extreme_sampler.hpp"
 #include "forced_target.hpp"
+#include "split_batch.hpp"
 
 namespace {
 
@@ -93,11 +94,7 @@ Codes one_pass(const Scene& s, Kernel kernel, int which, bool packed, unsigned t
     if (which & 1) out.extinction_rgba8 = codes.extinction.data();
     if (which & 2) out.lit_rgba8 = codes.lit.data();
     if (which & 4) out.in_scattering_rgba8 = codes.in_scattering.data();
-    aerial::BatchSettings settings;
-    settings.kernel = kernel;
-    settings.threads = threads;
-    settings.min_vertices_per_thread = 128;
-    settings.display.exposure = s.exposure;
+    auto settings = aerial_test::split_batch(kernel, threads, 128, {s.exposure});
     settings.lighting = &lighting;
     const auto positions = packed ? aerial::Positions::aos(xyz.data(), n)
                                   : aerial::Positions::aos(s.v.data()->position, n, sizeof(Vertex));

@@ -27,6 +27,7 @@
 #include "aerial/batch.hpp"
 #include "extreme_sampler.hpp"
 #include "forced_target.hpp"
+#include "split_batch.hpp"
 
 namespace {
 
@@ -98,11 +99,7 @@ Codes one_pass(const Case& c, Kernel kernel, unsigned threads = 1) {
     aerial::BatchOutputs out;
     out.extinction_rgba8 = codes.extinction.data();
     out.in_scattering_rgba8 = codes.in_scattering.data();
-    aerial::BatchSettings settings;
-    settings.kernel = kernel;
-    settings.threads = threads;
-    settings.min_vertices_per_thread = 256;
-    settings.display.exposure = c.exposure;
+    const auto settings = aerial_test::split_batch(kernel, threads, 256, {c.exposure});
     const auto stats =
         aerial::shade_into(c.frame, aerial::Positions::aos(c.xyz.data(), c.size()), out, settings);
     EXPECT_TRUE(stats.ok()) << (stats.ok() ? "" : stats.error().message);
@@ -260,11 +257,8 @@ TEST(OnePassRgba8, EveryLayoutStrideOutputAndThreadCountGivesTheSameCodes) {
                             if (which & 2) out.in_scattering_rgba8 = l.data();
                             out.extinction_rgba8_stride = stride;
                             out.in_scattering_rgba8_stride = stride;
-                            aerial::BatchSettings settings;
-                            settings.kernel = kernel;
-                            settings.threads = threads;
-                            settings.min_vertices_per_thread = 500;
-                            settings.display.exposure = c.exposure;
+                            const auto settings =
+                                aerial_test::split_batch(kernel, threads, 500, {c.exposure});
                             const auto stats =
                                 aerial::shade_into(c.frame, positions, out, settings);
                             ASSERT_TRUE(stats.ok()) << stats.error().message;
@@ -406,11 +400,8 @@ TEST(BatchRule, EveryVariantIsTheRuleOnItsKernelsFloats) {
                         out.extinction_rgb = f.data();
                         out.in_scattering_rgb = li.data();
                         out.sun_irradiance_rgb = sun.data();
-                        aerial::BatchSettings settings;
-                        settings.kernel = kernel;
-                        settings.threads = threads;
-                        settings.min_vertices_per_thread = 500;
-                        settings.display = {30.0f, tone};
+                        auto settings =
+                            aerial_test::split_batch(kernel, threads, 500, {30.0f, tone});
                         settings.lighting = &lighting;
                         const auto stats = aerial::shade_into(frame, positions, out, settings);
                         ASSERT_TRUE(stats.ok()) << stats.error().message;

@@ -105,14 +105,20 @@ int main(int argc, char** argv) {
         "to the zenith. 'dome RxS' is a per-vertex dome shaded by height-chained and\n"
         "interpolated across its triangles; 'cubemap N' is an RGBA8 cubemap of height-chained\n"
         "sampled bilinearly (what the GL sky box shows, within 1 step)."};
-    std::string preset = "earth", atmosphere_file, dome = "12x32", elevations_text = "0,2,10,45,90";
+    // The default dome is the scene renderer's built-in sky (aerial::kSkyDomeRings x Segments).
+    const std::string default_dome =
+        std::to_string(aerial::kSkyDomeRings) + "x" + std::to_string(aerial::kSkyDomeSegments);
+    std::string preset = "earth", atmosphere_file, dome = default_dome,
+                elevations_text = "0,2,10,45,90";
     std::string csv_path, panorama_path, panorama_size = "192x48", gl_backend;
     double eye_altitude_m = 100.0;
     int cubemap_size = 64, elevation_steps = 18, azimuth_steps = 24, gl_stride = 2;
     app.add_option("--preset", preset, "atmosphere preset (earth, hp2002, hazy, foggy, mars)");
     app.add_option("--atmosphere", atmosphere_file, "atmosphere JSON file (instead of --preset)");
     app.add_option("--eye-altitude", eye_altitude_m, "eye altitude, m (default 100)");
-    app.add_option("--dome", dome, "per-vertex dome rings x segments (default 12x32)");
+    app.add_option(
+        "--dome", dome,
+        "per-vertex dome rings x segments (default " + default_dome + ", the scene renderer's)");
     app.add_option("--cubemap", cubemap_size, "cubemap face size in texels (default 64)");
     app.add_option("--elevations", elevations_text, "sun elevations, deg (default 0,2,10,45,90)");
     app.add_option("--probe", elevation_steps, "probe rows from horizon to zenith (default 18)");

@@ -1,8 +1,10 @@
 // The sky (aerial/sky.hpp): each method against `reference` with pinned bounds, the virtual sky
-// dome against the closed form at the zenith, the dome mesh, the cubemap layout and sampler, the
-// cache's bound, the sun sprite, and bad input.
+// dome against the closed form at the zenith and given pre-fitted, atmosphere equality, the dome
+// mesh, the cubemap layout and sampler, the cache's bound, the sun sprite, and bad input.
 #include <cmath>
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -114,6 +116,66 @@ TEST(VirtualDome, ZenithRadiusHoldsTheColumnOfTheExponentialAtmosphere) {
     EXPECT_GT(horizon, at_10);
     EXPECT_GT(horizon, dome->radius_at(-1 * kDeg)) << "below the horizon the ground ends the ray";
     EXPECT_EQ(aerial::fit_virtual_dome(a, h, 2).error().field, "samples");
+}
+
+TEST(VirtualDome, AGivenFitGivesTheRadianceOfAFreshFitAndABadOneIsRejected) {
+    const aerial::View view = view_with_sun(15.0);
+    auto fresh = aerial::prepare_sky(earth(), view, aerial::SkyMethod::dome_hp);
+    ASSERT_TRUE(fresh.ok()) << fresh.error().message;
+    auto fit = aerial::fit_virtual_dome(earth(), fresh->eye_altitude_m);
+    ASSERT_TRUE(fit.ok());
+    for (aerial::SkyMethod method :
+         {aerial::SkyMethod::dome_hp, aerial::SkyMethod::dome_hp_single}) {
+        aerial::SkyOptions given;
+        given.dome = &*fit;
+        auto reused = aerial::prepare_sky(earth(), view, method, given);
+        auto refit = aerial::prepare_sky(earth(), view, method);
+        ASSERT_TRUE(reused.ok()) << reused.error().message;
+        ASSERT_TRUE(refit.ok());
+        EXPECT_EQ(reused->single_radius_m, refit->single_radius_m);
+        for (glm::dvec3 d : {glm::dvec3(1, 0, 0.01), glm::dvec3(0, 1, 1), glm::dvec3(0, 0, 1),
+                             glm::dvec3(-1, 0.3, -0.2)}) {
+            EXPECT_EQ(aerial::sky_radiance(*reused, d), aerial::sky_radiance(*refit, d));
+        }
+    }
+    aerial::VirtualDome empty;
+    aerial::SkyOptions bad;
+    bad.dome = &empty;
+    auto rejected = aerial::prepare_sky(earth(), view, aerial::SkyMethod::dome_hp, bad);
+    ASSERT_FALSE(rejected.ok());
+    EXPECT_EQ(rejected.error().field, "dome");
+    EXPECT_NE(rejected.error().message.find("fit_virtual_dome"), std::string::npos)
+        << rejected.error().message;
+    aerial::VirtualDome broken = *fit;
+    broken.radius_m[3] = std::nan("");
+    bad.dome = &broken;
+    EXPECT_EQ(aerial::prepare_sky(earth(), view, aerial::SkyMethod::dome_hp, bad).error().field,
+              "dome");
+}
+
+// The caches of the sky (SkyCubemapCache, the scene's dome and ambient) refit when any field of
+// the atmosphere changes: operator== compares every one.
+TEST(AtmosphereEquality, EveryFieldCounts) {
+    const aerial::Atmosphere a = earth();
+    EXPECT_TRUE(a == earth());
+    EXPECT_FALSE(a != earth());
+    const std::vector<void (*)(aerial::Atmosphere&)> edits = {
+        [](aerial::Atmosphere& x) { x.rayleigh_scattering.b *= 1.001; },
+        [](aerial::Atmosphere& x) { x.mie_scattering.r *= 1.001; },
+        [](aerial::Atmosphere& x) { x.mie_absorption.g = 1e-7; },
+        [](aerial::Atmosphere& x) { x.mie_g = 0.7; },
+        [](aerial::Atmosphere& x) { x.rayleigh_scale_height_m += 1; },
+        [](aerial::Atmosphere& x) { x.mie_scale_height_m += 1; },
+        [](aerial::Atmosphere& x) { x.planet_radius_m += 1; },
+        [](aerial::Atmosphere& x) { x.atmosphere_radius_m += 1; },
+        [](aerial::Atmosphere& x) { x.sun_irradiance.g = 0.9; },
+    };
+    for (std::size_t i = 0; i < edits.size(); ++i) {
+        aerial::Atmosphere b = a;
+        edits[i](b);
+        EXPECT_TRUE(a != b) << "edit " << i;
+        EXPECT_FALSE(a == b) << "edit " << i;
+    }
 }
 
 TEST(SkyDomeMesh, IsAHemisphereOfUnitDirectionsFacingItsCentre) {

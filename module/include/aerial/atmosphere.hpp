@@ -56,6 +56,11 @@ struct Atmosphere {
     glm::dvec3 extinction() const { return rayleigh_scattering + mie_extinction(); }
 };
 
+/// Every field equal (exact floating-point comparison): the one way caches decide whether the
+/// atmosphere changed.
+bool operator==(const Atmosphere& a, const Atmosphere& b);
+inline bool operator!=(const Atmosphere& a, const Atmosphere& b) { return !(a == b); }
+
 /// The first bad field and why: non-finite values, negative coefficients, |g| >= 1,
 /// non-positive scale heights or radii, an atmosphere top not above the planet.
 std::optional<Error> validate(const Atmosphere& atmosphere);

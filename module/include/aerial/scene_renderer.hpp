@@ -152,15 +152,15 @@ struct SkyDrawContext {
 };
 using SkyDrawer = std::function<void(const SkyDrawContext&)>;
 
-/// The built-in sky: a per-vertex dome of about 1000 vertices around the eye. With
-/// FrameSettings::model `hoffman-preetham` (or `reference`, too slow for a sky per frame) it is
-/// the 2002 talk's dome: each vertex shaded with the 2002 model along its direction to the edge
-/// of a virtual dome whose radius is fitted so that the constant sea-level density gives the
-/// optical depth (green channel) of the spherical exponential atmosphere from the eye to space.
-/// With `height` each vertex is shaded with the height model along its direction to the top of
-/// the atmosphere (the 2002 dome lights every ray with the sunlight that reaches the eye, which
-/// turns the sky olive overhead at a low sun; the height model takes the sun's colour where the
-/// light scatters). Directions below the horizon take the horizon's.
+/// The built-in sky: the core sky of aerial/sky.hpp as a per-vertex dome around the eye, the
+/// directions of make_sky_dome_mesh(kSkyDomeRings, kSkyDomeSegments) (the dome aerial-sky-table
+/// measures) coloured by shade_sky_dome, then FrameSettings::display, drawn as L_in at half the
+/// far distance. With FrameSettings::model `hoffman-preetham` (or `reference`, too slow for a sky
+/// every frame) the method is SkyMethod::dome_hp, the 2002 talk's dome; with `height` it is
+/// SkyMethod::dome_height, the height model to the top of the atmosphere. The dome_hp virtual
+/// dome is fitted again only when the atmosphere changes or the eye's altitude moves by more
+/// than 25 m. A skirt ring 10° below the horizon repeats the horizon's colours, so that no gap
+/// shows where no terrain covers the horizon.
 SkyDrawer default_sky_drawer();
 /// The built-in sun: a flat disc of `angular_radius_rad` (default 3 times the real 0.27°, to be
 /// seen at low resolution) coloured by the sun's transmittance T from space to the eye:

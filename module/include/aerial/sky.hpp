@@ -71,6 +71,11 @@ Result<VirtualDome> fit_virtual_dome(const Atmosphere& atmosphere, double eye_al
 
 struct SkyOptions {
     int segments = 12;  ///< height_chained: pieces of the ray, >= 1
+    /// dome_hp and dome_hp_single: the virtual dome fitted for this atmosphere and eye altitude
+    /// (fit_virtual_dome), copied into the context; null: fitted here (257 reference rays, far
+    /// too slow per frame: a renderer keeps its fit while the atmosphere and altitude hold).
+    /// Other methods ignore it.
+    const VirtualDome* dome = nullptr;
 };
 
 /// Everything one sky needs per frame. Plain data; built by prepare_sky.
@@ -86,7 +91,8 @@ struct SkyContext {
     int segments = 12;
 };
 
-/// Validates and does the per-frame work (for the 2002 domes, fits the virtual dome).
+/// Validates and does the per-frame work (for the 2002 domes, fits the virtual dome unless
+/// SkyOptions::dome gives it; a given dome needs >= 2 finite radii >= 0).
 Result<SkyContext> prepare_sky(const Atmosphere& atmosphere, const View& view, SkyMethod method,
                                const SkyOptions& options = {});
 
@@ -106,6 +112,11 @@ struct SkyDomeMesh {
     std::vector<glm::dvec3> directions;  ///< unit, world frame
     std::vector<std::uint32_t> indices;
 };
+/// The default dome: the scene renderer's built-in sky (aerial::scene::default_sky_drawer) and
+/// the dome that aerial-sky-table measures (--dome), 385 vertices.
+inline constexpr int kSkyDomeRings = 12;
+inline constexpr int kSkyDomeSegments = 32;
+
 /// rings >= 1, segments >= 3; `up` is a unit vector.
 Result<SkyDomeMesh> make_sky_dome_mesh(int rings, int segments,
                                        const glm::dvec3& up = {0.0, 0.0, 1.0});

@@ -55,6 +55,14 @@ std::optional<Error> check_range(const char* field, double value, double lo, dou
 
 }  // namespace
 
+bool operator==(const Atmosphere& a, const Atmosphere& b) {
+    return a.rayleigh_scattering == b.rayleigh_scattering && a.mie_scattering == b.mie_scattering &&
+           a.mie_absorption == b.mie_absorption && a.mie_g == b.mie_g &&
+           a.rayleigh_scale_height_m == b.rayleigh_scale_height_m &&
+           a.mie_scale_height_m == b.mie_scale_height_m && a.planet_radius_m == b.planet_radius_m &&
+           a.atmosphere_radius_m == b.atmosphere_radius_m && a.sun_irradiance == b.sun_irradiance;
+}
+
 std::optional<Error> validate(const Atmosphere& a) {
     if (auto e = check_coefficients("rayleigh_scattering", a.rayleigh_scattering)) return e;
     if (auto e = check_coefficients("mie_scattering", a.mie_scattering)) return e;

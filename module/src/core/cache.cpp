@@ -52,19 +52,9 @@ bool same_vec(const glm::vec3& a, const glm::vec3& b) {
     return a.x == b.x && a.y == b.y && a.z == b.z;
 }
 
-bool same_atmosphere(const Atmosphere& a, const Atmosphere& b) {
-    return same_vec(a.rayleigh_scattering, b.rayleigh_scattering) &&
-           same_vec(a.mie_scattering, b.mie_scattering) &&
-           same_vec(a.mie_absorption, b.mie_absorption) && a.mie_g == b.mie_g &&
-           a.rayleigh_scale_height_m == b.rayleigh_scale_height_m &&
-           a.mie_scale_height_m == b.mie_scale_height_m && a.planet_radius_m == b.planet_radius_m &&
-           a.atmosphere_radius_m == b.atmosphere_radius_m &&
-           same_vec(a.sun_irradiance, b.sun_irradiance);
-}
-
 /// Everything but the eye and the sun direction.
 bool same_except_eye_and_sun(const ShadingKey& a, const ShadingKey& b) {
-    return same_atmosphere(a.atmosphere, b.atmosphere) && a.model == b.model &&
+    return a.atmosphere == b.atmosphere && a.model == b.model &&
            a.display.exposure == b.display.exposure && a.display.tone == b.display.tone &&
            same_vec(a.ambient, b.ambient) && same_vec(a.albedo, b.albedo) &&
            same_vec(a.view.up, b.view.up) && a.view.meters_per_unit == b.view.meters_per_unit;

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -57,6 +59,22 @@ double dome_u(double elevation_rad) {
     return e < 0 ? -std::sqrt(-e) : std::sqrt(e);
 }
 double dome_elevation(double u) { return (u < 0 ? -u * u : u * u) * (kPi / 2); }
+
+/// SkyOptions::dome, when given: a fitted table (radius_at needs two entries) of finite radii.
+std::optional<Error> check_given_dome(const VirtualDome* dome) {
+    if (!dome) return std::nullopt;
+    if (dome->radius_m.size() < 2) {
+        return Error{"dome", "dome: a fitted virtual dome needs >= 2 radii, got " +
+                                 std::to_string(dome->radius_m.size()) +
+                                 " (fit_virtual_dome, or null to fit here)"};
+    }
+    for (double r : dome->radius_m) {
+        if (!std::isfinite(r) || r < 0) {
+            return Error{"dome", "dome: radii must be finite and >= 0, got " + format_number(r)};
+        }
+    }
+    return std::nullopt;
+}
 
 using detail::display_8bit;
 using detail::elevation_of;
@@ -133,6 +151,7 @@ Result<SkyContext> prepare_sky(const Atmosphere& atmosphere, const View& view, S
     if (options.segments < 1) {
         return Error{"segments", "segments must be >= 1, got " + std::to_string(options.segments)};
     }
+    if (auto e = check_given_dome(options.dome)) return *e;
     View metres = view;
     metres.eye = view.eye * view.meters_per_unit;
     metres.meters_per_unit = 1.0;
@@ -149,9 +168,13 @@ Result<SkyContext> prepare_sky(const Atmosphere& atmosphere, const View& view, S
     sky.frame = *frame;
     sky.segments = options.segments;
     if (hp) {
-        auto dome = fit_virtual_dome(atmosphere, sky.eye_altitude_m);
-        if (!dome) return dome.error();
-        sky.dome = *dome;
+        if (options.dome) {
+            sky.dome = *options.dome;
+        } else {
+            auto dome = fit_virtual_dome(atmosphere, sky.eye_altitude_m);
+            if (!dome) return dome.error();
+            sky.dome = std::move(dome).value();
+        }
         // Mean over the upper hemisphere, uniform in solid angle (uniform in sin(elevation)).
         constexpr int kSteps = 256;
         double sum = 0;
@@ -373,7 +396,7 @@ Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& v
     const dvec3 up = glm::normalize(view.up);
     const double altitude = altitude_above_sphere(dvec3(view.eye * view.meters_per_unit), up,
                                                   atmosphere.planet_radius_m);
-    if (valid_ && cubemap_.size == options_.size && to_json(atmosphere) == to_json(atmosphere_) &&
+    if (valid_ && cubemap_.size == options_.size && atmosphere == atmosphere_ &&
         std::acos(std::clamp(glm::dot(sun, sun_dir_), -1.0, 1.0)) <= options_.max_sun_angle_rad &&
         glm::dot(up, up_) > 1.0 - 1e-12 &&
         std::abs(altitude - eye_altitude_m_) <= options_.max_altitude_change_m) {

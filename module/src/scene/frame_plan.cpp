@@ -10,6 +10,7 @@
 #include <glm/matrix.hpp>
 
 #include "aerial/phase.hpp"
+#include "aerial/sun.hpp"
 
 namespace aerial::scene::detail {
 namespace {
@@ -17,50 +18,25 @@ namespace {
 /// Vertices of a node compared between the 2002 model and the frame's model (besides the 8
 /// corners of its box) when the policy chooses a method.
 constexpr std::size_t kMethodSampleVertices = 25;
-/// Directions (cosine-weighted, stratified) averaged for the ambient sky irradiance.
-constexpr int kAmbientStrata = 6;
 /// The ambient sky light is estimated again when the sun has turned this much (rad) since the
-/// last estimate (or the atmosphere or model changed); between estimates it stays the same, so
+/// last estimate (or the atmosphere or up axis changed); between estimates it stays the same, so
 /// that small sun moves keep the colour caches (any change of the ambient invalidates them).
 constexpr double kAmbientSunStepRad = 0.25 * kPi / 180.0;
-/// Distance of the sky points of the ambient estimate, m.
-constexpr double kAmbientSkyDistanceM = 200e3;
-
-bool same_atmosphere(const Atmosphere& a, const Atmosphere& b) {
-    return a.rayleigh_scattering == b.rayleigh_scattering && a.mie_scattering == b.mie_scattering &&
-           a.mie_absorption == b.mie_absorption && a.mie_g == b.mie_g &&
-           a.rayleigh_scale_height_m == b.rayleigh_scale_height_m &&
-           a.mie_scale_height_m == b.mie_scale_height_m && a.planet_radius_m == b.planet_radius_m &&
-           a.atmosphere_radius_m == b.atmosphere_radius_m && a.sun_irradiance == b.sun_irradiance;
-}
-
 double max3(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 
-/// Sky irradiance on a level surface at sea level below the eye: pi times the cosine-weighted
-/// mean of L_in over the upper hemisphere (terrain occlusion ignored). Sea level, not the eye,
-/// so that it changes only with the sun and the atmosphere (a flying eye keeps cached colours).
-glm::vec3 sky_ambient(const FrameSettings& s) {
-    View view;
-    view.up = s.up;
-    view.sun_dir = s.sun_dir;
-    view.meters_per_unit = 1.0;
-    view.eye = s.up * 2.0;
-    auto frame = prepare_frame<double>(s.atmosphere, view, s.model);
-    if (!frame) return glm::vec3(0.0f);
-    glm::dvec3 e1 = glm::normalize(
-        glm::cross(s.up, std::abs(s.up.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
-    glm::dvec3 e2 = glm::cross(s.up, e1);
-    glm::dvec3 sum{0.0};
-    for (int i = 0; i < kAmbientStrata; ++i) {
-        for (int j = 0; j < kAmbientStrata; ++j) {
-            const double r = std::sqrt((i + 0.5) / kAmbientStrata);
-            const double phi = 2.0 * kPi * (j + 0.5) / kAmbientStrata;
-            const glm::dvec3 dir =
-                r * std::cos(phi) * e1 + r * std::sin(phi) * e2 + std::sqrt(1.0 - r * r) * s.up;
-            sum += scatter(*frame, view.eye + dir * kAmbientSkyDistanceM).in_scattering;
-        }
-    }
-    return glm::vec3(kPi * sum / double(kAmbientStrata * kAmbientStrata));
+/// Sky irradiance on a level surface at sea level below the eye: aerial::sky_ambient (the
+/// height-chained sky integrated with the cosine weight over the upper hemisphere; terrain
+/// occlusion ignored). Sea level, not the eye, so that it changes only with the sun and the
+/// atmosphere (a flying eye keeps cached colours). 8 x 16 directions (the sample game's): within
+/// 7 % of a 64 x 128 integral from the zenith sun to below the horizon, about 2.3 ms a call.
+glm::vec3 sea_level_sky_ambient(const FrameSettings& s) {
+    SkyAmbientOptions options;
+    options.elevation_steps = 8;
+    options.azimuth_steps = 16;
+    const double sin_elevation = glm::dot(glm::normalize(s.sun_dir), glm::normalize(s.up));
+    auto ambient = aerial::sky_ambient(s.atmosphere, 0.0,
+                                       std::asin(std::clamp(sin_elevation, -1.0, 1.0)), options);
+    return ambient ? glm::vec3(*ambient) : glm::vec3(0.0f);
 }
 
 /// Upper bound, in 8-bit steps, on how much scattering changes any output of a node inside
@@ -222,13 +198,11 @@ glm::vec3 frame_ambient(SkyAmbientCache& cache, const FrameSettings& settings) {
     const glm::vec3 given = settings.ambient;
     if (given.r >= 0.0f && given.g >= 0.0f && given.b >= 0.0f) return given;
     if (!cache.valid || glm::dot(cache.sun_dir, settings.sun_dir) < std::cos(kAmbientSunStepRad) ||
-        cache.up != settings.up || cache.model != settings.model ||
-        !same_atmosphere(cache.atmosphere, settings.atmosphere)) {
-        cache.ambient = sky_ambient(settings);
+        cache.up != settings.up || cache.atmosphere != settings.atmosphere) {
+        cache.ambient = sea_level_sky_ambient(settings);
         cache.atmosphere = settings.atmosphere;
         cache.sun_dir = settings.sun_dir;
         cache.up = settings.up;
-        cache.model = settings.model;
         cache.valid = true;
     }
     return cache.ambient;

@@ -38,12 +38,12 @@ struct NodeState {
     std::uint64_t last_frame = 0;
 };
 
+/// The sky ambient of the last estimate and what it was made for (frame_ambient).
 struct SkyAmbientCache {
     bool valid = false;
     Atmosphere atmosphere;
     glm::dvec3 sun_dir{0.0};
     glm::dvec3 up{0.0};
-    Model model = Model::height;
     glm::vec3 ambient{0.0f};
 };
 
@@ -68,8 +68,9 @@ struct FrameInputs {
 Result<FrameInputs> prepare_frame_inputs(const Node& root, const Camera& camera,
                                          const FrameSettings& settings, Backend backend);
 
-/// settings.ambient, or (when negative) the sky's irradiance, estimated again only when the sun
-/// turned by more than a quarter of a degree or the atmosphere, up axis or model changed.
+/// settings.ambient, or (when negative) the sky's irradiance at sea level (aerial::sky_ambient,
+/// whatever settings.model), estimated again only when the sun turned by more than a quarter of
+/// a degree or the atmosphere or up axis changed.
 glm::vec3 frame_ambient(SkyAmbientCache& cache, const FrameSettings& settings);
 
 /// How a visible node is coloured this frame.

@@ -209,17 +209,22 @@ TEST(CApiResults, ScatterAndShadeEqualTheCppApiBitForBit) {
             settings.lighting = &lighting;
             std::vector<std::uint8_t> c8(3 * 8 * count), cpp8(3 * 8 * count);
             std::vector<float> cf(3 * 4 * count), cppf(3 * 4 * count);
+            // The same layout for both APIs (their output structs share the field names): codes
+            // 8 bytes apart, floats 16 bytes apart, the lit codes and L_in floats packed.
+            const auto lay_out = [count](auto& out, std::uint8_t* codes, float* floats) {
+                out.extinction_rgba8 = codes;
+                out.extinction_rgba8_stride = 8;
+                out.lit_rgba8 = codes + 8 * count;
+                out.in_scattering_rgba8 = codes + 16 * count;
+                out.in_scattering_rgba8_stride = 8;
+                out.extinction_rgb = floats;
+                out.extinction_rgb_stride = 16;
+                out.in_scattering_rgb = floats + 4 * count;
+                out.sun_irradiance_rgb = floats + 8 * count;
+                out.sun_irradiance_rgb_stride = 16;
+            };
             auto out = zeroed<aerial_outputs>();
-            out.extinction_rgba8 = c8.data();
-            out.extinction_rgba8_stride = 8;
-            out.lit_rgba8 = c8.data() + 8 * count;
-            out.in_scattering_rgba8 = c8.data() + 16 * count;
-            out.in_scattering_rgba8_stride = 8;
-            out.extinction_rgb = cf.data();
-            out.extinction_rgb_stride = 16;
-            out.in_scattering_rgb = cf.data() + 4 * count;
-            out.sun_irradiance_rgb = cf.data() + 8 * count;
-            out.sun_irradiance_rgb_stride = 16;
+            lay_out(out, c8.data(), cf.data());
             auto p = zeroed<aerial_positions>();
             p.x = xyz.data();
             p.count = count;
@@ -228,16 +233,7 @@ TEST(CApiResults, ScatterAndShadeEqualTheCppApiBitForBit) {
                 << aerial_last_error_message();
 
             aerial::BatchOutputs o;
-            o.extinction_rgba8 = cpp8.data();
-            o.extinction_rgba8_stride = 8;
-            o.lit_rgba8 = cpp8.data() + 8 * count;
-            o.in_scattering_rgba8 = cpp8.data() + 16 * count;
-            o.in_scattering_rgba8_stride = 8;
-            o.extinction_rgb = cppf.data();
-            o.extinction_rgb_stride = 16;
-            o.in_scattering_rgb = cppf.data() + 4 * count;
-            o.sun_irradiance_rgb = cppf.data() + 8 * count;
-            o.sun_irradiance_rgb_stride = 16;
+            lay_out(o, cpp8.data(), cppf.data());
             aerial::Lighting l;
             l.normals = normals.data();
             l.ambient = {0.0f, 0.0f, 0.1f};

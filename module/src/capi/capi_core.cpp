@@ -44,6 +44,13 @@ void copy(const glm::vec3& from, float to[3]) {
     to[1] = from.y;
     to[2] = from.z;
 }
+/// A result of the C++ API into its C struct (aerial_scattering or aerial_scattering_d).
+template <class Scattering, class CScattering>
+void copy_scattering(const Scattering& from, CScattering& to) {
+    copy(from.extinction, to.extinction);
+    copy(from.in_scattering, to.in_scattering);
+    copy(from.sun_irradiance, to.sun_irradiance);
+}
 
 /// A C-side vector field: the value given, the default when all 0, or 0 when asked for.
 glm::dvec3 vector_field(const double v[3], unsigned zero_fields, unsigned bit,
@@ -61,10 +68,12 @@ void fail(aerial_status status, std::string field, std::string message) {
 
 void fail(aerial_status status, const Error& error) { fail(status, error.field, error.message); }
 
+void fail_null(const char* name) {
+    fail(AERIAL_ERROR_NULL_ARGUMENT, name, std::string(name) + " is NULL");
+}
+
 void require(const void* pointer, const char* name) {
-    if (pointer == nullptr) {
-        fail(AERIAL_ERROR_NULL_ARGUMENT, name, std::string(name) + " is NULL");
-    }
+    if (pointer == nullptr) fail_null(name);
 }
 
 void record(aerial_status status, const char* function, const std::string& field,
@@ -150,36 +159,20 @@ Display to_cpp(const aerial_display* c) {
     Display d;
     if (c == nullptr) return d;
     if (c->exposure != 0.0f) d.exposure = c->exposure;
-    switch (c->tone) {
-        case AERIAL_TONE_CLAMP:
-            d.tone = ToneCurve::clamp;
-            break;
-        case AERIAL_TONE_EXPONENTIAL:
-            d.tone = ToneCurve::exponential;
-            break;
-        default:
-            fail(AERIAL_ERROR_INVALID_ARGUMENT, "display.tone",
-                 "display.tone: expected AERIAL_TONE_CLAMP (0) or AERIAL_TONE_EXPONENTIAL (1), "
-                 "got " +
-                     std::to_string(int(c->tone)));
-    }
+    static constexpr EnumValue<ToneCurve> kTones[] = {
+        {AERIAL_TONE_CLAMP, ToneCurve::clamp}, {AERIAL_TONE_EXPONENTIAL, ToneCurve::exponential}};
+    d.tone = to_cpp_enum(int(c->tone), kTones, "display.tone",
+                         "AERIAL_TONE_CLAMP (0) or AERIAL_TONE_EXPONENTIAL (1)");
     return d;
 }
 
 Model to_cpp_model(int model, const char* field) {
-    switch (model) {
-        case AERIAL_MODEL_HOFFMAN_PREETHAM:
-            return Model::hoffman_preetham;
-        case AERIAL_MODEL_HEIGHT:
-            return Model::height;
-        case AERIAL_MODEL_REFERENCE:
-            return Model::reference;
-        default:
-            break;
-    }
-    fail(AERIAL_ERROR_INVALID_ARGUMENT, field,
-         std::string(field) + ": expected AERIAL_MODEL_HOFFMAN_PREETHAM (0), _HEIGHT (1) or " +
-             "_REFERENCE (2), got " + std::to_string(model));
+    static constexpr EnumValue<Model> kModels[] = {
+        {AERIAL_MODEL_HOFFMAN_PREETHAM, Model::hoffman_preetham},
+        {AERIAL_MODEL_HEIGHT, Model::height},
+        {AERIAL_MODEL_REFERENCE, Model::reference}};
+    return to_cpp_enum(model, kModels, field,
+                       "AERIAL_MODEL_HOFFMAN_PREETHAM (0), _HEIGHT (1) or _REFERENCE (2)");
 }
 
 const Frame<float>& current_frame(const aerial_context& context) {
@@ -210,13 +203,74 @@ View validated(const aerial_view* view) {
     return v;
 }
 
+Positions to_cpp_positions(const aerial_positions& positions) {
+    if ((positions.y == nullptr) != (positions.z == nullptr)) {
+        fail(AERIAL_ERROR_INVALID_BATCH, "positions",
+             "positions: y and z are both NULL (interleaved records at x) or both set "
+             "(separate arrays), got one of them");
+    }
+    if (positions.y == nullptr) {
+        if (positions.stride_bytes != 0 && positions.stride_bytes < 3 * sizeof(float)) {
+            fail(AERIAL_ERROR_INVALID_BATCH, "positions.stride_bytes",
+                 "positions.stride_bytes: interleaved x, y, z records need >= 12 (or 0), got " +
+                     std::to_string(positions.stride_bytes));
+        }
+        return Positions::aos(positions.x, positions.count, positions.stride_bytes);
+    }
+    return Positions{positions.x, positions.y, positions.z, positions.count,
+                     positions.stride_bytes ? positions.stride_bytes : sizeof(float)};
+}
+
+BatchOutputs to_cpp_outputs(const aerial_outputs& outputs) {
+    BatchOutputs o;
+    o.extinction_rgba8 = outputs.extinction_rgba8;
+    o.extinction_rgba8_stride = outputs.extinction_rgba8_stride;
+    o.lit_rgba8 = outputs.lit_rgba8;
+    o.lit_rgba8_stride = outputs.lit_rgba8_stride;
+    o.in_scattering_rgba8 = outputs.in_scattering_rgba8;
+    o.in_scattering_rgba8_stride = outputs.in_scattering_rgba8_stride;
+    o.extinction_rgb = outputs.extinction_rgb;
+    o.extinction_rgb_stride = outputs.extinction_rgb_stride;
+    o.in_scattering_rgb = outputs.in_scattering_rgb;
+    o.in_scattering_rgb_stride = outputs.in_scattering_rgb_stride;
+    o.sun_irradiance_rgb = outputs.sun_irradiance_rgb;
+    o.sun_irradiance_rgb_stride = outputs.sun_irradiance_rgb_stride;
+    return o;
+}
+
+/// The batch settings (null: the defaults); `lighting` holds what settings->lighting asks for
+/// and must outlive the returned settings, which point at it.
+BatchSettings to_cpp_settings(const aerial_batch_settings* settings, Lighting& lighting) {
+    BatchSettings s;
+    if (settings == nullptr) return s;
+    s.display = to_cpp(&settings->display);
+    static constexpr EnumValue<Kernel> kKernels[] = {{AERIAL_KERNEL_SIMD, Kernel::simd},
+                                                     {AERIAL_KERNEL_SIMD_FAST, Kernel::simd_fast},
+                                                     {AERIAL_KERNEL_SCALAR, Kernel::scalar}};
+    s.kernel = to_cpp_enum(int(settings->kernel), kKernels, "settings.kernel",
+                           "AERIAL_KERNEL_SIMD (0), _SIMD_FAST (1) or _SCALAR (2)");
+    s.threads = settings->threads;
+    if (settings->min_vertices_per_thread != 0) {
+        s.min_vertices_per_thread = settings->min_vertices_per_thread;
+    }
+    if (const aerial_lighting* l = settings->lighting) {
+        lighting.normals = l->normals;
+        lighting.normal_stride_bytes = l->normal_stride_bytes;
+        lighting.ambient = glm::vec3(l->ambient[0], l->ambient[1], l->ambient[2]);
+        const bool no_albedo = l->albedo[0] == 0.0f && l->albedo[1] == 0.0f && l->albedo[2] == 0.0f;
+        if (!no_albedo) lighting.albedo = glm::vec3(l->albedo[0], l->albedo[1], l->albedo[2]);
+        s.lighting = &lighting;
+    }
+    return s;
+}
+
 /// Recomputes the context's frame from its atmosphere, model and view (when it has a view).
 void refresh_frame(aerial_context& context) {
     if (!context.view) return;
-    auto frame = prepare_frame<float>(context.atmosphere, *context.view, context.model);
     // The parts were validated one by one; prepare_frame checks them together.
-    if (!frame) fail(AERIAL_ERROR_INVALID_VIEW, frame.error());
-    context.frame = std::move(frame.value());
+    context.frame =
+        value_or_fail(prepare_frame<float>(context.atmosphere, *context.view, context.model),
+                      AERIAL_ERROR_INVALID_VIEW);
 }
 
 }  // namespace
@@ -316,9 +370,8 @@ aerial_status aerial_atmosphere_preset(const char* name, aerial_atmosphere* out)
     return guard("aerial_atmosphere_preset", nullptr, [&] {
         require(name, "name");
         require(out, "out");
-        auto preset = atmosphere_preset(name);
-        if (!preset) fail(AERIAL_ERROR_UNKNOWN_PRESET, preset.error());
-        *out = capi::to_c(*preset);
+        *out =
+            capi::to_c(capi::value_or_fail(atmosphere_preset(name), AERIAL_ERROR_UNKNOWN_PRESET));
     });
 }
 
@@ -333,9 +386,8 @@ aerial_status aerial_atmosphere_from_json(const char* json_text, aerial_atmosphe
     return guard("aerial_atmosphere_from_json", nullptr, [&] {
         require(json_text, "json_text");
         require(out, "out");
-        auto atmosphere = atmosphere_from_json(json_text);
-        if (!atmosphere) fail(AERIAL_ERROR_INVALID_ATMOSPHERE, atmosphere.error());
-        *out = capi::to_c(*atmosphere);
+        *out = capi::to_c(
+            capi::value_or_fail(atmosphere_from_json(json_text), AERIAL_ERROR_INVALID_ATMOSPHERE));
     });
 }
 
@@ -366,11 +418,8 @@ aerial_status aerial_evaluate(const aerial_atmosphere* atmosphere, const aerial_
                  "vertex: expected within 1e12 m of the eye, got " +
                      std::to_string(glm::length(p - v.eye) * v.meters_per_unit) + " m");
         }
-        auto result = evaluate(a, v, m, p);
-        if (!result) fail(AERIAL_ERROR_INVALID_VERTEX, result.error());
-        capi::copy(result->extinction, out->extinction);
-        capi::copy(result->in_scattering, out->in_scattering);
-        capi::copy(result->sun_irradiance, out->sun_irradiance);
+        capi::copy_scattering(
+            capi::value_or_fail(evaluate(a, v, m, p), AERIAL_ERROR_INVALID_VERTEX), *out);
     });
 }
 
@@ -392,7 +441,7 @@ void aerial_context_destroy(aerial_context* context) { delete context; }
 
 aerial_status aerial_context_set_atmosphere(aerial_context* context,
                                             const aerial_atmosphere* atmosphere) {
-    return guard("aerial_context_set_atmosphere", context ? &context->last_error : nullptr, [&] {
+    return guard("aerial_context_set_atmosphere", capi::last_error_of(context), [&] {
         require(context, "context");
         require(atmosphere, "atmosphere");
         aerial_context updated = *context;
@@ -403,7 +452,7 @@ aerial_status aerial_context_set_atmosphere(aerial_context* context,
 }
 
 aerial_status aerial_context_set_model(aerial_context* context, aerial_model model) {
-    return guard("aerial_context_set_model", context ? &context->last_error : nullptr, [&] {
+    return guard("aerial_context_set_model", capi::last_error_of(context), [&] {
         require(context, "context");
         aerial_context updated = *context;
         updated.model = capi::to_cpp_model(model, "model");
@@ -413,7 +462,7 @@ aerial_status aerial_context_set_model(aerial_context* context, aerial_model mod
 }
 
 aerial_status aerial_context_set_view(aerial_context* context, const aerial_view* view) {
-    return guard("aerial_context_set_view", context ? &context->last_error : nullptr, [&] {
+    return guard("aerial_context_set_view", capi::last_error_of(context), [&] {
         require(context, "context");
         aerial_context updated = *context;
         updated.view = capi::validated(view);
@@ -428,106 +477,33 @@ const char* aerial_context_last_error(const aerial_context* context) {
 
 aerial_status aerial_scatter(const aerial_context* context, const float vertex[3],
                              aerial_scattering* out) {
-    // The object's last error is mutable state behind a const handle: the call changes no
-    // result-relevant part of the context.
-    auto* object = context ? &const_cast<aerial_context*>(context)->last_error : nullptr;
-    return guard("aerial_scatter", object, [&] {
+    return guard("aerial_scatter", capi::last_error_of(context), [&] {
         require(context, "context");
         require(vertex, "vertex");
         require(out, "out");
-        const Scattering<float> s =
-            scatter(capi::current_frame(*context), glm::vec3(vertex[0], vertex[1], vertex[2]));
-        capi::copy(s.extinction, out->extinction);
-        capi::copy(s.in_scattering, out->in_scattering);
-        capi::copy(s.sun_irradiance, out->sun_irradiance);
+        capi::copy_scattering(
+            scatter(capi::current_frame(*context), glm::vec3(vertex[0], vertex[1], vertex[2])),
+            *out);
     });
 }
 
 aerial_status aerial_shade(const aerial_context* context, const aerial_positions* positions,
                            const aerial_outputs* outputs, const aerial_batch_settings* settings,
                            aerial_batch_stats* stats) {
-    auto* object = context ? &const_cast<aerial_context*>(context)->last_error : nullptr;
-    return guard("aerial_shade", object, [&] {
+    return guard("aerial_shade", capi::last_error_of(context), [&] {
         require(context, "context");
         require(positions, "positions");
         require(outputs, "outputs");
         const Frame<float>& frame = capi::current_frame(*context);
-
-        Positions p;
-        if ((positions->y == nullptr) != (positions->z == nullptr)) {
-            fail(AERIAL_ERROR_INVALID_BATCH, "positions",
-                 "positions: y and z are both NULL (interleaved records at x) or both set "
-                 "(separate arrays), got one of them");
-        }
-        if (positions->y == nullptr) {
-            if (positions->stride_bytes != 0 && positions->stride_bytes < 3 * sizeof(float)) {
-                fail(AERIAL_ERROR_INVALID_BATCH, "positions.stride_bytes",
-                     "positions.stride_bytes: interleaved x, y, z records need >= 12 (or 0), "
-                     "got " +
-                         std::to_string(positions->stride_bytes));
-            }
-            p = Positions::aos(positions->x, positions->count, positions->stride_bytes);
-        } else {
-            p = Positions{positions->x, positions->y, positions->z, positions->count,
-                          positions->stride_bytes ? positions->stride_bytes : sizeof(float)};
-        }
-
-        BatchOutputs o;
-        o.extinction_rgba8 = outputs->extinction_rgba8;
-        o.extinction_rgba8_stride = outputs->extinction_rgba8_stride;
-        o.lit_rgba8 = outputs->lit_rgba8;
-        o.lit_rgba8_stride = outputs->lit_rgba8_stride;
-        o.in_scattering_rgba8 = outputs->in_scattering_rgba8;
-        o.in_scattering_rgba8_stride = outputs->in_scattering_rgba8_stride;
-        o.extinction_rgb = outputs->extinction_rgb;
-        o.extinction_rgb_stride = outputs->extinction_rgb_stride;
-        o.in_scattering_rgb = outputs->in_scattering_rgb;
-        o.in_scattering_rgb_stride = outputs->in_scattering_rgb_stride;
-        o.sun_irradiance_rgb = outputs->sun_irradiance_rgb;
-        o.sun_irradiance_rgb_stride = outputs->sun_irradiance_rgb_stride;
-
-        BatchSettings s;
+        const Positions p = capi::to_cpp_positions(*positions);
         Lighting lighting;
-        if (settings != nullptr) {
-            s.display = capi::to_cpp(&settings->display);
-            switch (settings->kernel) {
-                case AERIAL_KERNEL_SIMD:
-                    s.kernel = Kernel::simd;
-                    break;
-                case AERIAL_KERNEL_SIMD_FAST:
-                    s.kernel = Kernel::simd_fast;
-                    break;
-                case AERIAL_KERNEL_SCALAR:
-                    s.kernel = Kernel::scalar;
-                    break;
-                default:
-                    fail(AERIAL_ERROR_INVALID_ARGUMENT, "settings.kernel",
-                         "settings.kernel: expected AERIAL_KERNEL_SIMD (0), _SIMD_FAST (1) or "
-                         "_SCALAR (2), got " +
-                             std::to_string(int(settings->kernel)));
-            }
-            s.threads = settings->threads;
-            if (settings->min_vertices_per_thread != 0) {
-                s.min_vertices_per_thread = settings->min_vertices_per_thread;
-            }
-            if (const aerial_lighting* l = settings->lighting) {
-                lighting.normals = l->normals;
-                lighting.normal_stride_bytes = l->normal_stride_bytes;
-                lighting.ambient = glm::vec3(l->ambient[0], l->ambient[1], l->ambient[2]);
-                const bool no_albedo =
-                    l->albedo[0] == 0.0f && l->albedo[1] == 0.0f && l->albedo[2] == 0.0f;
-                if (!no_albedo)
-                    lighting.albedo = glm::vec3(l->albedo[0], l->albedo[1], l->albedo[2]);
-                s.lighting = &lighting;
-            }
-        }
-
-        auto result = shade_into(frame, p, o, s);
-        if (!result) fail(AERIAL_ERROR_INVALID_BATCH, result.error());
+        const BatchSettings s = capi::to_cpp_settings(settings, lighting);
+        const BatchStats result = capi::value_or_fail(
+            shade_into(frame, p, capi::to_cpp_outputs(*outputs), s), AERIAL_ERROR_INVALID_BATCH);
         if (stats != nullptr) {
-            stats->vertices = result->vertices;
-            stats->invalid_vertices = result->invalid_vertices;
-            stats->threads_used = result->threads_used;
+            stats->vertices = result.vertices;
+            stats->invalid_vertices = result.invalid_vertices;
+            stats->threads_used = result.threads_used;
         }
     });
 }

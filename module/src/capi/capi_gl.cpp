@@ -42,34 +42,19 @@ bool starts_with(const std::string& s, const char* prefix) {
     fail(unsupported ? AERIAL_ERROR_GL_UNSUPPORTED : AERIAL_ERROR_INVALID_ARGUMENT, error);
 }
 
+constexpr EnumValue<gl::Path> kPaths[] = {{AERIAL_PATH_AUTOMATIC, gl::Path::automatic},
+                                          {AERIAL_PATH_SECONDARY_COLOR, gl::Path::secondary_color},
+                                          {AERIAL_PATH_COMBINER, gl::Path::combiner},
+                                          {AERIAL_PATH_TWO_PASS, gl::Path::two_pass}};
+
 gl::Path to_cpp_path(int path) {
-    switch (path) {
-        case AERIAL_PATH_AUTOMATIC:
-            return gl::Path::automatic;
-        case AERIAL_PATH_SECONDARY_COLOR:
-            return gl::Path::secondary_color;
-        case AERIAL_PATH_COMBINER:
-            return gl::Path::combiner;
-        case AERIAL_PATH_TWO_PASS:
-            return gl::Path::two_pass;
-        default:
-            break;
-    }
-    fail(AERIAL_ERROR_INVALID_ARGUMENT, "path",
-         "path: expected AERIAL_PATH_AUTOMATIC (0) .. AERIAL_PATH_TWO_PASS (3), got " +
-             std::to_string(path));
+    return to_cpp_enum(path, kPaths, "path",
+                       "AERIAL_PATH_AUTOMATIC (0) .. AERIAL_PATH_TWO_PASS (3)");
 }
 
 aerial_path to_c_path(gl::Path path) {
-    switch (path) {
-        case gl::Path::secondary_color:
-            return AERIAL_PATH_SECONDARY_COLOR;
-        case gl::Path::combiner:
-            return AERIAL_PATH_COMBINER;
-        case gl::Path::two_pass:
-            return AERIAL_PATH_TWO_PASS;
-        case gl::Path::automatic:
-            break;
+    for (const EnumValue<gl::Path>& p : kPaths) {
+        if (p.cpp == path) return aerial_path(p.c);
     }
     return AERIAL_PATH_AUTOMATIC;
 }
@@ -88,19 +73,11 @@ ArbProgramOptions to_cpp_arb(const aerial_arb_options* c) {
     ArbProgramOptions o;
     if (c == nullptr) return o;
     o.model = to_cpp_model(c->model, "options.model");
-    switch (c->parameter_space) {
-        case AERIAL_PARAMETERS_LOCAL:
-            o.parameter_space = ParameterSpace::local;
-            break;
-        case AERIAL_PARAMETERS_ENV:
-            o.parameter_space = ParameterSpace::env;
-            break;
-        default:
-            fail(AERIAL_ERROR_INVALID_ARGUMENT, "options.parameter_space",
-                 "options.parameter_space: expected AERIAL_PARAMETERS_LOCAL (0) or _ENV (1), "
-                 "got " +
-                     std::to_string(int(c->parameter_space)));
-    }
+    static constexpr EnumValue<ParameterSpace> kSpaces[] = {
+        {AERIAL_PARAMETERS_LOCAL, ParameterSpace::local},
+        {AERIAL_PARAMETERS_ENV, ParameterSpace::env}};
+    o.parameter_space = to_cpp_enum(int(c->parameter_space), kSpaces, "options.parameter_space",
+                                    "AERIAL_PARAMETERS_LOCAL (0) or _ENV (1)");
     o.parameter_base = c->parameter_base;
     // 0 keeps the default; AERIAL_NO_TEXCOORDS asks for none; other values are checked by the
     // generator.
@@ -111,25 +88,13 @@ ArbProgramOptions to_cpp_arb(const aerial_arb_options* c) {
     }
     o.position_invariant = c->position_invariant != 0;
     o.guard_coarse_ex2 = c->guard_coarse_ex2 != 0;
-    switch (c->height_fidelity) {
-        case AERIAL_HEIGHT_FIDELITY_AUTOMATIC:
-            o.height_fidelity = ArbHeightFidelity::automatic;
-            break;
-        case AERIAL_HEIGHT_FIDELITY_SPEC_MINIMUM:
-            o.height_fidelity = ArbHeightFidelity::spec_minimum;
-            break;
-        case AERIAL_HEIGHT_FIDELITY_EXACT_OPTICAL_DEPTH:
-            o.height_fidelity = ArbHeightFidelity::exact_optical_depth;
-            break;
-        case AERIAL_HEIGHT_FIDELITY_FULL:
-            o.height_fidelity = ArbHeightFidelity::full;
-            break;
-        default:
-            fail(AERIAL_ERROR_INVALID_ARGUMENT, "options.height_fidelity",
-                 "options.height_fidelity: expected AERIAL_HEIGHT_FIDELITY_AUTOMATIC (0) .. "
-                 "_FULL (3), got " +
-                     std::to_string(int(c->height_fidelity)));
-    }
+    static constexpr EnumValue<ArbHeightFidelity> kFidelities[] = {
+        {AERIAL_HEIGHT_FIDELITY_AUTOMATIC, ArbHeightFidelity::automatic},
+        {AERIAL_HEIGHT_FIDELITY_SPEC_MINIMUM, ArbHeightFidelity::spec_minimum},
+        {AERIAL_HEIGHT_FIDELITY_EXACT_OPTICAL_DEPTH, ArbHeightFidelity::exact_optical_depth},
+        {AERIAL_HEIGHT_FIDELITY_FULL, ArbHeightFidelity::full}};
+    o.height_fidelity = to_cpp_enum(int(c->height_fidelity), kFidelities, "options.height_fidelity",
+                                    "AERIAL_HEIGHT_FIDELITY_AUTOMATIC (0) .. _FULL (3)");
     return o;
 }
 
@@ -179,11 +144,10 @@ aerial_status aerial_gl_create(aerial_gl_load_function load, void* user, aerial_
     return guard("aerial_gl_create", nullptr, [&] {
         require(out, "out");
         *out = nullptr;
-        if (load == nullptr) fail(AERIAL_ERROR_NULL_ARGUMENT, "load", "load is NULL");
-        auto api = gl::load_api(load, user);
-        if (!api) fail(AERIAL_ERROR_GL_UNAVAILABLE, api.error());
+        require(load, "load");
+        gl::Api api = capi::value_or_fail(gl::load_api(load, user), AERIAL_ERROR_GL_UNAVAILABLE);
         auto created = std::make_unique<aerial_gl>();
-        created->api = std::move(api.value());
+        created->api = std::move(api);
         *out = created.release();
     });
 }
@@ -200,7 +164,7 @@ const char* aerial_gl_version(const aerial_gl* gl) {
 
 aerial_status aerial_gl_choose_path(aerial_gl* gl, aerial_path requested,
                                     int fixed_function_lighting, aerial_path* chosen) {
-    return guard("aerial_gl_choose_path", gl ? &gl->last_error : nullptr, [&] {
+    return guard("aerial_gl_choose_path", capi::last_error_of(gl), [&] {
         require(gl, "gl");
         require(chosen, "chosen");
         auto path = gl::choose_path(gl->api.caps, capi::to_cpp_path(requested),
@@ -214,10 +178,10 @@ aerial_status aerial_gl_draw_colours(aerial_gl* gl, const aerial_draw_options* o
                                      const aerial_vertex_colours* colours,
                                      aerial_draw_function draw, void* user,
                                      aerial_path* path_used) {
-    return guard("aerial_gl_draw_colours", gl ? &gl->last_error : nullptr, [&] {
+    return guard("aerial_gl_draw_colours", capi::last_error_of(gl), [&] {
         require(gl, "gl");
         require(colours, "colours");
-        if (draw == nullptr) fail(AERIAL_ERROR_NULL_ARGUMENT, "draw", "draw is NULL");
+        require(draw, "draw");
         gl::ApplyOptions o = capi::to_cpp_draw(options);
         auto path = gl::choose_path(gl->api.caps, o.path, o.fixed_function_lighting);
         if (!path) capi::fail_gl(path.error());
@@ -283,7 +247,7 @@ aerial_status aerial_arb_parameters(const aerial_context* context,
 
 aerial_status aerial_arb_program_create(aerial_gl* gl, const aerial_arb_options* options,
                                         aerial_arb_program** out) {
-    return guard("aerial_arb_program_create", gl ? &gl->last_error : nullptr, [&] {
+    return guard("aerial_arb_program_create", capi::last_error_of(gl), [&] {
         require(out, "out");
         *out = nullptr;
         require(gl, "gl");
@@ -322,7 +286,7 @@ unsigned int aerial_arb_program_id(const aerial_arb_program* program) {
 aerial_status aerial_arb_program_set_frame(aerial_arb_program* program,
                                            const aerial_context* context,
                                            const aerial_display* display) {
-    return guard("aerial_arb_program_set_frame", program ? &program->last_error : nullptr, [&] {
+    return guard("aerial_arb_program_set_frame", capi::last_error_of(program), [&] {
         require(program, "program");
         require(context, "context");
         const auto p = capi::parameters(*context, program->program->program().options, display);
@@ -335,9 +299,9 @@ aerial_status aerial_arb_program_set_frame(aerial_arb_program* program,
 aerial_status aerial_arb_program_draw(aerial_arb_program* program,
                                       const aerial_draw_options* options, aerial_draw_function draw,
                                       void* user) {
-    return guard("aerial_arb_program_draw", program ? &program->last_error : nullptr, [&] {
+    return guard("aerial_arb_program_draw", capi::last_error_of(program), [&] {
         require(program, "program");
-        if (draw == nullptr) fail(AERIAL_ERROR_NULL_ARGUMENT, "draw", "draw is NULL");
+        require(draw, "draw");
         gl::ApplyOptions o;
         if (options != nullptr) {
             o.texture_unit = options->texture_unit;

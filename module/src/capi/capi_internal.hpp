@@ -3,6 +3,7 @@
 // the C++ ones. Used by capi_core.cpp (aerial::core) and capi_gl.cpp (aerial::gl).
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <utility>
@@ -33,8 +34,48 @@ struct Failure {
 [[noreturn]] void fail(aerial_status status, std::string field, std::string message);
 /// A C++ Error as a failure with `status`.
 [[noreturn]] void fail(aerial_status status, const Error& error);
+/// Fails with AERIAL_ERROR_NULL_ARGUMENT naming `name` ("name is NULL").
+[[noreturn]] void fail_null(const char* name);
 /// Fails with AERIAL_ERROR_NULL_ARGUMENT naming `name` when `pointer` is null.
 void require(const void* pointer, const char* name);
+/// The same for a function pointer (a callback), which does not convert to const void*.
+template <class Return, class... Arguments>
+void require(Return (*function)(Arguments...), const char* name) {
+    if (function == nullptr) fail_null(name);
+}
+
+/// Where a call records its message for `object->last_error` (null when there is no object).
+/// The last error is mutable state behind a const handle: recording it changes no result.
+template <class Object>
+std::string* last_error_of(const Object* object) {
+    return object ? &const_cast<Object*>(object)->last_error : nullptr;
+}
+
+/// One value of a C enum and the C++ value it stands for.
+template <class Cpp>
+struct EnumValue {
+    int c;
+    Cpp cpp;
+};
+
+/// The C++ value of the C enum value `value`, or AERIAL_ERROR_INVALID_ARGUMENT naming `field`:
+/// "field: expected <expected>, got <value>".
+template <class Cpp, std::size_t N>
+Cpp to_cpp_enum(int value, const EnumValue<Cpp> (&values)[N], const char* field,
+                const char* expected) {
+    for (const EnumValue<Cpp>& v : values) {
+        if (v.c == value) return v.cpp;
+    }
+    fail(AERIAL_ERROR_INVALID_ARGUMENT, field,
+         std::string(field) + ": expected " + expected + ", got " + std::to_string(value));
+}
+
+/// The value of a C++ result, or a failure with `status` and the result's error.
+template <class T>
+T value_or_fail(Result<T> result, aerial_status status) {
+    if (!result) fail(status, result.error());
+    return std::move(result).value();
+}
 
 /// Records the outcome of one call for aerial_last_error_*() (and for the object, if any).
 void record(aerial_status status, const char* function, const std::string& field,

@@ -65,113 +65,108 @@ struct Caps {
 };
 
 // X(type, member, "name", "alternative name or empty") — every entry point the module calls.
-// The first block is GL 1.1 (required); the second is optional and null when not offered.
-#define AERIAL_GL_REQUIRED_FUNCTIONS(X)                                                  \
-    X(decltype(&::glGetString), GetString, "glGetString", "")                            \
-    X(decltype(&::glGetError), GetError, "glGetError", "")                               \
-    X(decltype(&::glGetIntegerv), GetIntegerv, "glGetIntegerv", "")                      \
-    X(decltype(&::glGetFloatv), GetFloatv, "glGetFloatv", "")                            \
-    X(decltype(&::glGetBooleanv), GetBooleanv, "glGetBooleanv", "")                      \
-    X(decltype(&::glGetPointerv), GetPointerv, "glGetPointerv", "")                      \
-    X(decltype(&::glIsEnabled), IsEnabled, "glIsEnabled", "")                            \
-    X(decltype(&::glEnable), Enable, "glEnable", "")                                     \
-    X(decltype(&::glDisable), Disable, "glDisable", "")                                  \
-    X(decltype(&::glEnableClientState), EnableClientState, "glEnableClientState", "")    \
-    X(decltype(&::glDisableClientState), DisableClientState, "glDisableClientState", "") \
-    X(decltype(&::glVertexPointer), VertexPointer, "glVertexPointer", "")                \
-    X(decltype(&::glNormalPointer), NormalPointer, "glNormalPointer", "")                \
-    X(decltype(&::glColorPointer), ColorPointer, "glColorPointer", "")                   \
-    X(decltype(&::glTexCoordPointer), TexCoordPointer, "glTexCoordPointer", "")          \
-    X(decltype(&::glDrawArrays), DrawArrays, "glDrawArrays", "")                         \
-    X(decltype(&::glDrawElements), DrawElements, "glDrawElements", "")                   \
-    X(decltype(&::glBlendFunc), BlendFunc, "glBlendFunc", "")                            \
-    X(decltype(&::glDepthFunc), DepthFunc, "glDepthFunc", "")                            \
-    X(decltype(&::glDepthMask), DepthMask, "glDepthMask", "")                            \
-    X(decltype(&::glColorMask), ColorMask, "glColorMask", "")                            \
-    X(decltype(&::glShadeModel), ShadeModel, "glShadeModel", "")                         \
-    X(decltype(&::glColorMaterial), ColorMaterial, "glColorMaterial", "")                \
-    X(decltype(&::glMaterialfv), Materialfv, "glMaterialfv", "")                         \
-    X(decltype(&::glGetMaterialfv), GetMaterialfv, "glGetMaterialfv", "")                \
-    X(decltype(&::glFogf), Fogf, "glFogf", "")                                           \
-    X(decltype(&::glFogi), Fogi, "glFogi", "")                                           \
-    X(decltype(&::glFogfv), Fogfv, "glFogfv", "")                                        \
-    X(decltype(&::glTexEnvi), TexEnvi, "glTexEnvi", "")                                  \
-    X(decltype(&::glTexEnvf), TexEnvf, "glTexEnvf", "")                                  \
-    X(decltype(&::glTexEnvfv), TexEnvfv, "glTexEnvfv", "")                               \
-    X(decltype(&::glGetTexEnviv), GetTexEnviv, "glGetTexEnviv", "")                      \
-    X(decltype(&::glGetTexEnvfv), GetTexEnvfv, "glGetTexEnvfv", "")                      \
-    X(decltype(&::glGenTextures), GenTextures, "glGenTextures", "")                      \
-    X(decltype(&::glDeleteTextures), DeleteTextures, "glDeleteTextures", "")             \
-    X(decltype(&::glBindTexture), BindTexture, "glBindTexture", "")                      \
-    X(decltype(&::glTexImage1D), TexImage1D, "glTexImage1D", "")                         \
-    X(decltype(&::glTexImage2D), TexImage2D, "glTexImage2D", "")                         \
-    X(decltype(&::glTexParameteri), TexParameteri, "glTexParameteri", "")                \
-    X(decltype(&::glPixelStorei), PixelStorei, "glPixelStorei", "")                      \
-    X(decltype(&::glReadPixels), ReadPixels, "glReadPixels", "")                         \
-    X(decltype(&::glViewport), Viewport, "glViewport", "")                               \
-    X(decltype(&::glScissor), Scissor, "glScissor", "")                                  \
-    X(decltype(&::glClear), Clear, "glClear", "")                                        \
-    X(decltype(&::glClearColor), ClearColor, "glClearColor", "")                         \
-    X(decltype(&::glMatrixMode), MatrixMode, "glMatrixMode", "")                         \
-    X(decltype(&::glLoadMatrixf), LoadMatrixf, "glLoadMatrixf", "")                      \
-    X(decltype(&::glLoadIdentity), LoadIdentity, "glLoadIdentity", "")                   \
-    X(decltype(&::glPushMatrix), PushMatrix, "glPushMatrix", "")                         \
-    X(decltype(&::glPopMatrix), PopMatrix, "glPopMatrix", "")                            \
-    X(decltype(&::glColor4f), Color4f, "glColor4f", "")                                  \
-    X(decltype(&::glBegin), Begin, "glBegin", "")                                        \
-    X(decltype(&::glEnd), End, "glEnd", "")                                              \
-    X(decltype(&::glVertex3f), Vertex3f, "glVertex3f", "")                               \
-    X(decltype(&::glTexCoord2f), TexCoord2f, "glTexCoord2f", "")                         \
-    X(decltype(&::glTexCoord3f), TexCoord3f, "glTexCoord3f", "")                         \
-    X(decltype(&::glTexCoord4f), TexCoord4f, "glTexCoord4f", "")                         \
-    X(decltype(&::glTexParameterf), TexParameterf, "glTexParameterf", "")                \
-    X(decltype(&::glFinish), Finish, "glFinish", "")
+// The member is the name without its "gl" prefix; the shorthands below spell each name once:
+//   AERIAL_GL_11(X, Member)                    GL 1.1: "glMember", its type from <GL/gl.h>
+//   AERIAL_GL_OR_EXT(X, TYPE, Member, SUFFIX)  "glMember", else the extension's "glMemberSUFFIX"
+//   AERIAL_GL_EXT(X, TYPE, Member, SUFFIX)     only the extension's "glMemberSUFFIX"
+// The first list is GL 1.1 (required); the second is optional and null when not offered.
+#define AERIAL_GL_11(X, member) X(decltype(&::gl##member), member, "gl" #member, "")
+#define AERIAL_GL_OR_EXT(X, type, member, suffix) \
+    X(type, member, "gl" #member, "gl" #member #suffix)
+#define AERIAL_GL_EXT(X, type, member, suffix) X(type, member, "gl" #member #suffix, "")
 
-#define AERIAL_GL_OPTIONAL_FUNCTIONS(X)                                                           \
-    X(PFNGLACTIVETEXTUREPROC, ActiveTexture, "glActiveTexture", "glActiveTextureARB")             \
-    X(PFNGLCLIENTACTIVETEXTUREARBPROC, ClientActiveTexture, "glClientActiveTexture",              \
-      "glClientActiveTextureARB")                                                                 \
-    X(PFNGLTEXIMAGE3DPROC, TexImage3D, "glTexImage3D", "glTexImage3DEXT")                         \
-    X(PFNGLSECONDARYCOLORPOINTEREXTPROC, SecondaryColorPointer, "glSecondaryColorPointer",        \
-      "glSecondaryColorPointerEXT")                                                               \
-    X(PFNGLFOGCOORDPOINTEREXTPROC, FogCoordPointer, "glFogCoordPointer", "glFogCoordPointerEXT")  \
-    X(PFNGLSECONDARYCOLOR3FEXTPROC, SecondaryColor3f, "glSecondaryColor3f",                       \
-      "glSecondaryColor3fEXT")                                                                    \
-    X(PFNGLMULTITEXCOORD4FARBPROC, MultiTexCoord4f, "glMultiTexCoord4f", "glMultiTexCoord4fARB")  \
-    X(PFNGLBINDBUFFERARBPROC, BindBuffer, "glBindBuffer", "glBindBufferARB")                      \
-    X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate, "glBlendFuncSeparate",                       \
-      "glBlendFuncSeparateEXT")                                                                   \
-    X(PFNGLBLENDEQUATIONPROC, BlendEquation, "glBlendEquation", "glBlendEquationEXT")             \
-    X(PFNGLBLENDEQUATIONSEPARATEPROC, BlendEquationSeparate, "glBlendEquationSeparate",           \
-      "glBlendEquationSeparateEXT")                                                               \
-    X(PFNGLUSEPROGRAMPROC, UseProgram, "glUseProgram", "")                                        \
-    X(PFNGLGENPROGRAMSARBPROC, GenPrograms, "glGenProgramsARB", "")                               \
-    X(PFNGLDELETEPROGRAMSARBPROC, DeletePrograms, "glDeleteProgramsARB", "")                      \
-    X(PFNGLBINDPROGRAMARBPROC, BindProgram, "glBindProgramARB", "")                               \
-    X(PFNGLPROGRAMSTRINGARBPROC, ProgramString, "glProgramStringARB", "")                         \
-    X(PFNGLGETPROGRAMIVARBPROC, GetProgramiv, "glGetProgramivARB", "")                            \
-    X(PFNGLPROGRAMLOCALPARAMETER4FVARBPROC, ProgramLocalParameter4fv,                             \
-      "glProgramLocalParameter4fvARB", "")                                                        \
-    X(PFNGLPROGRAMENVPARAMETER4FVARBPROC, ProgramEnvParameter4fv, "glProgramEnvParameter4fvARB",  \
-      "")                                                                                         \
-    X(PFNGLGETPROGRAMLOCALPARAMETERFVARBPROC, GetProgramLocalParameterfv,                         \
-      "glGetProgramLocalParameterfvARB", "")                                                      \
-    X(PFNGLGETPROGRAMENVPARAMETERFVARBPROC, GetProgramEnvParameterfv,                             \
-      "glGetProgramEnvParameterfvARB", "")                                                        \
-    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers, "glGenFramebuffers", "glGenFramebuffersEXT")     \
-    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers, "glDeleteFramebuffers",                    \
-      "glDeleteFramebuffersEXT")                                                                  \
-    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer, "glBindFramebuffer", "glBindFramebufferEXT")     \
-    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers, "glGenRenderbuffers", "glGenRenderbuffersEXT") \
-    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers, "glDeleteRenderbuffers",                 \
-      "glDeleteRenderbuffersEXT")                                                                 \
-    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer, "glBindRenderbuffer", "glBindRenderbufferEXT") \
-    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage, "glRenderbufferStorage",                 \
-      "glRenderbufferStorageEXT")                                                                 \
-    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer, "glFramebufferRenderbuffer",     \
-      "glFramebufferRenderbufferEXT")                                                             \
-    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus, "glCheckFramebufferStatus",        \
-      "glCheckFramebufferStatusEXT")
+#define AERIAL_GL_REQUIRED_FUNCTIONS(X) \
+    AERIAL_GL_11(X, GetString)          \
+    AERIAL_GL_11(X, GetError)           \
+    AERIAL_GL_11(X, GetIntegerv)        \
+    AERIAL_GL_11(X, GetFloatv)          \
+    AERIAL_GL_11(X, GetBooleanv)        \
+    AERIAL_GL_11(X, GetPointerv)        \
+    AERIAL_GL_11(X, IsEnabled)          \
+    AERIAL_GL_11(X, Enable)             \
+    AERIAL_GL_11(X, Disable)            \
+    AERIAL_GL_11(X, EnableClientState)  \
+    AERIAL_GL_11(X, DisableClientState) \
+    AERIAL_GL_11(X, VertexPointer)      \
+    AERIAL_GL_11(X, NormalPointer)      \
+    AERIAL_GL_11(X, ColorPointer)       \
+    AERIAL_GL_11(X, TexCoordPointer)    \
+    AERIAL_GL_11(X, DrawArrays)         \
+    AERIAL_GL_11(X, DrawElements)       \
+    AERIAL_GL_11(X, BlendFunc)          \
+    AERIAL_GL_11(X, DepthFunc)          \
+    AERIAL_GL_11(X, DepthMask)          \
+    AERIAL_GL_11(X, ColorMask)          \
+    AERIAL_GL_11(X, ShadeModel)         \
+    AERIAL_GL_11(X, ColorMaterial)      \
+    AERIAL_GL_11(X, Materialfv)         \
+    AERIAL_GL_11(X, GetMaterialfv)      \
+    AERIAL_GL_11(X, Fogf)               \
+    AERIAL_GL_11(X, Fogi)               \
+    AERIAL_GL_11(X, Fogfv)              \
+    AERIAL_GL_11(X, TexEnvi)            \
+    AERIAL_GL_11(X, TexEnvf)            \
+    AERIAL_GL_11(X, TexEnvfv)           \
+    AERIAL_GL_11(X, GetTexEnviv)        \
+    AERIAL_GL_11(X, GetTexEnvfv)        \
+    AERIAL_GL_11(X, GenTextures)        \
+    AERIAL_GL_11(X, DeleteTextures)     \
+    AERIAL_GL_11(X, BindTexture)        \
+    AERIAL_GL_11(X, TexImage1D)         \
+    AERIAL_GL_11(X, TexImage2D)         \
+    AERIAL_GL_11(X, TexParameteri)      \
+    AERIAL_GL_11(X, PixelStorei)        \
+    AERIAL_GL_11(X, ReadPixels)         \
+    AERIAL_GL_11(X, Viewport)           \
+    AERIAL_GL_11(X, Scissor)            \
+    AERIAL_GL_11(X, Clear)              \
+    AERIAL_GL_11(X, ClearColor)         \
+    AERIAL_GL_11(X, MatrixMode)         \
+    AERIAL_GL_11(X, LoadMatrixf)        \
+    AERIAL_GL_11(X, LoadIdentity)       \
+    AERIAL_GL_11(X, PushMatrix)         \
+    AERIAL_GL_11(X, PopMatrix)          \
+    AERIAL_GL_11(X, Color4f)            \
+    AERIAL_GL_11(X, Begin)              \
+    AERIAL_GL_11(X, End)                \
+    AERIAL_GL_11(X, Vertex3f)           \
+    AERIAL_GL_11(X, TexCoord2f)         \
+    AERIAL_GL_11(X, TexCoord3f)         \
+    AERIAL_GL_11(X, TexCoord4f)         \
+    AERIAL_GL_11(X, TexParameterf)      \
+    AERIAL_GL_11(X, Finish)
+
+#define AERIAL_GL_OPTIONAL_FUNCTIONS(X)                                                       \
+    AERIAL_GL_OR_EXT(X, PFNGLACTIVETEXTUREPROC, ActiveTexture, ARB)                           \
+    AERIAL_GL_OR_EXT(X, PFNGLCLIENTACTIVETEXTUREARBPROC, ClientActiveTexture, ARB)            \
+    AERIAL_GL_OR_EXT(X, PFNGLTEXIMAGE3DPROC, TexImage3D, EXT)                                 \
+    AERIAL_GL_OR_EXT(X, PFNGLSECONDARYCOLORPOINTEREXTPROC, SecondaryColorPointer, EXT)        \
+    AERIAL_GL_OR_EXT(X, PFNGLFOGCOORDPOINTEREXTPROC, FogCoordPointer, EXT)                    \
+    AERIAL_GL_OR_EXT(X, PFNGLSECONDARYCOLOR3FEXTPROC, SecondaryColor3f, EXT)                  \
+    AERIAL_GL_OR_EXT(X, PFNGLMULTITEXCOORD4FARBPROC, MultiTexCoord4f, ARB)                    \
+    AERIAL_GL_OR_EXT(X, PFNGLBINDBUFFERARBPROC, BindBuffer, ARB)                              \
+    AERIAL_GL_OR_EXT(X, PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate, EXT)                   \
+    AERIAL_GL_OR_EXT(X, PFNGLBLENDEQUATIONPROC, BlendEquation, EXT)                           \
+    AERIAL_GL_OR_EXT(X, PFNGLBLENDEQUATIONSEPARATEPROC, BlendEquationSeparate, EXT)           \
+    X(PFNGLUSEPROGRAMPROC, UseProgram, "glUseProgram", "")                                    \
+    AERIAL_GL_EXT(X, PFNGLGENPROGRAMSARBPROC, GenPrograms, ARB)                               \
+    AERIAL_GL_EXT(X, PFNGLDELETEPROGRAMSARBPROC, DeletePrograms, ARB)                         \
+    AERIAL_GL_EXT(X, PFNGLBINDPROGRAMARBPROC, BindProgram, ARB)                               \
+    AERIAL_GL_EXT(X, PFNGLPROGRAMSTRINGARBPROC, ProgramString, ARB)                           \
+    AERIAL_GL_EXT(X, PFNGLGETPROGRAMIVARBPROC, GetProgramiv, ARB)                             \
+    AERIAL_GL_EXT(X, PFNGLPROGRAMLOCALPARAMETER4FVARBPROC, ProgramLocalParameter4fv, ARB)     \
+    AERIAL_GL_EXT(X, PFNGLPROGRAMENVPARAMETER4FVARBPROC, ProgramEnvParameter4fv, ARB)         \
+    AERIAL_GL_EXT(X, PFNGLGETPROGRAMLOCALPARAMETERFVARBPROC, GetProgramLocalParameterfv, ARB) \
+    AERIAL_GL_EXT(X, PFNGLGETPROGRAMENVPARAMETERFVARBPROC, GetProgramEnvParameterfv, ARB)     \
+    AERIAL_GL_OR_EXT(X, PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers, EXT)                       \
+    AERIAL_GL_OR_EXT(X, PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers, EXT)                 \
+    AERIAL_GL_OR_EXT(X, PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer, EXT)                       \
+    AERIAL_GL_OR_EXT(X, PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers, EXT)                     \
+    AERIAL_GL_OR_EXT(X, PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers, EXT)               \
+    AERIAL_GL_OR_EXT(X, PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer, EXT)                     \
+    AERIAL_GL_OR_EXT(X, PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage, EXT)               \
+    AERIAL_GL_OR_EXT(X, PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer, EXT)       \
+    AERIAL_GL_OR_EXT(X, PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus, EXT)
 
 /// The resolved entry points of one context, named without the `gl` prefix
 /// (`api.Enable(GL_FOG)`), and what the context offers.

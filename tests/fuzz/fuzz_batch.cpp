@@ -15,6 +15,7 @@
 #include "aerial/atmosphere.hpp"
 #include "aerial/batch.hpp"
 #include "aerial/scattering.hpp"
+#include "batch_outputs.hpp"
 #include "fuzz_check.hpp"
 
 namespace {
@@ -110,12 +111,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t n = count;
     std::vector<float> fex(3 * n), lin(3 * n), esun(3 * n);
     std::vector<std::uint8_t> fex8(4 * n), lit8(4 * n), lin8(4 * n);
-    aerial::BatchOutputs out;
-    out.extinction_rgb = fex.data();
-    out.in_scattering_rgb = lin.data();
-    out.sun_irradiance_rgb = esun.data();
-    out.extinction_rgba8 = fex8.data();
-    out.in_scattering_rgba8 = lin8.data();
+    aerial::BatchOutputs out = aerial::fuzz::floats_and_codes(fex, lin, esun, fex8, lin8);
     const bool lit = in.ConsumeBool();
     if (lit) {
         out.lit_rgba8 = lit8.data();

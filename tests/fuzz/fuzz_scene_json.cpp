@@ -12,6 +12,7 @@
 #include "aerial/scattering.hpp"
 #include "aerial/scene_file.hpp"
 #include "aerial/validation/scene_render.hpp"
+#include "batch_outputs.hpp"
 #include "fuzz_check.hpp"
 
 namespace {
@@ -42,12 +43,7 @@ void check_geometry(const aerial::scene::SceneFile& scene, const aerial::Frame<f
     const std::size_t n = mesh.vertex_count();
     std::vector<float> fex(3 * n), lin(3 * n), esun(3 * n);
     std::vector<std::uint8_t> fex8(4 * n), lin8(4 * n);
-    aerial::BatchOutputs out;
-    out.extinction_rgb = fex.data();
-    out.in_scattering_rgb = lin.data();
-    out.sun_irradiance_rgb = esun.data();
-    out.extinction_rgba8 = fex8.data();
-    out.in_scattering_rgba8 = lin8.data();
+    aerial::BatchOutputs out = aerial::fuzz::floats_and_codes(fex, lin, esun, fex8, lin8);
     aerial::BatchSettings settings;
     settings.display = scene.display;
     settings.threads = 1;

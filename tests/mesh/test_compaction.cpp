@@ -17,8 +17,6 @@ namespace {
 using aerial::mesh::AdaptiveMesh;
 using aerial::mesh::AdaptiveSettings;
 using aerial::mesh::Mesh;
-using aerial_test::make_frame;
-using aerial_test::sun_at;
 
 // What an engine can see of the mesh, in handle order with the deleted elements left out: each
 // live face's corner positions and estimate, each live vertex's position, morph weight, parents'
@@ -92,9 +90,10 @@ void expect_compaction_gives_the_results_of_never_compacting(bool relocate, int 
     const int kUpdates = updates;
     for (int i = 0; i < kUpdates; ++i) {
         // The sun goes round and up and down; the eye climbs and comes back down.
-        const glm::dvec3 sun = sun_at(3.0 + 20.0 * (1.0 - std::cos(i * 0.3)), 40.0 * i);
+        const glm::dvec3 sun =
+            aerial_test::sun_at(3.0 + 20.0 * (1.0 - std::cos(i * 0.3)), 40.0 * i);
         const glm::dvec3 eye{0.0, 0.0, 2.0 + 40.0 * (i % 30)};
-        const auto frame = make_frame(eye, sun, 0.9);
+        const auto frame = aerial_test::make_frame(eye, sun, 0.9);
         const auto a = automatic.update(frame);
         const auto r = reference.update(frame);
         const auto h = by_hand.update(frame);

@@ -13,7 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "adaptive_sky.hpp"
+#include "aerial/adaptive_scene.hpp"
 #include "aerial/aerial.hpp"
 #include "aerial/headless.hpp"
 #include "aerial/scene_renderer.hpp"
@@ -323,8 +323,9 @@ int main(int argc, char** argv) {
     auto sky = sample::install_sky(renderer.value(), api, config);
     if (!sky) return fail("--sky: " + sky.error().message, 1);
     config.sky = sky->used;
-    auto sky_stats = std::make_shared<sample::AdaptiveSkyStats>();
-    if (adaptive_sky) renderer.value().set_sky_drawer(sample::adaptive_sky_drawer(sky_stats));
+    auto sky_stats = std::make_shared<aerial::scene::AdaptiveSkyStats>();
+    if (adaptive_sky)
+        renderer.value().set_sky_drawer(aerial::scene::adaptive_sky_drawer({}, sky_stats));
 
     if (auto e = aerial::tools::make_parent_directories(out + "/frames.csv"))
         return fail("--out " + *e);

@@ -29,6 +29,10 @@
 
 #include "aerial/error.hpp"
 
+namespace aerial::mesh {
+class AdaptiveMesh;
+}
+
 namespace aerial::scene {
 
 /// An RGB8 texture, top row first; both sides a power of two (1 .. 4096) for GL 1.x. The
@@ -114,6 +118,10 @@ struct Node {
     std::shared_ptr<const MeshData> mesh;    ///< mesh and terrain nodes
     std::shared_ptr<const Texture> texture;  ///< optional; untextured means white
     glm::vec3 albedo{1.0f};                  ///< multiplies the lit colour of terrain (linear RGB)
+    /// Mesh and terrain nodes: a mesh the renderer refines for the view every frame, drawn
+    /// instead of `mesh` (aerial/adaptive_scene.hpp, make_adaptive_mesh).
+    std::shared_ptr<mesh::AdaptiveMesh> adaptive;
+    double texture_repeat = 0.0;  ///< adaptive nodes: texcoords x / repeat, y / repeat (0: none)
     std::vector<std::unique_ptr<Node>> children;
 
     /// Appends a child and returns it.

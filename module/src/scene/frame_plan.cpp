@@ -232,7 +232,8 @@ NodePlan plan_node(FrameInputs& f, NodeState& st, const Node& node) {
     }
     // 2. Cached colours (cpu) or a cached choice (arb).
     const bool cpu = f.backend == Backend::cpu;
-    if (settings.policy && (cpu ? st.has_colours : st.has_choice)) {
+    // (Never for adaptive nodes: their colours morph from one update to the next.)
+    if (settings.policy && !node.adaptive && (cpu ? st.has_colours : st.has_choice)) {
         if (!st.cache.needs_update(key_for(f, st.model, albedo, plan.lit))) {
             plan.method = cpu ? Method::cached : method_of(st.model);
             plan.model = st.model;
@@ -296,10 +297,11 @@ Method method_of(Model model) {
 }
 
 void update_geometry(NodeState& st, const Node& node, const glm::dmat4& world) {
-    if (st.mesh == node.mesh && st.world == world) return;
-    st.mesh = node.mesh;
+    const std::shared_ptr<const MeshData>& source = node.adaptive ? st.adaptive_data : node.mesh;
+    if (st.mesh == source && st.world == world) return;
+    st.mesh = source;
     st.world = world;
-    const MeshData& mesh = *node.mesh;
+    const MeshData& mesh = *source;
     const std::size_t n = mesh.vertex_count();
     st.positions.resize(3 * n);
     const glm::dmat3 normal_matrix = glm::transpose(glm::inverse(glm::dmat3(world)));

@@ -36,6 +36,10 @@ struct NodeState {
     glm::dvec3 skip_sun{0.0};
     glm::vec3 skip_light{-1.0f};
     std::uint64_t last_frame = 0;
+    /// Adaptive nodes: the arrays of the refined mesh (drawn instead of Node::mesh) and the
+    /// vertex count they were made for.
+    std::shared_ptr<const MeshData> adaptive_data;
+    std::size_t adaptive_vertices = 0;
 };
 
 /// The sky ambient of the last estimate and what it was made for (frame_ambient).

@@ -15,6 +15,7 @@
 #include <glm/matrix.hpp>
 
 #include "../common/names.hpp"
+#include "adaptive_node.hpp"
 #include "aerial/arb_program.hpp"
 #include "aerial/cache.hpp"
 #include "aerial/gl_api.hpp"
@@ -394,6 +395,7 @@ std::optional<Error> SceneRenderer::Impl::shade_node(const Node& node, detail::N
         auto stats = shade_into(frame.frame_for(plan.model), Positions::aos(st.positions.data(), n),
                                 out, bs);
         if (!stats) return node_error(node, stats.error());
+        if (node.adaptive) detail::morph_adaptive_colours(st, node);
         st.has_colours = true;
         st.skip_colours = false;
         report.vertices_shaded += n;
@@ -432,7 +434,7 @@ std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const deta
                                                     const detail::FrameInputs& frame,
                                                     const gl::ApplyOptions& apply, int units) {
     const gl::Api& gl = *api;
-    const MeshData& mesh = *node.mesh;
+    const MeshData& mesh = *st.mesh;
     const std::size_t n = st.positions.size() / 3;
     const bool textured = node.texture && !mesh.texcoords.empty();
     if (gl.ActiveTexture) gl.ActiveTexture(GL_TEXTURE0);
@@ -487,6 +489,9 @@ std::optional<Error> SceneRenderer::Impl::render_node(const Node& node, const gl
                                                       FrameReport& report) {
     detail::NodeState& st = nodes[&node];
     st.last_frame = frame_number;
+    if (node.adaptive) {
+        if (auto e = detail::refine_adaptive_node(st, node, world, frame.model)) return e;
+    }
     detail::update_geometry(st, node, world);
     NodeReport nr;
     nr.name = node.name;

@@ -44,7 +44,14 @@ std::optional<Error> validate_node(const Node& node, const std::string& path) {
             }
         }
     }
-    if (node.kind == NodeKind::mesh || node.kind == NodeKind::terrain) {
+    if (node.adaptive) {
+        if (node.kind != NodeKind::mesh && node.kind != NodeKind::terrain) {
+            return Error{path, path + ": only mesh and terrain nodes can hold an adaptive mesh"};
+        }
+        if (!(node.texture_repeat >= 0.0) || !std::isfinite(node.texture_repeat)) {
+            return Error{path, path + ": texture_repeat: expected a finite value >= 0"};
+        }
+    } else if (node.kind == NodeKind::mesh || node.kind == NodeKind::terrain) {
         if (!node.mesh)
             return Error{path, path + ": " + node_kind_name(node.kind) + " without a mesh"};
         if (auto e = validate(*node.mesh)) return Error{path, path + ": mesh " + e->message};

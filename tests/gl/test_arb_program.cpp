@@ -1180,6 +1180,20 @@ Case make_case(const std::string& preset_name, const glm::dvec3& eye, double sun
     return k;
 }
 
+/// Calls VISIT with the case of each of PRESETS, GRID's eyes and its sun elevations, in that
+/// order; none after a fatal failure.
+template <class Visit>
+void for_each_case(const std::vector<std::string>& presets, const Grid& grid, Visit visit) {
+    for (const std::string& name : presets) {
+        for (const glm::dvec3& eye : grid.eyes) {
+            for (double sun : grid.sun_elevations) {
+                if (::testing::Test::HasFatalFailure()) return;
+                visit(make_case(name, eye, sun, grid));
+            }
+        }
+    }
+}
+
 std::string describe(const Case& k, const glm::dvec3& vertex) {
     const glm::dvec3 d = vertex - k.view.eye;
     char buffer[200];
@@ -1349,21 +1363,16 @@ TEST(ArbHeightProgram, ExtinctionMatchesTheCpuModelWithin1LsbOverTheWholeGrid) {
     const auto program = height::program();
     const height::Grid grid;
     height::Worst worst;
-    for (const std::string& name : aerial::atmosphere_preset_names()) {
-        for (const glm::dvec3& eye : grid.eyes) {
-            for (double sun : grid.sun_elevations) {
-                const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::validation::ArbMachine m =
-                    machine_with(height::parameters(k.frame, k.exposure));
-                for (std::size_t i = 0; i < k.vertices.size(); ++i) {
-                    const ArbResults r = aerial::validation::run_arb_program(
-                        program, m, vertex_at(glm::vec3(k.vertices[i])));
-                    worst.add(height::lsb_against(r, k.cpu[i], k.exposure).extinction,
-                              height::describe(k, k.vertices[i]));
-                }
-            }
+    height::for_each_case(aerial::atmosphere_preset_names(), grid, [&](const height::Case& k) {
+        const aerial::validation::ArbMachine m =
+            machine_with(height::parameters(k.frame, k.exposure));
+        for (std::size_t i = 0; i < k.vertices.size(); ++i) {
+            const ArbResults r = aerial::validation::run_arb_program(
+                program, m, vertex_at(glm::vec3(k.vertices[i])));
+            worst.add(height::lsb_against(r, k.cpu[i], k.exposure).extinction,
+                      height::describe(k, k.vertices[i]));
         }
-    }
+    });
     std::printf(
         "[ info     ] height program F_ex vs CPU height model (double), %ld vertices: max "
         "%d LSB\n",
@@ -1384,21 +1393,18 @@ TEST(ArbHeightProgram, InScatteringMatchesTheCpuModelOnShortRaysAndStaysCloseInC
     const char* length_names[] = {"<= 1 km", "<= 30 km", "> 30 km"};
     for (const std::string& name : aerial::atmosphere_preset_names()) {
         height::Worst by_length[3];
-        for (const glm::dvec3& eye : grid.eyes) {
-            for (double sun : grid.sun_elevations) {
-                const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::validation::ArbMachine m =
-                    machine_with(height::parameters(k.frame, k.exposure));
-                for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {  // not the deep ones
-                    const ArbResults r = aerial::validation::run_arb_program(
-                        program, m, vertex_at(glm::vec3(k.vertices[i])));
-                    const double d = glm::length(k.vertices[i] - k.view.eye);
-                    const int b = d <= lengths[0] ? 0 : d <= lengths[1] ? 1 : 2;
-                    by_length[b].add(height::lsb_against(r, k.cpu[i], k.exposure).in_scattering,
-                                     height::describe(k, k.vertices[i]));
-                }
+        height::for_each_case({name}, grid, [&](const height::Case& k) {
+            const aerial::validation::ArbMachine m =
+                machine_with(height::parameters(k.frame, k.exposure));
+            for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {  // not the deep ones
+                const ArbResults r = aerial::validation::run_arb_program(
+                    program, m, vertex_at(glm::vec3(k.vertices[i])));
+                const double d = glm::length(k.vertices[i] - k.view.eye);
+                const int b = d <= lengths[0] ? 0 : d <= lengths[1] ? 1 : 2;
+                by_length[b].add(height::lsb_against(r, k.cpu[i], k.exposure).in_scattering,
+                                 height::describe(k, k.vertices[i]));
             }
-        }
+        });
         for (int b = 0; b < 3; ++b) {
             std::printf(
                 "[ info     ] height L_in vs CPU, %-6s rays %-8s: max %3d LSB, %5.1f%% of "
@@ -1436,33 +1442,31 @@ TEST(ArbHeightProgram, AgainstTheReferenceModelItErrsLikeTheCpuHeightModel) {
     grid.eyes = {{0, 0, 2}, {0, 0, 1000}, {0, 0, 10000}};
     grid.distances = {1e3, 1e4, 3e4};
     grid.azimuths = 2;
+    grid.sun_elevations = {5.0, 20.0, 60.0};
     for (const char* name : {"earth", "hazy", "foggy", "mars"}) {
         height::Worst arb, cpu, arb_exact;
-        for (const glm::dvec3& eye : grid.eyes) {
-            for (double sun : {5.0, 20.0, 60.0}) {
-                const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::validation::ArbMachine m =
-                    machine_with(height::parameters(k.frame, k.exposure));
-                for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
-                    const aerial::Scattering<double> truth =
-                        aerial::reference_scattering(preset(name), k.view, k.vertices[i]);
-                    const ArbResults r = aerial::validation::run_arb_program(
-                        program, m, vertex_at(glm::vec3(k.vertices[i])));
-                    int model = 0;
-                    for (int c = 0; c < 3; ++c) {
-                        model = std::max(
-                            model, lsb_difference(float(k.exposure * k.cpu[i].in_scattering[c]),
-                                                  float(k.exposure * truth.in_scattering[c])));
-                    }
-                    const std::string where = height::describe(k, k.vertices[i]);
-                    arb.add(height::lsb_against(r, truth, k.exposure).in_scattering, where);
-                    const ArbResults e = aerial::validation::run_arb_program(
-                        exact, m, vertex_at(glm::vec3(k.vertices[i])));
-                    arb_exact.add(height::lsb_against(e, truth, k.exposure).in_scattering, where);
-                    cpu.add(model, where);
+        height::for_each_case({name}, grid, [&](const height::Case& k) {
+            const aerial::validation::ArbMachine m =
+                machine_with(height::parameters(k.frame, k.exposure));
+            for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
+                const aerial::Scattering<double> truth =
+                    aerial::reference_scattering(preset(name), k.view, k.vertices[i]);
+                const ArbResults r = aerial::validation::run_arb_program(
+                    program, m, vertex_at(glm::vec3(k.vertices[i])));
+                int model = 0;
+                for (int c = 0; c < 3; ++c) {
+                    model = std::max(model,
+                                     lsb_difference(float(k.exposure * k.cpu[i].in_scattering[c]),
+                                                    float(k.exposure * truth.in_scattering[c])));
                 }
+                const std::string where = height::describe(k, k.vertices[i]);
+                arb.add(height::lsb_against(r, truth, k.exposure).in_scattering, where);
+                const ArbResults e = aerial::validation::run_arb_program(
+                    exact, m, vertex_at(glm::vec3(k.vertices[i])));
+                arb_exact.add(height::lsb_against(e, truth, k.exposure).in_scattering, where);
+                cpu.add(model, where);
             }
-        }
+        });
         std::printf(
             "[ info     ] L_in vs reference, %-6s %ld vertices: program max %3d LSB (%5.1f%% "
             "> 1), with exact optical depth %3d LSB (%5.1f%% > 1), CPU height model max %3d LSB "
@@ -1573,37 +1577,31 @@ TEST(ArbHeightProgram, ReportsItsErrorWithOldHardwarePrecision) {
         };
         height::Worst fex, lin, lin_exact;
         aerial::testing::GridSample sample("vertices");
-        for (const std::string& name : aerial::atmosphere_preset_names()) {
-            for (const glm::dvec3& eye : grid.eyes) {
-                for (double sun : grid.sun_elevations) {
-                    const height::Case k = height::make_case(name, eye, sun, grid);
-                    const aerial::validation::ArbMachine m =
-                        machine_with(::parameters(k.frame, k.exposure, o));
-                    for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
-                        if (!sample.keep()) continue;
-                        const aerial::validation::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
-                        const height::Lsb exact =
-                            height::lsb_against(aerial::validation::run_arb_program(program, m, v),
-                                                k.cpu[i], k.exposure);
-                        height::Lsb worst;
-                        for (int pattern = 0; pattern < 48; ++pattern) {
-                            aerial::validation::ArbInterpreterOptions rounding;
-                            rounding.relative_error = kOldHardwareError;
-                            rounding.sign_pattern = pattern == 0 ? 0u : pattern == 1 ? ~0u : next();
-                            const height::Lsb e = height::lsb_against(
-                                aerial::validation::run_arb_program(program, m, v, rounding),
-                                k.cpu[i], k.exposure);
-                            worst.extinction = std::max(worst.extinction, e.extinction);
-                            worst.in_scattering = std::max(worst.in_scattering, e.in_scattering);
-                        }
-                        const std::string where = height::describe(k, k.vertices[i]);
-                        fex.add(worst.extinction, where);
-                        lin.add(worst.in_scattering, where);
-                        lin_exact.add(exact.in_scattering, where);
-                    }
+        height::for_each_case(aerial::atmosphere_preset_names(), grid, [&](const height::Case& k) {
+            const aerial::validation::ArbMachine m =
+                machine_with(::parameters(k.frame, k.exposure, o));
+            for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
+                if (!sample.keep()) continue;
+                const aerial::validation::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
+                const height::Lsb exact = height::lsb_against(
+                    aerial::validation::run_arb_program(program, m, v), k.cpu[i], k.exposure);
+                height::Lsb worst;
+                for (int pattern = 0; pattern < 48; ++pattern) {
+                    aerial::validation::ArbInterpreterOptions rounding;
+                    rounding.relative_error = kOldHardwareError;
+                    rounding.sign_pattern = pattern == 0 ? 0u : pattern == 1 ? ~0u : next();
+                    const height::Lsb e = height::lsb_against(
+                        aerial::validation::run_arb_program(program, m, v, rounding), k.cpu[i],
+                        k.exposure);
+                    worst.extinction = std::max(worst.extinction, e.extinction);
+                    worst.in_scattering = std::max(worst.in_scattering, e.in_scattering);
                 }
+                const std::string where = height::describe(k, k.vertices[i]);
+                fex.add(worst.extinction, where);
+                lin.add(worst.in_scattering, where);
+                lin_exact.add(exact.in_scattering, where);
             }
-        }
+        });
         std::printf(
             "[ info     ] height program (%s) with 2^-11 on its %d approximate instructions, %ld "
             "vertices: F_ex max %d LSB; L_in max %d LSB (%.1f%% > 1 LSB; unperturbed: max %d, "
@@ -1645,27 +1643,23 @@ TEST(ArbHeightProgram, ExactOpticalDepthOptionWeightsThePointsLikeTheCpuModel) {
     grid.sun_elevations = {5, 10, 20, 45, 90};
     for (const std::string& name : aerial::atmosphere_preset_names()) {
         height::Worst exact_worst, default_worst;
-        for (const glm::dvec3& eye : grid.eyes) {
-            for (double sun : grid.sun_elevations) {
-                const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::validation::ArbMachine m =
-                    machine_with(height::parameters(k.frame, k.exposure));
-                for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
-                    if (glm::length(k.vertices[i] - k.view.eye) > 3.1e4) continue;
-                    const aerial::validation::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
-                    const std::string where = height::describe(k, k.vertices[i]);
-                    const ArbResults a = aerial::validation::run_arb_program(with, m, v);
-                    ASSERT_TRUE(all_finite(a.color_secondary.value)) << where;
-                    exact_worst.add(height::lsb_against(a, k.cpu[i], k.exposure).in_scattering,
-                                    where);
-                    default_worst.add(
-                        height::lsb_against(aerial::validation::run_arb_program(without, m, v),
-                                            k.cpu[i], k.exposure)
-                            .in_scattering,
-                        where);
-                }
+        height::for_each_case({name}, grid, [&](const height::Case& k) {
+            const aerial::validation::ArbMachine m =
+                machine_with(height::parameters(k.frame, k.exposure));
+            for (std::size_t i = 0; i + 2 < k.vertices.size(); ++i) {
+                if (glm::length(k.vertices[i] - k.view.eye) > 3.1e4) continue;
+                const aerial::validation::ArbVertex v = vertex_at(glm::vec3(k.vertices[i]));
+                const std::string where = height::describe(k, k.vertices[i]);
+                const ArbResults a = aerial::validation::run_arb_program(with, m, v);
+                ASSERT_TRUE(all_finite(a.color_secondary.value)) << where;
+                exact_worst.add(height::lsb_against(a, k.cpu[i], k.exposure).in_scattering, where);
+                default_worst.add(
+                    height::lsb_against(aerial::validation::run_arb_program(without, m, v),
+                                        k.cpu[i], k.exposure)
+                        .in_scattering,
+                    where);
             }
-        }
+        });
         std::printf(
             "[ info     ] L_in vs CPU, %-6s rays <= 30 km: exact optical depth max %3d "
             "LSB (%4.1f%% > 1), default max %3d LSB (%4.1f%% > 1); worst at %s\n",
@@ -1693,23 +1687,17 @@ TEST(ArbHeightProgram, FullFidelityMatchesTheCpuModelWithin1LsbOverTheWholeGrid)
     const auto program = parse(text.text);
     const height::Grid grid;
     height::Worst fex, lin;
-    for (const std::string& name : aerial::atmosphere_preset_names()) {
-        for (const glm::dvec3& eye : grid.eyes) {
-            for (double sun : grid.sun_elevations) {
-                const height::Case k = height::make_case(name, eye, sun, grid);
-                const aerial::validation::ArbMachine m =
-                    machine_with(::parameters(k.frame, k.exposure, o));
-                for (std::size_t i = 0; i < k.vertices.size(); ++i) {
-                    const ArbResults r = aerial::validation::run_arb_program(
-                        program, m, vertex_at(glm::vec3(k.vertices[i])));
-                    const height::Lsb e = height::lsb_against(r, k.cpu[i], k.exposure);
-                    const std::string where = height::describe(k, k.vertices[i]);
-                    fex.add(e.extinction, where);
-                    lin.add(e.in_scattering, where);
-                }
-            }
+    height::for_each_case(aerial::atmosphere_preset_names(), grid, [&](const height::Case& k) {
+        const aerial::validation::ArbMachine m = machine_with(::parameters(k.frame, k.exposure, o));
+        for (std::size_t i = 0; i < k.vertices.size(); ++i) {
+            const ArbResults r = aerial::validation::run_arb_program(
+                program, m, vertex_at(glm::vec3(k.vertices[i])));
+            const height::Lsb e = height::lsb_against(r, k.cpu[i], k.exposure);
+            const std::string where = height::describe(k, k.vertices[i]);
+            fex.add(e.extinction, where);
+            lin.add(e.in_scattering, where);
         }
-    }
+    });
     std::printf(
         "[ info     ] full height program vs CPU height model (double), %ld vertices: F_ex max %d "
         "LSB, L_in max %d LSB (%.3f%% > 1), worst at %s\n",

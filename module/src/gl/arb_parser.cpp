@@ -61,6 +61,12 @@ bool is_identifier_start(char c) {
 }
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 
+/// Bindings of the same state or the same constant vector count once (section 2.14.3.7).
+bool same_binding(const ParamBinding& a, const ParamBinding& b) {
+    return a.kind == b.kind &&
+           (a.kind == ParamBinding::Kind::constant ? a.value == b.value : a.index == b.index);
+}
+
 class Parser {
   public:
     explicit Parser(std::string_view text) : text_(text) {}
@@ -91,6 +97,17 @@ class Parser {
         }
         return false;
     }
+    /// An optional sign: true after "-", false after "+" or none.
+    bool accept_sign() {
+        if (accept("-")) return true;
+        accept("+");
+        return false;
+    }
+    /// True when a constant (a vector, or a scalar with or without a sign) comes next.
+    bool at_constant() const {
+        return peek().text == "{" || peek().kind == Token::Kind::number || peek().text == "-" ||
+               peek().text == "+";
+    }
 
     // Errors carry the line and column of the offending token.
     Error error_at(std::size_t offset, const std::string& what) const;
@@ -100,6 +117,8 @@ class Parser {
     std::optional<Error> expect_integer(int& out);
     std::optional<Error> parse_signed_float(float& out);
     std::optional<Error> parse_constant_vector(Vec4& out);
+    /// A constant binding: "{ ... }", or a signed scalar in all four components.
+    std::optional<Error> parse_constant(ParamBinding& b);
 
     // Declarations.
     std::optional<Error> declare(const std::string& name, std::size_t offset, Symbol symbol);
@@ -109,6 +128,8 @@ class Parser {
     std::optional<Error> parse_param_single(int& binding);
     std::optional<Error> parse_param_multiple(std::vector<int>& bindings);
     int add_param(const ParamBinding& b);
+    /// Adds the bindings of `kind` with indices first .. last.
+    void add_params(ParamBinding::Kind kind, int first, int last, std::vector<int>& bindings);
 
     // Statements.
     std::optional<Error> parse_statement();
@@ -220,12 +241,7 @@ std::optional<Error> Parser::expect_integer(int& out) {
 }
 
 std::optional<Error> Parser::parse_signed_float(float& out) {
-    bool negative = false;
-    if (accept("-")) {
-        negative = true;
-    } else {
-        accept("+");
-    }
+    const bool negative = accept_sign();
     const Token& t = peek();
     if (t.kind != Token::Kind::number) {
         return error("expected a number, got '" + std::string(t.text) + "'");
@@ -252,6 +268,14 @@ std::optional<Error> Parser::parse_constant_vector(Vec4& out) {
     return expect("}");
 }
 
+std::optional<Error> Parser::parse_constant(ParamBinding& b) {
+    if (peek().text == "{") return parse_constant_vector(b.value);
+    float x = 0.0f;
+    if (auto e = parse_signed_float(x)) return e;
+    b.value = {x, x, x, x};
+    return std::nullopt;
+}
+
 std::optional<Error> Parser::declare(const std::string& name, std::size_t offset, Symbol symbol) {
     for (const char* r : kReserved) {
         if (name == r) return error_at(offset, "'" + name + "' is a reserved word");
@@ -263,16 +287,20 @@ std::optional<Error> Parser::declare(const std::string& name, std::size_t offset
 }
 
 int Parser::add_param(const ParamBinding& b) {
-    // Bindings of the same state or the same constant vector count once (section 2.14.3.7).
     for (std::size_t i = 0; i < data_.params.size(); ++i) {
-        const ParamBinding& p = data_.params[i];
-        if (p.kind != b.kind) continue;
-        if (b.kind == ParamBinding::Kind::constant ? p.value == b.value : p.index == b.index) {
-            return static_cast<int>(i);
-        }
+        if (same_binding(data_.params[i], b)) return static_cast<int>(i);
     }
     data_.params.push_back(b);
     return static_cast<int>(data_.params.size() - 1);
+}
+
+void Parser::add_params(ParamBinding::Kind kind, int first, int last, std::vector<int>& bindings) {
+    for (int i = first; i <= last; ++i) {
+        ParamBinding b;
+        b.kind = kind;
+        b.index = i;
+        bindings.push_back(add_param(b));
+    }
 }
 
 std::optional<Error> Parser::parse_attrib_binding(int& slot) {
@@ -346,16 +374,9 @@ std::optional<Error> Parser::parse_result_binding(int& slot) {
 
 std::optional<Error> Parser::parse_param_single(int& binding) {
     // program.local[i] | program.env[i] | state.matrix.mvp.row[i] | constant.
-    if (peek().text == "{" || peek().kind == Token::Kind::number || peek().text == "-" ||
-        peek().text == "+") {
+    if (at_constant()) {
         ParamBinding b;
-        if (peek().text == "{") {
-            if (auto e = parse_constant_vector(b.value)) return e;
-        } else {
-            float x = 0.0f;
-            if (auto e = parse_signed_float(x)) return e;
-            b.value = {x, x, x, x};
-        }
+        if (auto e = parse_constant(b)) return e;
         binding = add_param(b);
         return std::nullopt;
     }
@@ -370,8 +391,7 @@ std::optional<Error> Parser::parse_param_single(int& binding) {
 std::optional<Error> Parser::parse_param_multiple(std::vector<int>& bindings) {
     // One item of an array initializer: a constant, program.local[a] or [a..b], program.env[...],
     // state.matrix.mvp (4 rows) or state.matrix.mvp.row[i] / .row[a..b].
-    if (peek().text == "{" || peek().kind == Token::Kind::number || peek().text == "-" ||
-        peek().text == "+") {
+    if (at_constant()) {
         int b = 0;
         if (auto e = parse_param_single(b)) return e;
         bindings.push_back(b);
@@ -399,12 +419,8 @@ std::optional<Error> Parser::parse_param_multiple(std::vector<int>& bindings) {
         }
         int first = 0, last = 0;
         if (auto e = parse_range(first, last)) return e;
-        for (int i = first; i <= last; ++i) {
-            ParamBinding b;
-            b.kind = space == "local" ? ParamBinding::Kind::local : ParamBinding::Kind::env;
-            b.index = i;
-            bindings.push_back(add_param(b));
-        }
+        add_params(space == "local" ? ParamBinding::Kind::local : ParamBinding::Kind::env, first,
+                   last, bindings);
         return std::nullopt;
     }
     if (root == "state") {
@@ -429,12 +445,7 @@ std::optional<Error> Parser::parse_param_multiple(std::vector<int>& bindings) {
             return error_at(at, "state.matrix.mvp." + std::string(peek(1).text) +
                                     " is not supported by this interpreter");
         }
-        for (int r = first; r <= last; ++r) {
-            ParamBinding b;
-            b.kind = ParamBinding::Kind::mvp_row;
-            b.index = r;
-            bindings.push_back(add_param(b));
-        }
+        add_params(ParamBinding::Kind::mvp_row, first, last, bindings);
         return std::nullopt;
     }
     return error_at(at,
@@ -491,13 +502,7 @@ std::optional<Error> Parser::parse_register(Source& src) {
     if (peek().text == "{" || peek().kind == Token::Kind::number) {
         // Implicit constant; a bare scalar has no sign here (section 2.14.3.2).
         ParamBinding b;
-        if (peek().text == "{") {
-            if (auto e = parse_constant_vector(b.value)) return e;
-        } else {
-            float x = 0.0f;
-            if (auto e = parse_signed_float(x)) return e;
-            b.value = {x, x, x, x};
-        }
+        if (auto e = parse_constant(b)) return e;
         src.file = File::param;
         src.index = add_param(b);
         return std::nullopt;
@@ -556,11 +561,7 @@ std::optional<Error> Parser::parse_register(Source& src) {
 }
 
 std::optional<Error> Parser::parse_source(Source& src, bool scalar) {
-    if (accept("-")) {
-        src.negate = true;
-    } else {
-        accept("+");
-    }
+    src.negate = accept_sign();
     if (auto e = parse_register(src)) return e;
     const std::size_t at = peek().offset;
     if (!accept(".")) {
@@ -587,12 +588,7 @@ std::optional<Error> Parser::parse_swz_source(Source& src) {
     if (auto e = parse_register(src)) return e;
     for (int i = 0; i < 4; ++i) {
         if (auto e = expect(",")) return e;
-        bool negate = false;
-        if (accept("-")) {
-            negate = true;
-        } else {
-            accept("+");
-        }
+        const bool negate = accept_sign();
         const std::string_view c = peek().text;
         std::uint8_t select = 0;
         if (c == "0") {
@@ -749,11 +745,8 @@ Result<ParsedArbProgram> Parser::parse() {
     r.temporaries = data_.temporaries;
     std::vector<ParamBinding> distinct;
     for (const ParamBinding& p : data_.params) {
-        const bool seen = std::any_of(distinct.begin(), distinct.end(), [&](const ParamBinding& q) {
-            return q.kind == p.kind &&
-                   (p.kind == ParamBinding::Kind::constant ? q.value == p.value
-                                                           : q.index == p.index);
-        });
+        const bool seen = std::any_of(distinct.begin(), distinct.end(),
+                                      [&](const ParamBinding& q) { return same_binding(q, p); });
         if (!seen) distinct.push_back(p);
     }
     r.parameters = static_cast<int>(distinct.size());

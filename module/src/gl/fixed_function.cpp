@@ -9,6 +9,7 @@
 #include "aerial/gl.hpp"
 #include "aerial/gl_api.hpp"
 #include "state_saver.hpp"
+#include "texture_owner.hpp"
 
 namespace aerial::gl {
 
@@ -30,15 +31,19 @@ std::string context_text(const Caps& caps) {
            std::to_string(caps.version_minor) + " (" + caps.renderer + ")";
 }
 
+// "<extension>: the <path> path needs <version> or <extension>; the context has ... without it".
+Error path_needs(const Caps& caps, const std::string& extension, const char* path,
+                 const char* version) {
+    return Error{extension, extension + ": the " + path + " path needs " + version + " or " +
+                                extension + "; " + context_text(caps) + " without it"};
+}
+
 // Why `path` cannot run on `caps`, or nullopt when it can.
 std::optional<Error> missing_for(const Caps& caps, Path path) {
     switch (path) {
         case Path::secondary_color:
             if (!caps.secondary_color) {
-                return Error{"GL_EXT_secondary_color",
-                             "GL_EXT_secondary_color: the secondary-color path needs GL 1.4 or "
-                             "GL_EXT_secondary_color; " +
-                                 context_text(caps) + " without it"};
+                return path_needs(caps, "GL_EXT_secondary_color", "secondary-color", "GL 1.4");
             }
             return std::nullopt;
         case Path::combiner:
@@ -50,17 +55,9 @@ std::optional<Error> missing_for(const Caps& caps, Path path) {
                                  std::to_string(caps.max_texture_units) + " unit(s)"};
             }
             if (!caps.texture_env_combine) {
-                return Error{"GL_ARB_texture_env_combine",
-                             "GL_ARB_texture_env_combine: the combiner path needs GL 1.3 or "
-                             "GL_ARB_texture_env_combine; " +
-                                 context_text(caps) + " without it"};
+                return path_needs(caps, "GL_ARB_texture_env_combine", "combiner", "GL 1.3");
             }
-            if (!caps.texture_3d) {
-                return Error{"GL_EXT_texture3D",
-                             "GL_EXT_texture3D: the combiner path needs GL 1.2 or "
-                             "GL_EXT_texture3D; " +
-                                 context_text(caps) + " without it"};
-            }
+            if (!caps.texture_3d) return path_needs(caps, "GL_EXT_texture3D", "combiner", "GL 1.2");
             return std::nullopt;
         case Path::two_pass:
         case Path::automatic:
@@ -165,24 +162,14 @@ CombinerTexture::CombinerTexture(CombinerTexture&& other) noexcept
 
 CombinerTexture& CombinerTexture::operator=(CombinerTexture&& other) noexcept {
     if (this != &other) {
-        if (id_ != 0) {
-            const GLuint id = id_;
-            api_->DeleteTextures(1, &id);
-        }
-        api_ = other.api_;
-        id_ = std::exchange(other.id_, 0u);
+        detail::take_texture(api_, id_, other.api_, other.id_);
         size_ = other.size_;
         texcoords_ = std::move(other.texcoords_);
     }
     return *this;
 }
 
-CombinerTexture::~CombinerTexture() {
-    if (id_ != 0) {
-        const GLuint id = id_;
-        api_->DeleteTextures(1, &id);
-    }
-}
+CombinerTexture::~CombinerTexture() { detail::release_texture(api_, id_); }
 
 const float* CombinerTexture::texcoords_for(const VertexColours& colours) {
     const std::size_t n = colours.vertex_count;

@@ -9,6 +9,7 @@
 
 #include "aerial/gl_api.hpp"
 #include "state_saver.hpp"
+#include "texture_owner.hpp"
 
 namespace aerial::gl {
 namespace {
@@ -23,6 +24,15 @@ void default_unpack(StateSaver& s) {
     s.pixel_store(GL_UNPACK_SKIP_PIXELS, 0);
     s.pixel_store(GL_UNPACK_SWAP_BYTES, GL_FALSE);
     s.pixel_store(GL_UNPACK_LSB_FIRST, GL_FALSE);
+}
+
+/// Binds texture `id` to `target` on unit 0 for an upload from client memory, with linear
+/// filtering; `s` restores the unit and the unpack state.
+void begin_upload(StateSaver& s, const Api& api, GLenum target, unsigned id) {
+    default_unpack(s);
+    s.bind_texture(0, target, id);
+    api.TexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    api.TexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
 }
 
 GLint edge_clamp(const Caps& caps) {
@@ -122,10 +132,7 @@ std::optional<Error> SkyCubemapTexture::update(
     if (auto e = no_current_context(*api_)) return e;
     if (auto e = check_faces(*api_, faces, size)) return e;
     StateSaver s(*api_);
-    default_unpack(s);
-    s.bind_texture(0, GL_TEXTURE_CUBE_MAP, id_);
-    api_->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    api_->TexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    begin_upload(s, *api_, GL_TEXTURE_CUBE_MAP, id_);
     for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) {
         api_->TexParameteri(GL_TEXTURE_CUBE_MAP, wrap, GL_CLAMP_TO_EDGE);
     }
@@ -142,17 +149,13 @@ SkyCubemapTexture::SkyCubemapTexture(SkyCubemapTexture&& other) noexcept
 
 SkyCubemapTexture& SkyCubemapTexture::operator=(SkyCubemapTexture&& other) noexcept {
     if (this != &other) {
-        if (id_ != 0) api_->DeleteTextures(1, &id_);
-        api_ = other.api_;
-        id_ = std::exchange(other.id_, 0u);
+        detail::take_texture(api_, id_, other.api_, other.id_);
         size_ = other.size_;
     }
     return *this;
 }
 
-SkyCubemapTexture::~SkyCubemapTexture() {
-    if (id_ != 0) api_->DeleteTextures(1, &id_);
-}
+SkyCubemapTexture::~SkyCubemapTexture() { detail::release_texture(api_, id_); }
 
 // ---- SunSpriteTexture ------------------------------------------------------------------------
 
@@ -179,10 +182,7 @@ std::optional<Error> SunSpriteTexture::update(const SunSprite& sprite) {
                                    std::to_string(sprite.rgba.size()) + " bytes"};
     }
     StateSaver s(*api_);
-    default_unpack(s);
-    s.bind_texture(0, GL_TEXTURE_2D, id_);
-    api_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    api_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    begin_upload(s, *api_, GL_TEXTURE_2D, id_);
     api_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, edge_clamp(api_->caps));
     api_->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, edge_clamp(api_->caps));
     api_->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, sprite.size, sprite.size, 0, GL_RGBA,
@@ -196,17 +196,13 @@ SunSpriteTexture::SunSpriteTexture(SunSpriteTexture&& other) noexcept
 
 SunSpriteTexture& SunSpriteTexture::operator=(SunSpriteTexture&& other) noexcept {
     if (this != &other) {
-        if (id_ != 0) api_->DeleteTextures(1, &id_);
-        api_ = other.api_;
-        id_ = std::exchange(other.id_, 0u);
+        detail::take_texture(api_, id_, other.api_, other.id_);
         half_width_rad_ = other.half_width_rad_;
     }
     return *this;
 }
 
-SunSpriteTexture::~SunSpriteTexture() {
-    if (id_ != 0) api_->DeleteTextures(1, &id_);
-}
+SunSpriteTexture::~SunSpriteTexture() { detail::release_texture(api_, id_); }
 
 // ---- Drawing ---------------------------------------------------------------------------------
 

@@ -8,6 +8,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -359,18 +360,15 @@ TEST(ShadingCache, LargestMovesThatStillSkip) {
                 auto side_move = [&](double m) { return moved(scene.key, side * m, 0.0); };
                 auto up_move = [&](double m) { return moved(scene.key, up * m, 0.0); };
                 auto sun_move = [&](double r) { return moved(scene.key, dvec3(0.0), r); };
-                const double side_bound =
-                    largest_skip([&](double m) { return bound(side_move(m)); }, 1e-4, 1e4);
-                const double side_true =
-                    largest_skip([&](double m) { return actual(side_move(m)); }, 1e-4, 1e4);
-                const double up_bound =
-                    largest_skip([&](double m) { return bound(up_move(m)); }, 1e-4, 1e4);
-                const double up_true =
-                    largest_skip([&](double m) { return actual(up_move(m)); }, 1e-4, 1e4);
-                const double sun_bound =
-                    largest_skip([&](double r) { return bound(sun_move(r)); }, 1e-8, 0.1);
-                const double sun_true =
-                    largest_skip([&](double r) { return actual(sun_move(r)); }, 1e-8, 0.1);
+                // The largest move in [lo, hi] the bound lets skip, and the one the truth does.
+                auto skips = [&](auto move, double lo, double hi) {
+                    return std::make_pair(
+                        largest_skip([&](double x) { return bound(move(x)); }, lo, hi),
+                        largest_skip([&](double x) { return actual(move(x)); }, lo, hi));
+                };
+                const auto [side_bound, side_true] = skips(side_move, 1e-4, 1e4);
+                const auto [up_bound, up_true] = skips(up_move, 1e-4, 1e4);
+                const auto [sun_bound, sun_true] = skips(sun_move, 1e-8, 0.1);
                 std::printf("  %-8s %-16s %-9.2f %9.3g / %-9.3g %9.3g / %-9.3g %9.2g / %-9.2g\n",
                             atmosphere, std::string(aerial::model_name(model)).c_str(), elevation,
                             side_bound, side_true, up_bound, up_true, sun_bound, sun_true);

@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "aerial/adaptive_scene.hpp"
 #include "aerial/arb_program.hpp"
 #include "aerial/batch.hpp"
 #include "aerial/gl.hpp"
@@ -213,27 +214,6 @@ namespace {
 
 // ---- Meshes -----------------------------------------------------------------------------------
 
-scene::MeshData to_mesh_data(const mesh::Mesh& m, double texture_repeat, bool textured) {
-    scene::MeshData out;
-    std::vector<std::int64_t> index(m.n_vertices(), -1);
-    for (auto f : m.faces()) {
-        if (m.status(f).deleted()) continue;
-        for (auto v : m.fv_range(f)) {
-            std::int64_t& i = index[std::size_t(v.idx())];
-            if (i < 0) {
-                i = std::int64_t(out.vertex_count());
-                const auto p = m.point(v);
-                out.positions.insert(out.positions.end(), {float(p[0]), float(p[1]), float(p[2])});
-                out.texcoords.insert(out.texcoords.end(),
-                                     {textured ? float(p[0] / texture_repeat) : 0.0f,
-                                      textured ? float(p[1] / texture_repeat) : 0.0f});
-            }
-            out.indices.push_back(std::uint32_t(i));
-        }
-    }
-    return out;
-}
-
 double farthest_m(const scene::MeshData& m, const scene::SceneFile& scene) {
     double far = 0.0;
     for (std::size_t i = 0; i < m.vertex_count(); ++i) {
@@ -296,7 +276,7 @@ Result<std::vector<std::unique_ptr<MeshEntry>>> build_meshes(const BenchScene& s
         auto e = std::make_unique<MeshEntry>();
         e->tessellation = "uniform";
         e->is_default = level == default_level;
-        e->mesh = to_mesh_data(*m, repeat, !dome);
+        e->mesh = scene::mesh_data_from(*m, repeat);
         e->max_distance_m = farthest_m(e->mesh, scene);
         meshes.push_back(std::move(e));
     }
@@ -332,7 +312,7 @@ Result<std::vector<std::unique_ptr<MeshEntry>>> build_meshes(const BenchScene& s
             auto e = std::make_unique<MeshEntry>();
             e->tessellation = "adaptive";
             e->adapted_to = model;
-            e->mesh = to_mesh_data(am.mesh(), repeat, !dome);
+            e->mesh = scene::mesh_data_from(am.mesh(), repeat);
             e->max_distance_m = farthest_m(e->mesh, scene);
             meshes.push_back(std::move(e));
         }

@@ -10,10 +10,12 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "aerial/adaptive_scene.hpp"
 #include "aerial/batch.hpp"
 #include "aerial/gl.hpp"
 #include "aerial/gl_api.hpp"
 #include "aerial/headless.hpp"
+#include "aerial/scene_renderer.hpp"
 #include "aerial/validation/scene_render.hpp"
 
 namespace aerial::tess {
@@ -23,16 +25,10 @@ constexpr double kHalfPi = 1.57079632679489661923;  // the faces' field of view
 
 struct GlGrader::Impl {
     headless::Context context;
-    gl::ApplyOptions apply;
-    std::optional<gl::CombinerTexture> combiner;
-    GLuint texture = 0;
-    std::uint8_t texel[3] = {0, 0, 0};  // what the texture holds now
+    std::optional<scene::SceneRenderer> renderer;
+    std::shared_ptr<scene::Texture> texture;  ///< 1 x 1, the texel
 
     explicit Impl(headless::Context c) : context(std::move(c)) {}
-    ~Impl() {
-        combiner.reset();
-        if (texture) context.api().DeleteTextures(1, &texture);
-    }
 };
 
 GlGrader::GlGrader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -47,27 +43,10 @@ Result<GlGrader> GlGrader::create(int face_pixels) {
     auto context = headless::Context::create({headless::Backend::osmesa, face_pixels, face_pixels});
     if (!context) return context.error();
     auto impl = std::make_unique<Impl>(std::move(context.value()));
-    const gl::Api& api = impl->context.api();
-    auto path = gl::choose_path(api.caps, gl::Path::automatic);
-    if (!path) return path.error();
-    impl->apply.path = *path;
-    if (*path == gl::Path::combiner) {
-        auto created = gl::CombinerTexture::create(api);
-        if (!created) return created.error();
-        impl->combiner.emplace(std::move(created.value()));
-        impl->apply.combiner = &*impl->combiner;
-    }
-    api.GenTextures(1, &impl->texture);
-    api.BindTexture(GL_TEXTURE_2D, impl->texture);
-    api.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    api.TexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, 1, 1, 0, GL_RGB, GL_UNSIGNED_BYTE, impl->texel);
-    api.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    api.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    api.TexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
-    api.Enable(GL_TEXTURE_2D);
-    api.Enable(GL_DEPTH_TEST);
-    api.DepthFunc(GL_LEQUAL);
-    api.ClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    auto renderer = scene::SceneRenderer::create(impl->context.api());
+    if (!renderer) return renderer.error();
+    impl->renderer.emplace(std::move(renderer.value()));
+    impl->context.api().ClearColor(0.0f, 0.0f, 0.0f, 1.0f);
     return GlGrader(std::move(impl));
 }
 
@@ -86,47 +65,31 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
     // The texel: one texel of the brightest texel's 8-bit code, as the engine's texture holds it.
     const std::uint8_t texel[3] = {to_unorm8(colour.texel.x), to_unorm8(colour.texel.y),
                                    to_unorm8(colour.texel.z)};
-    if (!std::equal(texel, texel + 3, g.texel)) {
-        std::copy(texel, texel + 3, g.texel);
-        api.TexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, 1, 1, 0, GL_RGB, GL_UNSIGNED_BYTE, g.texel);
+    if (!g.texture || !std::equal(texel, texel + 3, g.texture->rgb.begin())) {
+        g.texture = std::make_shared<scene::Texture>();
+        g.texture->width = g.texture->height = 1;
+        g.texture->rgb.assign(texel, texel + 3);
     }
     const float texel_value[3] = {texel[0] / 255.0f, texel[1] / 255.0f, texel[2] / 255.0f};
 
-    // The vertex arrays (every vertex; deleted faces are not drawn) and their colours.
-    std::vector<float> positions;
-    positions.reserve(3 * mesh.n_vertices());
-    for (const auto v : mesh.vertices()) {
-        const auto& p = mesh.point(v);
-        positions.insert(positions.end(), {float(p[0]), float(p[1]), float(p[2])});
-    }
-    std::vector<unsigned> indices;
-    indices.reserve(3 * mesh.n_faces());
-    for (const auto f : mesh.faces()) {
-        if (mesh.status(f).deleted()) continue;
-        for (const auto v : mesh.fv_range(f)) indices.push_back(unsigned(v.idx()));
-    }
-    const std::size_t n = mesh.n_vertices();
-    std::vector<std::uint8_t> primary(4 * n), secondary(4 * n);
-    BatchOutputs out;
-    out.extinction_rgba8 = primary.data();
-    out.in_scattering_rgba8 = secondary.data();
-    BatchSettings settings;
+    // The mesh as one node drawn by the library's renderer with the frame's model, policy off.
+    auto root = scene::make_group("grade");
+    root->add(scene::make_mesh(
+        "mesh", std::make_shared<scene::MeshData>(scene::mesh_data_from(mesh, 1.0)), g.texture));
+    scene::FrameSettings settings;
+    settings.atmosphere = frame.atmosphere;
+    settings.sun_dir = frame.view.sun_dir;
+    settings.up = frame.view.up;
+    settings.meters_per_unit = frame.view.meters_per_unit;
     settings.display = colour.display;
-    if (auto stats = shade_into(frame, Positions::aos(positions.data(), n), out, settings); !stats)
-        return stats.error();
-    gl::VertexColours colours;
-    colours.primary = primary.data();
-    colours.secondary = secondary.data();
-    colours.vertex_count = n;
-    const auto draw = [&] {
-        api.EnableClientState(GL_VERTEX_ARRAY);
-        api.VertexPointer(3, GL_FLOAT, 0, positions.data());
-        api.DrawElements(GL_TRIANGLES, GLsizei(indices.size()), GL_UNSIGNED_INT, indices.data());
-        api.DisableClientState(GL_VERTEX_ARRAY);
-    };
-
-    const glm::dvec3 eye = frame.view.eye;
-    const glm::dmat4 projection = glm::perspective(kHalfPi, 1.0, options.near_m, options.far_m);
+    settings.model = frame.model;
+    settings.policy = false;
+    scene::Camera camera;
+    camera.eye = frame.view.eye;
+    camera.fov_y_rad = kHalfPi;
+    camera.aspect = 1.0;
+    camera.near_units = options.near_m;
+    camera.far_units = options.far_m;
     const std::array<std::pair<glm::dvec3, glm::dvec3>, 6> faces = {{
         {{1, 0, 0}, {0, 0, 1}},
         {{-1, 0, 0}, {0, 0, 1}},
@@ -141,19 +104,17 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
     std::vector<std::size_t> pixels;
     api.Viewport(0, 0, size, size);
     for (const auto& [forward, up] : faces) {
-        const glm::dmat4 view = glm::lookAt(eye, eye + forward, up);
+        camera.target = camera.eye + forward;
+        camera.up = up;
         api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        api.MatrixMode(GL_PROJECTION);
-        api.LoadMatrixf(glm::value_ptr(glm::mat4(projection)));
-        api.MatrixMode(GL_MODELVIEW);
-        api.LoadMatrixf(glm::value_ptr(glm::mat4(view)));
-        auto drawn = gl::draw_with_colours(api, g.apply, colours, draw);
+        auto drawn = g.renderer->render(*root, camera, settings);
         if (!drawn) return drawn.error();
         api.Finish();
         const std::vector<std::uint8_t> rgba = g.context.read_rgba8();
         api.PixelStorei(GL_PACK_ALIGNMENT, 1);
         api.ReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
-        validation::positions_from_depth(depth, size, size, projection, view, points, pixels);
+        validation::positions_from_depth(depth, size, size, scene::projection_matrix(camera),
+                                         scene::view_matrix(camera), points, pixels);
         if (pixels.empty()) continue;
         if (options.dome) {
             // The sky in the pixel's direction: the sphere's point along the ray from its centre

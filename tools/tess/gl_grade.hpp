@@ -1,6 +1,6 @@
-// The GL grading of aerial-tess: a mesh's per-vertex colours drawn through the module's
-// fixed-function path (aerial::gl::draw_with_colours, OSMesa) against the per-pixel reference,
-// in 8-bit steps, the metrics of aerial-compare.
+// The GL grading of aerial-tess: a mesh drawn by the library's renderer (one node of
+// aerial::scene::SceneRenderer, cpu backend, the frame's model, OSMesa) against the per-pixel
+// reference, in 8-bit steps, the metrics of aerial-compare.
 //
 // How to use this:
 //   1. `auto grader = aerial::tess::GlGrader::create(256);` (an OSMesa context of 256 x 256
@@ -8,9 +8,9 @@
 //   2. `grader->grade(mesh, frame, colour, options)` renders the six 90-degree faces of a cube
 //      around the eye (frame.view.eye) and compares every covered pixel.
 //
-// The rendered pixel: the vertex colours shade_into gives (F_ex and display(L_in) as RGBA8),
-// drawn with a 1 x 1 texture of the texel colour (MODULATE), L_in added by the path
-// draw_with_colours chooses, interpolated by the rasteriser. The reference pixel: the model
+// The rendered pixel: the vertex colours the renderer computes (F_ex and display(L_in) as
+// RGBA8), drawn with a 1 x 1 texture of the texel colour, L_in added by the fixed-function path
+// it chooses, interpolated by the rasteriser. The reference pixel: the model
 // evaluated in float at the surface point under the pixel centre, texel x F_ex + display(L_in)
 // with the 8-bit rule (the perpixel backend of aerial-render): on a dome the point of the sphere
 // in the pixel's view direction, on terrain the point reconstructed from the depth buffer.

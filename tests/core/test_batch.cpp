@@ -12,6 +12,7 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/batch.hpp"
+#include "batch_outputs.hpp"
 #include "split_batch.hpp"
 
 namespace {
@@ -89,13 +90,9 @@ AllOutputs shade_all(const aerial::Frame<float>& frame, const std::vector<Vertex
     o.extinction_rgb.assign(3 * n, -1.0f);
     o.in_scattering_rgb.assign(3 * n, -1.0f);
     o.sun_rgb.assign(3 * n, -1.0f);
-    aerial::BatchOutputs out;
-    out.extinction_rgba8 = o.extinction.data();
+    aerial::BatchOutputs out = aerial_test::floats_and_codes(
+        o.extinction_rgb, o.in_scattering_rgb, o.sun_rgb, o.extinction, o.in_scattering);
     out.lit_rgba8 = o.lit.data();
-    out.in_scattering_rgba8 = o.in_scattering.data();
-    out.extinction_rgb = o.extinction_rgb.data();
-    out.in_scattering_rgb = o.in_scattering_rgb.data();
-    out.sun_irradiance_rgb = o.sun_rgb.data();
     auto settings = aerial_test::split_batch(kernel, threads, 1000, {exposure});
     settings.lighting = &lighting;
     const auto positions = aerial::Positions::aos(v.data()->position, n, sizeof(Vertex));

@@ -25,6 +25,7 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/batch.hpp"
+#include "batch_outputs.hpp"
 #include "extreme_sampler.hpp"
 #include "forced_target.hpp"
 #include "split_batch.hpp"
@@ -393,13 +394,8 @@ TEST(BatchRule, EveryVariantIsTheRuleOnItsKernelsFloats) {
                                      kernel_name(kernel) + " threads " + std::to_string(threads));
                         std::vector<std::uint8_t> e(4 * n), lit(4 * n), l(4 * n);
                         std::vector<float> f(3 * n), li(3 * n), sun(3 * n);
-                        aerial::BatchOutputs out;
-                        out.extinction_rgba8 = e.data();
+                        aerial::BatchOutputs out = aerial_test::floats_and_codes(f, li, sun, e, l);
                         out.lit_rgba8 = lit.data();
-                        out.in_scattering_rgba8 = l.data();
-                        out.extinction_rgb = f.data();
-                        out.in_scattering_rgb = li.data();
-                        out.sun_irradiance_rgb = sun.data();
                         auto settings =
                             aerial_test::split_batch(kernel, threads, 500, {30.0f, tone});
                         settings.lighting = &lighting;

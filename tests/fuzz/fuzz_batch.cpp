@@ -111,7 +111,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t n = count;
     std::vector<float> fex(3 * n), lin(3 * n), esun(3 * n);
     std::vector<std::uint8_t> fex8(4 * n), lit8(4 * n), lin8(4 * n);
-    aerial::BatchOutputs out = aerial::fuzz::floats_and_codes(fex, lin, esun, fex8, lin8);
+    aerial::BatchOutputs out = aerial_test::floats_and_codes(fex, lin, esun, fex8, lin8);
     const bool lit = in.ConsumeBool();
     if (lit) {
         out.lit_rgba8 = lit8.data();

@@ -43,7 +43,7 @@ void check_geometry(const aerial::scene::SceneFile& scene, const aerial::Frame<f
     const std::size_t n = mesh.vertex_count();
     std::vector<float> fex(3 * n), lin(3 * n), esun(3 * n);
     std::vector<std::uint8_t> fex8(4 * n), lin8(4 * n);
-    aerial::BatchOutputs out = aerial::fuzz::floats_and_codes(fex, lin, esun, fex8, lin8);
+    aerial::BatchOutputs out = aerial_test::floats_and_codes(fex, lin, esun, fex8, lin8);
     aerial::BatchSettings settings;
     settings.display = scene.display;
     settings.threads = 1;

@@ -1,4 +1,4 @@
-// Shared by the fuzz targets that shade: the batch outputs whose values they check.
+// Shared by the batch tests and the fuzz targets that shade: batch outputs into arrays they own.
 #pragma once
 
 #include <cstdint>
@@ -6,7 +6,7 @@
 
 #include "aerial/batch.hpp"
 
-namespace aerial::fuzz {
+namespace aerial_test {
 
 /// Outputs writing F_ex, L_in and E_sun as floats and F_ex and L_in as RGBA8 codes into the given
 /// arrays (3 floats and 4 bytes a vertex); no lit colours.
@@ -23,4 +23,4 @@ inline aerial::BatchOutputs floats_and_codes(std::vector<float>& fex, std::vecto
     return out;
 }
 
-}  // namespace aerial::fuzz
+}  // namespace aerial_test

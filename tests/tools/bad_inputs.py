@@ -46,6 +46,17 @@ EV = ["--preset", "earth", "--eye", "0,0,100", "--sun", "0,0.5,1"]
 R = "aerial-render"
 S = "aerial-sample"
 
+
+def with_atmosphere(name):
+    """aerial-eval's arguments with the atmosphere file {dir}/NAME instead of a preset."""
+    return ["--atmosphere", "{dir}/" + name, "--eye", "0,0,1", "--sun", "0,0,1"]
+
+
+def rendering(scene, *more, backend="none"):
+    """aerial-render's arguments: {dir}/SCENE drawn by BACKEND into {dir}/o.png, with MORE."""
+    return ["--scene", "{dir}/" + scene, "--backend", backend, *more, "--out", "{dir}/o.png"]
+
+
 # (tool, arguments, stdin, pieces the stderr line must contain). "{dir}" is WORK_DIR.
 CASES = [
     # aerial-eval: flags
@@ -69,36 +80,22 @@ CASES = [
     (E, EV + ["--points", "{dir}/points_text.csv"], "", ["points_text.csv", "line 3", "eight"]),
     (E, EV, "1,2,3\n1,2,3,4\n", ["line 2"]),
     (E, EV, "0,0,-inf\n", ["line 1"]),
-    (E, ["--atmosphere", "{dir}/missing.json", "--eye", "0,0,1", "--sun", "0,0,1"], "",
-     ["--atmosphere", "missing.json"]),
-    (E, ["--atmosphere", "{dir}/atm_malformed.json", "--eye", "0,0,1", "--sun", "0,0,1"], "",
-     ["--atmosphere", "atm_malformed.json"]),
-    (E, ["--atmosphere", "{dir}/atm_negative.json", "--eye", "0,0,1", "--sun", "0,0,1"], "",
-     ["rayleigh_scattering"]),
-    (E, ["--atmosphere", "{dir}/atm_unknown.json", "--eye", "0,0,1", "--sun", "0,0,1"], "",
-     ["ozone"]),
-    (E, ["--atmosphere", "{dir}/atm_array.json", "--eye", "0,0,1", "--sun", "0,0,1"], "",
-     ["--atmosphere", "atm_array.json"]),
-    (E, ["--atmosphere", "{dir}/atm_nan_g.json", "--eye", "0,0,1", "--sun", "0,0,1"], "",
-     ["--atmosphere", "atm_nan_g.json"]),
-    (E, ["--atmosphere", "{dir}/atm_g_out.json", "--eye", "0,0,1", "--sun", "0,0,1"], "",
-     ["mie_g"]),
+    (E, with_atmosphere("missing.json"), "", ["--atmosphere", "missing.json"]),
+    (E, with_atmosphere("atm_malformed.json"), "", ["--atmosphere", "atm_malformed.json"]),
+    (E, with_atmosphere("atm_negative.json"), "", ["rayleigh_scattering"]),
+    (E, with_atmosphere("atm_unknown.json"), "", ["ozone"]),
+    (E, with_atmosphere("atm_array.json"), "", ["--atmosphere", "atm_array.json"]),
+    (E, with_atmosphere("atm_nan_g.json"), "", ["--atmosphere", "atm_nan_g.json"]),
+    (E, with_atmosphere("atm_g_out.json"), "", ["mie_g"]),
     # aerial-render
     (R, ["--bogus"], "", ["--bogus"]),
-    (R, ["--scene", "{dir}/missing.json", "--backend", "none", "--out", "{dir}/o.png"], "",
-     ["--scene", "missing.json"]),
-    (R, ["--scene", "{dir}/scene_malformed.json", "--backend", "none", "--out", "{dir}/o.png"],
-     "", ["--scene", "scene_malformed.json"]),
-    (R, ["--scene", "{dir}/scene_unknown.json", "--backend", "none", "--out", "{dir}/o.png"], "",
-     ["skybox"]),
-    (R, ["--scene", "{dir}/scene_negative_mpu.json", "--backend", "none", "--out",
-         "{dir}/o.png"], "", ["meters_per_unit"]),
-    (R, ["--scene", "{dir}/scene_unknown.json", "--backend", "d3d", "--out", "{dir}/o.png"], "",
-     ["--backend", "d3d"]),
-    (R, ["--scene", "{dir}/scene_unknown.json", "--backend", "none", "--size", "0x5", "--out",
-         "{dir}/o.png"], "", ["--size"]),
-    (R, ["--scene", "{dir}/scene_unknown.json", "--backend", "none", "--gl", "glx", "--out",
-         "{dir}/o.png"], "", ["--gl", "glx"]),
+    (R, rendering("missing.json"), "", ["--scene", "missing.json"]),
+    (R, rendering("scene_malformed.json"), "", ["--scene", "scene_malformed.json"]),
+    (R, rendering("scene_unknown.json"), "", ["skybox"]),
+    (R, rendering("scene_negative_mpu.json"), "", ["meters_per_unit"]),
+    (R, rendering("scene_unknown.json", backend="d3d"), "", ["--backend", "d3d"]),
+    (R, rendering("scene_unknown.json", "--size", "0x5"), "", ["--size"]),
+    (R, rendering("scene_unknown.json", "--gl", "glx"), "", ["--gl", "glx"]),
     # aerial-compare
     ("aerial-compare", ["{dir}/missing.png", "{dir}/missing.png"], "", ["missing.png"]),
     ("aerial-compare", ["{dir}/not_a_png.png", "{dir}/not_a_png.png"], "", ["not_a_png.png"]),

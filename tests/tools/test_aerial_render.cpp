@@ -221,7 +221,7 @@ TEST_F(AerialRender, RejectsUnknownFieldsAtEveryLevelNamingThem) {
     EXPECT_TRUE(rejects_field("/sun/zenith_deg", 40, {"sun.zenith_deg"}));
     EXPECT_TRUE(rejects_field("/display/gamma", 2.2, {"display.gamma"}));
     EXPECT_TRUE(rejects_field("/texture/filter", "nearest", {"texture.filter"}));
-    EXPECT_TRUE(rejects_field("/terrain/octaves", 5, {"terrain.octaves"}));
+    EXPECT_TRUE(rejects_field("/terrain/lacunarity", 2, {"terrain.lacunarity"}));
     EXPECT_TRUE(rejects_field("/boxes/0/color", Json::array({1, 0, 0}), {"boxes[0].color"}));
     EXPECT_TRUE(rejects_field("/atmosphere", Json{{"ozone", 1e-6}}, {"atmosphere", "ozone"}));
 }
@@ -272,6 +272,8 @@ TEST_F(AerialRender, RejectsBadGeometryAndTextureNamingThem) {
     EXPECT_TRUE(rejects_field("/texture/colors", Json::array({{0, 0, 0}}), {"texture.colors"}));
     EXPECT_TRUE(rejects_field("/texture/seed", -1, {"texture.seed"}));
     EXPECT_TRUE(rejects_field("/terrain/resolution", 0, {"terrain.resolution"}));
+    EXPECT_TRUE(rejects_field("/terrain/octaves", 13, {"terrain.octaves", "[1, 12]"}));
+    EXPECT_TRUE(rejects_field("/texture/kind", 3, {"texture.kind", "must be a string"}));
     EXPECT_TRUE(rejects_field("/terrain/resolution", 2.5, {"terrain.resolution"}));
     EXPECT_TRUE(rejects_field("/terrain/size", -10, {"terrain.size"}));
     EXPECT_TRUE(rejects_field("/terrain/height_amplitude", -1, {"terrain.height_amplitude"}));

@@ -44,10 +44,11 @@
 //     "center": [x, y]             default [0, 0]
 //     "size": 20000                side of the square, engine units, > 0
 //     "resolution": 64             cells per side, 1 .. 1024
-//     "height_amplitude": 300      largest height, engine units, >= 0 (0: a flat ground plane);
-//                                  the ground is at z = 0 in the valleys
+//     "height_amplitude": 300      largest height above z = 0, engine units, >= 0 (0: a flat
+//                                  ground plane)
 //     "feature_size": 5000         size of the largest hills, engine units, > 0
 //     "seed": 1                    integer >= 0
+//     "octaves": 6                 of the fractal noise (scene::procedural_height), 1 .. 12
 //     "texture_repeat": 2000       engine units per repetition of the texture, > 0
 //   }
 //   "boxes": [{"center": [x, y, z], "size": [sx, sy, sz], "subdivisions": 4}, ...]
@@ -96,6 +97,7 @@ struct TerrainSpec {
     double height_amplitude = 300.0;
     double feature_size = 5000.0;
     std::uint32_t seed = 1;
+    int octaves = 6;
     double texture_repeat = 2000.0;
 };
 
@@ -135,7 +137,8 @@ Result<SceneFile> scene_file_from_json(std::string_view json_text);
 Result<SceneFile> load_scene_file(const std::string& path);
 
 /// Height of the terrain at (x, y), engine units: the surface scene_geometry samples at its
-/// grid vertices (fractal value noise, flat valley floors at z = 0).
+/// grid vertices, procedural_height (aerial/scene.hpp) with the spec's seed, amplitude, feature
+/// size and octaves, in [0, height_amplitude].
 double terrain_height(const TerrainSpec& terrain, double x, double y);
 
 /// The terrain and the boxes of the scene as one mesh (positions, texture coordinates).

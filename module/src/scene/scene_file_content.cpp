@@ -1,5 +1,5 @@
-// The scene file's procedural content (aerial/scene_file.hpp): the terrain height field, the
-// boxes and the texture.
+// The scene file's procedural content (aerial/scene_file.hpp): the terrain height field (the
+// scene graph's procedural_height), the boxes and the texture.
 #include <algorithm>
 #include <cmath>
 
@@ -39,27 +39,15 @@ double value_noise(double x, double y, std::uint32_t seed, std::int64_t period =
     return (a + (b - a) * sx) + ((c + (d - c) * sx) - (a + (b - a) * sx)) * sy;
 }
 
-/// Five octaves of value noise, normalised to [0, 1].
-double fractal_noise(double x, double y, std::uint32_t seed) {
-    double sum = 0.0, weight = 1.0, total = 0.0;
-    for (int octave = 0; octave < 5; ++octave) {
-        sum += weight * value_noise(x, y, seed + std::uint32_t(octave));
-        total += weight;
-        weight *= 0.5;
-        x *= 2.0;
-        y *= 2.0;
-    }
-    return sum / total;
-}
-
 }  // namespace
 
 double terrain_height(const TerrainSpec& t, double x, double y) {
-    // Fractal noise mostly lies in [0.25, 0.75]: stretch it to [0, 1] and square it, for flat
-    // valley floors between steeper hills.
-    const double noise = fractal_noise(x / t.feature_size, y / t.feature_size, t.seed);
-    const double u = std::clamp((noise - 0.25) / 0.5, 0.0, 1.0);
-    return t.height_amplitude * u * u;
+    ProceduralTerrain terrain;
+    terrain.seed = t.seed;
+    terrain.amplitude = t.height_amplitude;
+    terrain.feature_size = t.feature_size;
+    terrain.octaves = t.octaves;
+    return procedural_height(terrain, x, y);
 }
 
 namespace {

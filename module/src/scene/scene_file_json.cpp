@@ -283,7 +283,7 @@ std::optional<Error> read_terrain(const Json& j, TerrainSpec& t) {
     if (auto e = expect_object(j, "terrain")) return e;
     const Object o(j, "terrain");
     if (auto e = o.check_known({"center", "size", "resolution", "height_amplitude", "feature_size",
-                                "seed", "texture_repeat"})) {
+                                "seed", "octaves", "texture_repeat"})) {
         return e;
     }
     if (const Json* v = o.get("center")) {
@@ -305,6 +305,9 @@ std::optional<Error> read_terrain(const Json& j, TerrainSpec& t) {
     }
     if (const Json* v = o.get("seed")) {
         if (auto e = read_seed(*v, "terrain.seed", t.seed)) return e;
+    }
+    if (const Json* v = o.get("octaves")) {
+        if (auto e = read_int(*v, "terrain.octaves", t.octaves, 1, 12)) return e;
     }
     if (const Json* v = o.get("texture_repeat")) {
         if (auto e =

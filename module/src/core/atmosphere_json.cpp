@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../common/json_text.hpp"
 #include "aerial/atmosphere.hpp"
 #include "format.hpp"
 
@@ -38,17 +39,9 @@ std::optional<Error> read_vector(const Json& j, const std::string& field, glm::d
 }  // namespace
 
 Result<Atmosphere> atmosphere_from_json(std::string_view json_text) {
-    Json root;
-    try {
-        root = Json::parse(json_text.begin(), json_text.end());
-    } catch (const Json::exception& e) {
-        // e.what() is "[json.exception.parse_error.101] parse error at line 1, column 2: ...";
-        // numbers beyond double raise out_of_range.406 "number overflow parsing ...".
-        std::string what = e.what();
-        const auto bracket = what.find("] ");
-        if (bracket != std::string::npos) what = what.substr(bracket + 2);
-        return Error{"json", "atmosphere JSON: " + what};
-    }
+    auto parsed = detail::parse_json(json_text, "atmosphere JSON");
+    if (!parsed) return parsed.error();
+    const Json& root = parsed.value();
     if (!root.is_object()) {
         return Error{"json", "atmosphere JSON must be an object, got " + type_of(root)};
     }
@@ -87,12 +80,9 @@ Result<Atmosphere> atmosphere_from_json(std::string_view json_text) {
 }
 
 Result<Atmosphere> load_atmosphere_json(const std::string& path) {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) return Error{path, path + ": cannot open atmosphere file"};
-    std::ostringstream text;
-    text << file.rdbuf();
-    if (file.bad()) return Error{path, path + ": cannot read atmosphere file"};
-    auto result = atmosphere_from_json(text.str());
+    auto text = detail::read_text_file(path, "atmosphere file");
+    if (!text) return text.error();
+    auto result = atmosphere_from_json(text.value());
     if (!result) return Error{result.error().field, path + ": " + result.error().message};
     return result;
 }

@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "../common/json_text.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/sun.hpp"
 
@@ -432,26 +433,17 @@ FrameSettings SceneFile::frame_settings() const {
 }
 
 Result<SceneFile> scene_file_from_json(std::string_view json_text) {
-    Json root;
-    try {
-        root = Json::parse(json_text.begin(), json_text.end());
-    } catch (const Json::exception& e) {
-        std::string what = e.what();
-        const auto bracket = what.find("] ");
-        if (bracket != std::string::npos) what = what.substr(bracket + 2);
-        return Error{"json", "JSON: " + what};
-    }
+    auto root = aerial::detail::parse_json(json_text, "JSON");
+    if (!root) return root.error();
     SceneFile scene;
-    if (auto e = read_scene(root, scene)) return *e;
+    if (auto e = read_scene(root.value(), scene)) return *e;
     return scene;
 }
 
 Result<SceneFile> load_scene_file(const std::string& path) {
-    std::ifstream file(path, std::ios::binary);
-    if (!file) return Error{path, path + ": cannot open file"};
-    const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-    if (file.bad()) return Error{path, path + ": cannot read file"};
-    auto scene = scene_file_from_json(text);
+    auto text = aerial::detail::read_text_file(path, "file");
+    if (!text) return text.error();
+    auto scene = scene_file_from_json(text.value());
     if (!scene) return Error{scene.error().field, path + ": " + scene.error().message};
     return scene;
 }

@@ -109,6 +109,17 @@ class AdaptiveSceneTest : public aerial_test::DrawingTest<kWidth, kHeight> {
         gl().Finish();
         return ctx_->read_rgba8();
     }
+
+    /// The adaptive mesh as it is now, as a plain terrain node drawn by a fresh renderer.
+    std::vector<std::uint8_t> draw_plain(const mesh::AdaptiveMesh& adaptive) {
+        auto root = make_group("world");
+        root->add(make_terrain_tile(
+            "hills", std::make_shared<MeshData>(mesh_data_from(adaptive.mesh(), 250.0, true)),
+            grey_texture(), glm::vec3(0.3f)));
+        auto fresh = SceneRenderer::create(gl());
+        EXPECT_TRUE(fresh) << fresh.error().message;
+        return fresh ? draw(fresh.value(), *root, nullptr) : std::vector<std::uint8_t>{};
+    }
 };
 
 TEST_F(AdaptiveSceneTest, TheRendererRefinesMorphsAndDrawsAnAdaptiveTerrain) {
@@ -136,13 +147,7 @@ TEST_F(AdaptiveSceneTest, TheRendererRefinesMorphsAndDrawsAnAdaptiveTerrain) {
     EXPECT_EQ(aerial_test::compare_rgb(last, settled).max_lsb, 0);
 
     // What it shows then: a plain terrain node of the same mesh, drawn by a fresh renderer.
-    auto plain_root = make_group("world");
-    plain_root->add(make_terrain_tile(
-        "hills", std::make_shared<MeshData>(mesh_data_from(adaptive->mesh(), 250.0, true)),
-        grey_texture(), glm::vec3(0.3f)));
-    auto fresh = SceneRenderer::create(gl());
-    ASSERT_TRUE(fresh);
-    const auto plain = draw(fresh.value(), *plain_root, nullptr);
+    const auto plain = draw_plain(*adaptive);
     const auto d = aerial_test::compare_rgb(last, plain);
     EXPECT_EQ(d.max_lsb, 0) << "at pixel " << d.pixel << ": adaptive "
                             << aerial_test::pixel_text(last, d.pixel) << ", plain "
@@ -158,13 +163,7 @@ TEST_F(AdaptiveSceneTest, NewVerticesMorphInRatherThanPop) {
     // Unrefined, the plain base mesh; after one adaptive frame the image has barely moved from
     // it (new vertices start at the colour interpolated from their parents), and it reaches the
     // refined image over the morph.
-    auto base_root = make_group("world");
-    base_root->add(make_terrain_tile(
-        "hills", std::make_shared<MeshData>(mesh_data_from(adaptive->mesh(), 250.0, true)),
-        grey_texture(), glm::vec3(0.3f)));
-    auto fresh = SceneRenderer::create(gl());
-    ASSERT_TRUE(fresh);
-    const auto base = draw(fresh.value(), *base_root, nullptr);
+    const auto base = draw_plain(*adaptive);
     const auto first = draw(renderer.value(), *root, nullptr);
     std::vector<std::uint8_t> settled;
     for (int i = 0; i < 4 * kMorphUpdates; ++i) settled = draw(renderer.value(), *root, nullptr);

@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
     if (!model) return fail("--model: " + model.error().message);
     auto backend = aerial::scene::parse_backend(backend_text);
     if (!backend) return fail("--backend: " + backend.error().message);
-    auto gl_backend = aerial::headless::parse_backend(gl_text);
+    auto gl_backend = aerial::headless::parse_platform(gl_text);
     if (!gl_backend) return fail("--gl: '" + gl_text + "' is unknown (expected osmesa or egl)");
 
     if (sky_text != "dome" && sky_text != "cubemap") {

@@ -213,7 +213,7 @@ int main(int argc, char** argv) {
     if (*backend == aerial::scene::Backend::arb && *model == aerial::Model::reference) {
         return fail("--model: the arb backend has programs for hoffman-preetham and height only");
     }
-    auto gl_backend = aerial::headless::parse_backend(gl_text);
+    auto gl_backend = aerial::headless::parse_platform(gl_text);
     if (!gl_backend) return fail("--gl: '" + gl_text + "' is unknown (expected osmesa or egl)");
     if (!(error_target >= 0.0) || !std::isfinite(error_target)) {
         return fail("--error-target: expected a finite value >= 0");

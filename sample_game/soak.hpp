@@ -32,7 +32,7 @@ struct SoakOptions {
     /// An adaptive sky dome (aerial::mesh::AdaptiveMesh, 1 LSB split target) refined every frame
     /// for the flight's eye and sun within this vertex budget; 0: none.
     std::size_t tessellation_budget = 3000;
-    aerial::headless::Backend gl = aerial::headless::Backend::osmesa;
+    aerial::headless::Platform gl = aerial::headless::Platform::osmesa;
 };
 
 struct SoakReport {

@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     const auto backend = validation::parse_render_backend(backend_text, "--backend");
     if (!backend) return tools::fail(kTool, backend.error().message);
     options.backend = *backend;
-    const auto gl = headless::parse_backend(gl_text);
+    const auto gl = headless::parse_platform(gl_text);
     if (!gl) return tools::fail(kTool, "--gl: expected osmesa or egl, got '" + gl_text + "'");
     const auto size = tools::parse_size(size_text, "--size");
     if (!size) return tools::fail(kTool, size.error().message);

@@ -227,7 +227,7 @@ int main(int argc, char** argv) {
     }
     std::optional<aerial::headless::Context> context;
     if (!gl_backend.empty()) {
-        auto backend = aerial::headless::parse_backend(gl_backend);
+        auto backend = aerial::headless::parse_platform(gl_backend);
         if (!backend) {
             return aerial::tools::fail(kTool,
                                        "--gl: expected osmesa or egl, got '" + gl_backend + "'");

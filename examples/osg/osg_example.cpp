@@ -297,7 +297,7 @@ int main(int argc, char** argv) {
     scene.value().camera.aspect = double(size->first) / double(size->second);
 
     auto ctx = aerial::headless::Context::create(
-        {aerial::headless::Backend::egl, size->first, size->second});
+        {aerial::headless::Platform::egl, size->first, size->second});
     if (!ctx) return aerial::tools::fail(kTool, "EGL context: " + ctx.error().message);
 
     aerial::osg_adapter::Settings settings;

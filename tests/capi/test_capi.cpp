@@ -363,7 +363,7 @@ TEST(CApiStatus, EveryStatusComesFromSomeBadInputWithItsText) {
     auto viewless_holder = std::unique_ptr<aerial_context, void (*)(aerial_context*)>(
         viewless, aerial_context_destroy);
 
-    auto headless = aerial::headless::Context::create({aerial::headless::Backend::osmesa, 8, 8});
+    auto headless = aerial::headless::Context::create({aerial::headless::Platform::osmesa, 8, 8});
     ASSERT_TRUE(headless.ok()) << headless.error().message;
     aerial_gl* gl = nullptr;
     ASSERT_EQ(aerial_gl_create(headless->loader(), headless->loader_user(), &gl), AERIAL_OK);
@@ -610,7 +610,7 @@ class CApiGl : public ::testing::Test {
   protected:
     void SetUp() override {
         auto ctx =
-            aerial::headless::Context::create({aerial::headless::Backend::osmesa, kSize, kSize});
+            aerial::headless::Context::create({aerial::headless::Platform::osmesa, kSize, kSize});
         ASSERT_TRUE(ctx.ok()) << ctx.error().message;
         ctx_.emplace(std::move(ctx).value());
         ASSERT_EQ(aerial_gl_create(ctx_->loader(), ctx_->loader_user(), &gl_), AERIAL_OK)

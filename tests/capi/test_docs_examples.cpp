@@ -100,7 +100,7 @@ struct Example {
 /// Runs one example for one frame on a fresh context with a white texture bound (the engine's),
 /// and returns the image.
 std::vector<std::uint8_t> run(const Example& example) {
-    auto ctx = aerial::headless::Context::create({aerial::headless::Backend::osmesa, kSize, kSize});
+    auto ctx = aerial::headless::Context::create({aerial::headless::Platform::osmesa, kSize, kSize});
     EXPECT_TRUE(ctx.ok()) << ctx.error().message;
     if (!ctx.ok()) return {};
     const aerial::gl::Api& gl = ctx->api();

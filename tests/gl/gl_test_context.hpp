@@ -18,16 +18,16 @@
 
 namespace aerial_test {
 
-inline aerial::headless::Backend backend_from_environment() {
+inline aerial::headless::Platform backend_from_environment() {
     const char* name = std::getenv("AERIAL_TEST_GL_BACKEND");
-    if (name == nullptr) return aerial::headless::Backend::osmesa;
-    auto backend = aerial::headless::parse_backend(name);
-    return backend ? *backend : aerial::headless::Backend::osmesa;
+    if (name == nullptr) return aerial::headless::Platform::osmesa;
+    auto backend = aerial::headless::parse_platform(name);
+    return backend ? *backend : aerial::headless::Platform::osmesa;
 }
 
 /// "osmesa llvmpipe (LLVM 15.0.6, 256 bits)": what a figure was measured on.
 inline std::string context_label(const aerial::headless::Context& ctx) {
-    return std::string(aerial::headless::backend_name(ctx.backend())) + " " +
+    return std::string(aerial::headless::platform_name(ctx.platform())) + " " +
            ctx.api().caps.renderer;
 }
 

@@ -1,5 +1,5 @@
 // Off-screen contexts (aerial::headless) and the run-time GL loader (aerial::gl::load_api): each
-// backend gives a compatibility context that renders and reads back, names its renderer, and
+// platform gives a compatibility context that renders and reads back, names its renderer, and
 // reports what it offers; bad sizes and a missing loader are clear errors.
 #include <cstdlib>
 #include <string>
@@ -11,10 +11,10 @@
 
 namespace {
 
-using aerial::headless::Backend;
 using aerial::headless::Context;
+using aerial::headless::Platform;
 
-class HeadlessContext : public ::testing::TestWithParam<Backend> {};
+class HeadlessContext : public ::testing::TestWithParam<Platform> {};
 
 TEST_P(HeadlessContext, ClearsAndReadsBackTopRowFirst) {
     auto ctx = Context::create({GetParam(), 8, 4});
@@ -68,10 +68,10 @@ TEST_P(HeadlessContext, RejectsSizesOutsideTheRange) {
     EXPECT_EQ(tall.error().field, "height");
 }
 
-INSTANTIATE_TEST_SUITE_P(Backends, HeadlessContext,
-                         ::testing::Values(Backend::osmesa, Backend::egl),
-                         [](const ::testing::TestParamInfo<Backend>& p) {
-                             return std::string(aerial::headless::backend_name(p.param));
+INSTANTIATE_TEST_SUITE_P(Platforms, HeadlessContext,
+                         ::testing::Values(Platform::osmesa, Platform::egl),
+                         [](const ::testing::TestParamInfo<Platform>& p) {
+                             return std::string(aerial::headless::platform_name(p.param));
                          });
 
 TEST(GlLoader, NullLoaderIsAnError) {

@@ -281,7 +281,7 @@ struct FrameResult {
 };
 
 TEST(OsgAdapter, AFrameWithTheAdapterLeavesTheGlStateAsOneWithout) {
-    auto ctx = aerial::headless::Context::create({aerial::headless::Backend::egl, 96, 64});
+    auto ctx = aerial::headless::Context::create({aerial::headless::Platform::egl, 96, 64});
     ASSERT_TRUE(ctx.ok()) << ctx.error().message;
     const auto& api = ctx->api();
     for (Backend backend : {Backend::cpu, Backend::arb}) {

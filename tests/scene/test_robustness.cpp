@@ -454,7 +454,7 @@ using MakeCurrentEglFn = unsigned (*)(void*, void*, void*, void*);
 bool release_current(const aerial::headless::Context& context) {
     const auto load = context.loader();
     void* user = context.loader_user();
-    if (context.backend() == aerial::headless::Backend::osmesa) {
+    if (context.platform() == aerial::headless::Platform::osmesa) {
         auto make_current = reinterpret_cast<MakeCurrentOsmesaFn>(load(user, "OSMesaMakeCurrent"));
         return make_current != nullptr && make_current(nullptr, nullptr, 0, 0, 0);
     }

@@ -78,7 +78,7 @@ class BenchMethodsGl : public ::testing::Test {
   protected:
     void SetUp() override {
         auto ctx =
-            aerial::headless::Context::create({aerial::headless::Backend::osmesa, kWidth, kHeight});
+            aerial::headless::Context::create({aerial::headless::Platform::osmesa, kWidth, kHeight});
         ASSERT_TRUE(ctx.ok()) << ctx.error().message;
         ctx_.emplace(std::move(ctx).value());
         auto scene = aerial::scene::scene_file_from_json(kScene);

@@ -40,7 +40,7 @@ Result<GlGrader> GlGrader::create(int face_pixels) {
     if (face_pixels < 16 || face_pixels > 2048)
         return Error{"face_pixels",
                      "face_pixels: expected 16 .. 2048, got " + std::to_string(face_pixels)};
-    auto context = headless::Context::create({headless::Backend::osmesa, face_pixels, face_pixels});
+    auto context = headless::Context::create({headless::Platform::osmesa, face_pixels, face_pixels});
     if (!context) return context.error();
     auto impl = std::make_unique<Impl>(std::move(context.value()));
     auto renderer = scene::SceneRenderer::create(impl->context.api());

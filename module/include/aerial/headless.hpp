@@ -4,7 +4,7 @@
 // never creates or owns the engine's context).
 //
 // How to use this:
-//   1. `auto ctx = aerial::headless::Context::create({aerial::headless::Backend::osmesa, 640,
+//   1. `auto ctx = aerial::headless::Context::create({aerial::headless::Platform::osmesa, 640,
 //      480});` — on failure the error says what is missing (library, extension, config).
 //   2. The context is current on the calling thread after create(); `ctx->api()` holds the GL
 //      entry points (resolved through OSMesaGetProcAddress or eglGetProcAddress, never by
@@ -30,18 +30,18 @@
 namespace aerial::headless {
 
 /// Where the context comes from.
-enum class Backend {
+enum class Platform {
     osmesa,  ///< Mesa's off-screen renderer (libOSMesa.so.8), renders into memory
     egl,     ///< EGL on Mesa's surfaceless platform (EGL_MESA_platform_surfaceless) into an FBO
 };
 
 /// "osmesa" or "egl".
-const char* backend_name(Backend backend);
+const char* platform_name(Platform platform);
 /// Parses "osmesa" or "egl"; nullopt for anything else.
-std::optional<Backend> parse_backend(std::string_view name);
+std::optional<Platform> parse_platform(std::string_view name);
 
 struct ContextOptions {
-    Backend backend = Backend::osmesa;
+    Platform platform = Platform::osmesa;
     int width = 256;   ///< pixels, 1 .. 8192
     int height = 256;  ///< pixels, 1 .. 8192
 };
@@ -68,7 +68,7 @@ class Context {
     gl::LoadFunction loader() const;
     void* loader_user() const;
 
-    Backend backend() const;
+    Platform platform() const;
     int width() const;
     int height() const;
 

@@ -13,15 +13,15 @@
 
 namespace aerial::headless {
 
-constexpr aerial::detail::NameTable<Backend, 2> kBackendNames{
-    {{Backend::osmesa, "osmesa"}, {Backend::egl, "egl"}}};
+constexpr aerial::detail::NameTable<Platform, 2> kPlatformNames{
+    {{Platform::osmesa, "osmesa"}, {Platform::egl, "egl"}}};
 
-const char* backend_name(Backend backend) {
-    return aerial::detail::name_in(kBackendNames, backend);
+const char* platform_name(Platform platform) {
+    return aerial::detail::name_in(kPlatformNames, platform);
 }
 
-std::optional<Backend> parse_backend(std::string_view name) {
-    return aerial::detail::find_in(kBackendNames, name);
+std::optional<Platform> parse_platform(std::string_view name) {
+    return aerial::detail::find_in(kPlatformNames, name);
 }
 
 namespace {
@@ -99,7 +99,7 @@ std::string egl_error_text(EGLint code) {
 }  // namespace
 
 struct Context::Impl {
-    Backend backend = Backend::osmesa;
+    Platform platform = Platform::osmesa;
     int width = 0;
     int height = 0;
     gl::Api api;
@@ -117,7 +117,7 @@ struct Context::Impl {
     GLuint renderbuffers[2] = {0, 0};
 
     ~Impl() {
-        if (backend == Backend::osmesa) {
+        if (platform == Platform::osmesa) {
             if (osmesa_context) osmesa.DestroyContext(osmesa_context);
             if (osmesa.handle) dlclose(osmesa.handle);
             return;
@@ -138,7 +138,7 @@ struct Context::Impl {
     }
 
     std::optional<Error> make_current() {
-        if (backend == Backend::osmesa) {
+        if (platform == Platform::osmesa) {
             if (!osmesa.MakeCurrent(osmesa_context, osmesa_buffer.data(), GL_UNSIGNED_BYTE, width,
                                     height)) {
                 return Error{"OSMesaMakeCurrent", "OSMesaMakeCurrent: failed"};
@@ -302,11 +302,11 @@ Result<Context> Context::create(const ContextOptions& options) {
                      "height: expected 1 .. 8192 pixels, got " + std::to_string(options.height)};
     }
     auto impl = std::make_unique<Impl>();
-    impl->backend = options.backend;
+    impl->platform = options.platform;
     impl->width = options.width;
     impl->height = options.height;
     std::optional<Error> error =
-        options.backend == Backend::osmesa ? impl->create_osmesa() : impl->create_egl();
+        options.platform == Platform::osmesa ? impl->create_osmesa() : impl->create_egl();
     if (error) return *error;
     return Context(std::move(impl));
 }
@@ -314,13 +314,13 @@ Result<Context> Context::create(const ContextOptions& options) {
 std::optional<Error> Context::make_current() { return impl_->make_current(); }
 const gl::Api& Context::api() const { return impl_->api; }
 gl::LoadFunction Context::loader() const {
-    return impl_->backend == Backend::osmesa ? osmesa_loader : egl_loader;
+    return impl_->platform == Platform::osmesa ? osmesa_loader : egl_loader;
 }
 void* Context::loader_user() const {
-    return impl_->backend == Backend::osmesa ? static_cast<void*>(&impl_->osmesa)
-                                             : static_cast<void*>(&impl_->egl);
+    return impl_->platform == Platform::osmesa ? static_cast<void*>(&impl_->osmesa)
+                                               : static_cast<void*>(&impl_->egl);
 }
-Backend Context::backend() const { return impl_->backend; }
+Platform Context::platform() const { return impl_->platform; }
 int Context::width() const { return impl_->width; }
 int Context::height() const { return impl_->height; }
 

@@ -241,24 +241,24 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
         settings.quantized_estimate && scene.dome
             ? std::vector<double>{2.0, 1.5, 1.2, 1.0, 0.9, 0.8, 0.7, 0.6, 0.55}
             : std::vector<double>{2.0, 1.5, 1.0, 0.8, 0.65, 0.5, 0.4, 0.3, 0.2};
+    // The runtime mesh refined from `base` at each split threshold (relocate: -1 the settings',
+    // 1 on).
+    const auto adaptive_sweep = [&](const char* method, const Mesh& base,
+                                    const aerial::mesh::Surface& surface, int relocate) {
+        sweep(
+            scene, method, splits,
+            [&](double split, double& ms) {
+                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate,
+                                     settings, ms, relocate);
+            },
+            settings, rows, thresholds_between);
+    };
     if (scene.dome) {
         const auto surface = aerial::mesh::Surface::sphere(scene.dome_options);
         const Mesh base = aerial::mesh::geodesic_dome(4, scene.dome_options).value();
-        sweep(
-            scene, "adaptive", splits,
-            [&](double split, double& ms) {
-                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate,
-                                     settings, ms);
-            },
-            settings, rows, thresholds_between);
+        adaptive_sweep("adaptive", base, surface, -1);
         // The same runtime mesh with AdaptiveSettings::relocate (off by default).
-        sweep(
-            scene, "adaptive-relocate", splits,
-            [&](double split, double& ms) {
-                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate,
-                                     settings, ms, 1);
-            },
-            settings, rows, thresholds_between);
+        adaptive_sweep("adaptive-relocate", base, surface, 1);
         sweep(
             scene, "uniform-geodesic", capped({4, 6, 8, 12, 16, 24, 32, 48, 64, 96, 128}, 64),
             [&](double f, double& ms) {
@@ -303,13 +303,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
     } else {
         const auto surface = aerial::mesh::Surface::terrain(scene.field);
         const Mesh base = aerial::mesh::terrain_grid(scene.field, 8, 8).value();
-        sweep(
-            scene, "adaptive", splits,
-            [&](double split, double& ms) {
-                return adaptive_mesh(scene, base, surface, split, settings.quantized_estimate,
-                                     settings, ms);
-            },
-            settings, rows, thresholds_between);
+        adaptive_sweep("adaptive", base, surface, -1);
         sweep(
             scene, "uniform-grid", capped({8, 16, 32, 64, 128, 256}, 128),
             [&](double cells, double& ms) {

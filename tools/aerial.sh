@@ -191,13 +191,15 @@ configure() {
     cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=Release "${options[@]}"
 }
 
-# Builds the targets given as arguments, or everything.
-build() {
-    local jobs
+# Builds, in the build directory given first, the targets given after it, or everything.
+build_in() {
+    local dir=$1 jobs
+    shift
     jobs=$(nproc 2>/dev/null || echo 2)
-    say "building with $jobs jobs${1:+ (targets: $*)}"
-    cmake --build "$BUILD_DIR" -j "$jobs" ${1:+--target "$@"}
+    say "building $dir/ with $jobs jobs${1:+ (targets: $*)}"
+    cmake --build "$dir" -j "$jobs" ${1:+--target "$@"}
 }
+build() { build_in "$BUILD_DIR" "$@"; }
 
 configure_sanitize() {
     if [[ -f $SANITIZE_DIR/build.ninja ]] &&
@@ -211,12 +213,7 @@ configure_sanitize() {
         -DAERIAL_BUILD_SAMPLE_GAME=OFF
 }
 
-build_sanitize() {
-    local jobs
-    jobs=$(nproc 2>/dev/null || echo 2)
-    say "building $SANITIZE_DIR/ with $jobs jobs${1:+ (targets: $*)}"
-    cmake --build "$SANITIZE_DIR" -j "$jobs" ${1:+--target "$@"}
-}
+build_sanitize() { build_in "$SANITIZE_DIR" "$@"; }
 
 fuzz_targets() {
     local dir

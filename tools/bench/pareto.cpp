@@ -39,48 +39,42 @@ double ms_since(Clock::time_point start) {
 
 enum class Method { gl_fog, fg_fog, cpu_hp, arb_hp, cpu_height, arb_height, lut_texture, perpixel };
 
-constexpr Method kMethods[] = {Method::gl_fog,      Method::fg_fog,     Method::cpu_hp,
-                               Method::arb_hp,      Method::cpu_height, Method::arb_height,
-                               Method::lut_texture, Method::perpixel};
+/// Every method, in the order of the CSV and the charts: its name, whether it is per vertex
+/// (drawn on every tessellation; the others on the default mesh only) and the model it computes
+/// (the fogs take their density and colour from `height`, the density where the eye is; the
+/// per-pixel image is the `height` model without interpolation).
+struct MethodInfo {
+    Method method;
+    const char* name;
+    bool per_vertex;
+    Model model;
+};
+constexpr MethodInfo kMethods[] = {
+    {Method::gl_fog, "gl-fog", false, Model::height},
+    {Method::fg_fog, "fg-fog", false, Model::height},
+    {Method::cpu_hp, "cpu-hp", true, Model::hoffman_preetham},
+    {Method::arb_hp, "arb-hp", true, Model::hoffman_preetham},
+    {Method::cpu_height, "cpu-height", true, Model::height},
+    {Method::arb_height, "arb-height", true, Model::height},
+    {Method::lut_texture, "lut-texture", false, Model::hoffman_preetham},
+    {Method::perpixel, "perpixel-reference", false, Model::height},
+};
 
-const char* method_name(Method m) {
-    switch (m) {
-        case Method::gl_fog:
-            return "gl-fog";
-        case Method::fg_fog:
-            return "fg-fog";
-        case Method::cpu_hp:
-            return "cpu-hp";
-        case Method::arb_hp:
-            return "arb-hp";
-        case Method::cpu_height:
-            return "cpu-height";
-        case Method::arb_height:
-            return "arb-height";
-        case Method::lut_texture:
-            return "lut-texture";
-        case Method::perpixel:
-            return "perpixel-reference";
+const MethodInfo& info(Method m) {
+    for (const MethodInfo& i : kMethods) {
+        if (i.method == m) return i;
     }
-    return "unknown";
+    return kMethods[0];  // unreachable: every Method is in the table
 }
-
-/// Per-vertex methods: drawn on every tessellation; the others on the default mesh only.
-bool per_vertex(Method m) {
-    return m == Method::cpu_hp || m == Method::arb_hp || m == Method::cpu_height ||
-           m == Method::arb_height;
-}
-
-/// The model a method computes (the fogs take their density and colour from `height`, the
-/// density where the eye is; the per-pixel image is the `height` model without interpolation).
-Model method_model(Method m) {
-    return m == Method::cpu_hp || m == Method::arb_hp || m == Method::lut_texture
-               ? Model::hoffman_preetham
-               : Model::height;
-}
+const char* method_name(Method m) { return info(m).name; }
+bool per_vertex(Method m) { return info(m).per_vertex; }
+Model method_model(Method m) { return info(m).model; }
 
 bool is_per_vertex_name(const std::string& name) {
-    return name == "cpu-hp" || name == "arb-hp" || name == "cpu-height" || name == "arb-height";
+    for (const MethodInfo& i : kMethods) {
+        if (name == i.name) return i.per_vertex;
+    }
+    return false;
 }
 
 /// One mesh of a scene, with the reference image of it.
@@ -204,7 +198,7 @@ Result<std::vector<BenchScene>> load_bench_scenes(const std::string& dir, bool q
 const std::vector<std::string>& bench_method_names() {
     static const std::vector<std::string> names = [] {
         std::vector<std::string> n;
-        for (Method m : kMethods) n.emplace_back(method_name(m));
+        for (const MethodInfo& m : kMethods) n.emplace_back(m.name);
         return n;
     }();
     return names;
@@ -543,7 +537,8 @@ Result<std::vector<BenchRow>> run_scene(const headless::Context& context, const 
     }
 
     std::vector<Variant> variants;
-    for (Method m : kMethods) {
+    for (const MethodInfo& method : kMethods) {
+        const Method m = method.method;
         for (const auto& mesh : meshes) {
             const bool take = per_vertex(m) ? (mesh->tessellation == "uniform" ||
                                                mesh->adapted_to == method_model(m))

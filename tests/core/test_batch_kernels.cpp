@@ -21,18 +21,10 @@
 #include <glm/geometric.hpp>
 
 #include "aerial/aerial.hpp"
+#include "aerial/validation/test_hooks.hpp"
 #include "batch_kernels.hpp"
 #include "extreme_sampler.hpp"
 #include "forced_target.hpp"
-
-namespace aerial::detail {
-// Test hooks defined in batch_simd.cpp: the dispatched target's vector building blocks.
-void simd_erfcx(const float* y, float* out, std::size_t n);
-void simd_fast_exp2(const float* x, float* out, std::size_t n);
-void simd_fast_log2(const float* x, float* out, std::size_t n);
-/// exp and expm1 of y / (8 log2(e)) for y in eighths of a binary order (the 2002 kernel's unit).
-void simd_exp_and_expm1(const float* y, float* exp_out, float* expm1_out, std::size_t n, bool fast);
-}  // namespace aerial::detail
 
 namespace {
 

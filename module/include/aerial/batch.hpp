@@ -70,6 +70,15 @@ inline float display_value(const Display& display, float linear) {
     return x < 0.0f ? 0.0f : (x > 1.0f ? 1.0f : x);
 }
 
+/// The lit colour of one channel before the display: F_ex x albedo x (E_sun cos + ambient), with
+/// cos = max(N.L, 0) (or the cosine the caller stands for, e.g. level ground). The one rule of
+/// lit_rgba8 (the SIMD kernels compute the same product in the same order) and of the scene
+/// renderer's lit nodes, skipped nodes and arb lighting factor.
+inline float lit_value(float extinction, float albedo, float sun_irradiance, float cos_incidence,
+                       float ambient) {
+    return extinction * albedo * (sun_irradiance * cos_incidence + ambient);
+}
+
 /// The 8-bit code of a value in [0, 1]: floor(clamp(v, 0, 1) * 255 + 0.5); NaN gives 0.
 inline std::uint8_t to_unorm8(float v) {
     const float c = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;  // NaN -> 0

@@ -232,8 +232,8 @@ std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
                     std::max(normal[0] * sun.x + normal[1] * sun.y + normal[2] * sun.z, 0.0f);
                 for (int c = 0; c < 3; ++c) {
                     scratch.sun_irradiance[c][i] =
-                        scratch.extinction[c][i] * light.albedo[c] *
-                        (scratch.sun_irradiance[c][i] * n_dot_l + light.ambient[c]);
+                        lit_value(scratch.extinction[c][i], light.albedo[c],
+                                  scratch.sun_irradiance[c][i], n_dot_l, light.ambient[c]);
                 }
             }
             store_display_rgba8(plan.settings.display, out.lit_rgba8, plan.lit_rgba8_stride, begin,

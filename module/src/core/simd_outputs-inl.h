@@ -138,6 +138,7 @@ std::size_t ShadeRgba8(const FrameConstants& constants, const Rgba8Job& work) {
             const VF n_dot_l = hn::IfThenZeroElse(hn::Lt(n_dot_l_raw, zero), n_dot_l_raw);
             hn::Vec<DI> code[3];
             for (int c = 0; c < 3; ++c) {
+                // aerial::lit_value, in the same order.
                 const VF lit = hn::Mul(hn::Mul(extinction[c], K(job.albedo[c])),
                                        hn::Add(hn::Mul(sun[c], n_dot_l), K(job.ambient[c])));
                 code[c] = Unorm8(hn::Mul(lit, exposure));

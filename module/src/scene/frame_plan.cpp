@@ -99,8 +99,8 @@ PointOutputs point_outputs(const Frame<float>& frame, const glm::vec3& p, const 
         if (lit) {
             const float ndl =
                 normal ? std::max(0.0f, glm::dot(*normal, frame.sun_dir)) : 1.0f;  // corners: 1
-            primary = display_value(
-                display, s.extinction[c] * albedo[c] * (s.sun_irradiance[c] * ndl + ambient[c]));
+            primary = display_value(display, lit_value(s.extinction[c], albedo[c],
+                                                       s.sun_irradiance[c], ndl, ambient[c]));
         }
         out.primary[c] = 255.0f * std::clamp(primary, 0.0f, 1.0f);
         out.secondary[c] = 255.0f * display_value(display, s.in_scattering[c]);
@@ -268,9 +268,10 @@ void skipped_colours(const FrameInputs& f, NodeState& st, bool lit, const glm::v
                                          st.normals[3 * i + 2] * float(settings.sun_dir.z));
             }
             for (int c = 0; c < 3; ++c) {
-                const float v = lit ? display_value(settings.display,
-                                                    albedo[c] * (sun_e[c] * ndl + f.ambient[c]))
-                                    : 1.0f;
+                const float v =
+                    lit ? display_value(settings.display,
+                                        lit_value(1.0f, albedo[c], sun_e[c], ndl, f.ambient[c]))
+                        : 1.0f;
                 st.primary[4 * i + std::size_t(c)] = to_unorm8(v);
                 st.secondary[4 * i + std::size_t(c)] = 0;
             }

@@ -416,8 +416,10 @@ void SceneRenderer::Impl::set_light_unit(const detail::FrameInputs& frame, const
     const float cos_sun = std::max(0.0f, float(glm::dot(settings.sun_dir, settings.up)));
     std::uint8_t texel[3];
     for (int c = 0; c < 3; ++c) {
-        texel[c] = to_unorm8(display_value(
-            settings.display, node.albedo[c] * (sun_e[c] * cos_sun + frame.ambient[c])));
+        // Level ground's cosine: the programs carry no normals.
+        texel[c] =
+            to_unorm8(display_value(settings.display, lit_value(1.0f, node.albedo[c], sun_e[c],
+                                                                cos_sun, frame.ambient[c])));
     }
     api->ActiveTexture(GL_TEXTURE1);
     if (!light_texture) api->GenTextures(1, &light_texture);

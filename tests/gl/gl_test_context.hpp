@@ -18,12 +18,63 @@
 
 namespace aerial_test {
 
-inline aerial::headless::Platform backend_from_environment() {
+/// The platform CTest asks for in AERIAL_TEST_GL_BACKEND (osmesa when unset); a name that is
+/// neither is an error, never a silent OSMesa.
+inline aerial::Result<aerial::headless::Platform> platform_from_environment() {
     const char* name = std::getenv("AERIAL_TEST_GL_BACKEND");
     if (name == nullptr) return aerial::headless::Platform::osmesa;
-    auto backend = aerial::headless::parse_platform(name);
-    return backend ? *backend : aerial::headless::Platform::osmesa;
+    auto platform = aerial::headless::parse_platform(name);
+    if (!platform) {
+        return aerial::Error{"AERIAL_TEST_GL_BACKEND",
+                             std::string("AERIAL_TEST_GL_BACKEND: "
+                                         "expected osmesa or egl, got '") +
+                                 name + "'"};
+    }
+    return *platform;
 }
+
+inline aerial::headless::Platform backend_from_environment() {
+    auto platform = platform_from_environment();
+    return platform ? *platform : aerial::headless::Platform::osmesa;
+}
+
+/// The exit status CTest reads as "not supported" (SKIP_RETURN_CODE of the GL registrations).
+constexpr int kNotSupportedExit = 77;
+
+/// Before any test: makes one context of the platform asked for. A platform or driver that
+/// cannot give one ends the run as one "not supported" (exit 77, the reason on stderr) instead
+/// of every test failing at set-up; a bad AERIAL_TEST_GL_BACKEND, or a renderer that is not the
+/// GALLIUM_DRIVER asked for (a MESA_LOADER_DRIVER_OVERRIDE leaking in), fails the run.
+class ContextProbe : public ::testing::Environment {
+  public:
+    void SetUp() override {
+        auto platform = platform_from_environment();
+        if (!platform) {
+            std::fprintf(stderr, "%s\n", platform.error().message.c_str());
+            std::exit(1);
+        }
+        auto ctx = aerial::headless::Context::create({*platform, 8, 8});
+        if (!ctx) {
+            const bool unsupported = ctx.error().kind == aerial::ErrorKind::not_supported;
+            std::fprintf(stderr, "%s: %s: %s\n", unsupported ? "not supported" : "failed",
+                         aerial::headless::platform_name(*platform), ctx.error().message.c_str());
+            std::exit(unsupported ? kNotSupportedExit : 1);
+        }
+        const char* driver = std::getenv("GALLIUM_DRIVER");
+        const std::string& renderer = ctx->api().caps.renderer;
+        if (driver != nullptr && driver[0] != '\0' &&
+            aerial::headless::renderer_driver(renderer) != driver) {
+            std::fprintf(stderr,
+                         "GALLIUM_DRIVER=%s asked for, but GL_RENDERER is '%s' (is "
+                         "MESA_LOADER_DRIVER_OVERRIDE or LIBGL_ALWAYS_SOFTWARE set?)\n",
+                         driver, renderer.c_str());
+            std::exit(1);
+        }
+    }
+};
+
+inline const bool kContextProbeRegistered =
+    (::testing::AddGlobalTestEnvironment(new ContextProbe), true);
 
 /// "osmesa llvmpipe (LLVM 15.0.6, 256 bits)": what a figure was measured on.
 inline std::string context_label(const aerial::headless::Context& ctx) {

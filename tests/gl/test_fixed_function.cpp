@@ -17,6 +17,7 @@
 #include "aerial/gl.hpp"
 #include "aerial/gl_api.hpp"
 #include "aerial/gl_state.hpp"
+#include "aerial/gl_state_saver.hpp"
 #include "aerial/headless.hpp"
 #include "gl_test_context.hpp"
 
@@ -650,6 +651,44 @@ TEST_F(FixedFunction, WorksWithTheEnginesVertexBufferBound) {
         gl().BindBuffer(GL_ARRAY_BUFFER, 0);
         del(1, &buffer);
     }
+}
+
+// A driver that reports a value GL rejects when given back (zink: GL_MATRIX_MODE 0 on a fresh
+// context), fed to the saver through an Api whose glGetIntegerv lies about the matrix mode and
+// the depth function.
+void (*real_get_integerv)(GLenum, GLint*) = nullptr;
+void lying_get_integerv(GLenum pname, GLint* value) {
+    real_get_integerv(pname, value);
+    if (pname == GL_MATRIX_MODE || pname == GL_DEPTH_FUNC) *value = 0;
+}
+
+TEST_F(FixedFunction, StateSaverNeverRestoresAValueGlRejects) {
+    Api lying = gl();
+    real_get_integerv = gl().GetIntegerv;
+    lying.GetIntegerv = lying_get_integerv;
+    while (gl().GetError() != GL_NO_ERROR) {
+    }
+    std::vector<std::string> rejected;
+    {
+        aerial::gl::StateSaver saver(lying);
+        const GLfloat identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        saver.load_matrix(GL_PROJECTION, identity);
+        saver.depth_func(GL_LEQUAL);
+        saver.restore();
+        rejected = saver.rejected();
+    }
+    EXPECT_EQ(gl().GetError(), static_cast<GLenum>(GL_NO_ERROR))
+        << "restoring what the driver reported raised a GL error";
+    ASSERT_EQ(rejected.size(), 2u);
+    EXPECT_EQ(rejected[0],
+              "GL_MATRIX_MODE: the driver reported 0x0000, which GL does not accept back; "
+              "restored as its initial value 0x1700");
+    EXPECT_EQ(rejected[1].rfind("GL_DEPTH_FUNC: the driver reported 0x0000", 0), 0u) << rejected[1];
+    GLint mode = 0, depth = 0;
+    gl().GetIntegerv(GL_MATRIX_MODE, &mode);
+    gl().GetIntegerv(GL_DEPTH_FUNC, &depth);
+    EXPECT_EQ(mode, GL_MODELVIEW);
+    EXPECT_EQ(depth, GL_LESS);
 }
 
 TEST_F(FixedFunction, SnapshotNamesWhatChanged) {

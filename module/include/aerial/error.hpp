@@ -5,7 +5,10 @@
 //      means "fine") or `aerial::Result<T>` (a value, or the first error found).
 //   2. `Error::field` names the offending field ("mie_g", "rayleigh_scattering[2]", "eye");
 //      `Error::message` is one line for a person and always starts with that field's name.
-//   3. Nothing in the core throws for bad input; exceptions are reserved for allocation failure.
+//   3. `Error::kind` tells a wrong input from a context that lacks what the call needs (an
+//      extension, a compatibility profile, a headless platform): regression suites report the
+//      second as "not supported", not as a failure.
+//   4. Nothing in the core throws for bad input; exceptions are reserved for allocation failure.
 #pragma once
 
 #include <optional>
@@ -14,11 +17,24 @@
 
 namespace aerial {
 
+/// Why a call could not do its work.
+enum class ErrorKind {
+    invalid_input,  ///< the caller's input is wrong (a NaN, a negative coefficient, a bad file)
+    not_supported,  ///< the GL context or platform lacks what the call needs; the input is fine
+};
+
 /// The first problem found in an input.
 struct Error {
     std::string field;    ///< the offending field, flag or line ("mie_g", "--eye", "line 3")
     std::string message;  ///< one line, starts with `field`, gives the expected and actual value
+    ErrorKind kind = ErrorKind::invalid_input;
 };
+
+/// An error of kind not_supported: `field` names what is missing ("GL_ARB_vertex_program",
+/// "profile", "libEGL").
+inline Error not_supported(std::string field, std::string message) {
+    return Error{std::move(field), std::move(message), ErrorKind::not_supported};
+}
 
 /// A value or the first error that prevented computing it.
 template <class T>

@@ -11,10 +11,18 @@
 //
 // Only what is changed is read with glGet* and restored; glPushAttrib is never used (engines use
 // the attribute stacks, which are only 16 deep and do not cover program bindings).
+//
+// A driver may report a value GL itself would reject when given back (zink reports
+// GL_MATRIX_MODE 0 on a fresh compatibility context). Enum-valued state (matrix mode, depth
+// function, blend factors and equations, colour-material face and parameter, array types) is
+// checked when read: a value outside what GL accepts is restored as GL's initial value instead,
+// so the engine's state stays valid and no GL error is raised, and `rejected()` names it.
 #pragma once
 
 #include <functional>
+#include <initializer_list>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "aerial/error.hpp"
@@ -73,6 +81,20 @@ class StateSaver {
     void secondary_color_array(GLint size, GLenum type, GLsizei stride, const void* pointer);
     void texcoord_array(int unit, GLint size, GLenum type, GLsizei stride, const void* pointer);
 
+    /// One line per value the driver reported that GL would not accept back ("GL_MATRIX_MODE: the
+    /// driver reported 0x0000, ..."), each restored as GL's initial value instead. Kept after
+    /// restore(), for a caller to log.
+    const std::vector<std::string>& rejected() const { return rejected_; }
+
+    /// An enum-valued piece of state: its query, its name, GL's initial value and the values
+    /// GL accepts back.
+    struct EnumState {
+        GLenum query;
+        const char* name;
+        GLenum initial;
+        std::initializer_list<GLenum> accepted;
+    };
+
     /// Restores the engine's GL_ARRAY_BUFFER binding now (the callback's arrays may be in its
     /// buffers); our pointers keep the buffer 0 they were given with.
     void rebind_engine_array_buffer();
@@ -82,9 +104,13 @@ class StateSaver {
     void unbind_array_buffer();
     void save_current_color();
     void save_current_secondary_color();
+    GLint read_enum(const EnumState& state);
+    GLint read_enum(const EnumState& state, GLenum query);
+    GLint accepted_or_initial(const EnumState& state, GLint value);
 
     const Api& api_;
     std::vector<std::function<void()>> undo_;
+    std::vector<std::string> rejected_;
     bool saved_active_ = false, saved_client_active_ = false, saved_array_buffer_ = false;
     GLint active_ = GL_TEXTURE0, client_active_ = GL_TEXTURE0, array_buffer_ = 0;
 };

@@ -40,6 +40,10 @@ const char* platform_name(Platform platform);
 /// Parses "osmesa" or "egl"; nullopt for anything else.
 std::optional<Platform> parse_platform(std::string_view name);
 
+/// The driver a GL_RENDERER string names: its first word ("llvmpipe" for "llvmpipe (LLVM 15.0.6,
+/// 256 bits)", "zink" for "zink (llvmpipe (LLVM 15.0.6, 256 bits))", "softpipe"), lower case.
+std::string renderer_driver(std::string_view renderer);
+
 struct ContextOptions {
     Platform platform = Platform::osmesa;
     int width = 256;   ///< pixels, 1 .. 8192

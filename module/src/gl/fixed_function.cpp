@@ -34,8 +34,9 @@ std::string context_text(const Caps& caps) {
 // "<extension>: the <path> path needs <version> or <extension>; the context has ... without it".
 Error path_needs(const Caps& caps, const std::string& extension, const char* path,
                  const char* version) {
-    return Error{extension, extension + ": the " + path + " path needs " + version + " or " +
-                                extension + "; " + context_text(caps) + " without it"};
+    return not_supported(extension, extension + ": the " + path + " path needs " + version +
+                                        " or " + extension + "; " + context_text(caps) +
+                                        " without it");
 }
 
 // Why `path` cannot run on `caps`, or nullopt when it can.
@@ -48,11 +49,11 @@ std::optional<Error> missing_for(const Caps& caps, Path path) {
             return std::nullopt;
         case Path::combiner:
             if (!caps.multitexture || caps.max_texture_units < 2) {
-                return Error{"GL_ARB_multitexture",
-                             "GL_ARB_multitexture: the combiner path needs GL 1.3 or "
-                             "GL_ARB_multitexture with 2 texture units; " +
-                                 context_text(caps) + " with " +
-                                 std::to_string(caps.max_texture_units) + " unit(s)"};
+                return not_supported("GL_ARB_multitexture",
+                                     "GL_ARB_multitexture: the combiner path needs GL 1.3 or "
+                                     "GL_ARB_multitexture with 2 texture units; " +
+                                         context_text(caps) + " with " +
+                                         std::to_string(caps.max_texture_units) + " unit(s)");
             }
             if (!caps.texture_env_combine) {
                 return path_needs(caps, "GL_ARB_texture_env_combine", "combiner", "GL 1.3");
@@ -91,10 +92,9 @@ Result<Path> choose_path(const Caps& caps, Path requested, bool fixed_function_l
 Result<CombinerTexture> CombinerTexture::create(const Api& api, int size) {
     if (auto e = no_current_context(api)) return *e;
     if (!api.caps.texture_3d || api.TexImage3D == nullptr) {
-        return Error{"combiner",
-                     "combiner: the identity texture needs GL 1.2 or "
-                     "GL_EXT_texture3D; " +
-                         context_text(api.caps) + " without it"};
+        return not_supported("combiner",
+                             "combiner: the identity texture needs GL 1.2 or GL_EXT_texture3D; " +
+                                 context_text(api.caps) + " without it");
     }
     if (size < 2 || size > 18 || 255 % (size - 1) != 0) {
         return Error{"size",

@@ -50,6 +50,29 @@ std::string read_extensions(const Api& api) {
     return e ? std::string(reinterpret_cast<const char*>(e)) : std::string();
 }
 
+// GL_CONTEXT_PROFILE_MASK (GL 3.2) and GL_CONTEXT_FLAGS (GL 3.0), from glext.h.
+constexpr GLenum kContextProfileMask = 0x9126;
+constexpr GLint kContextCoreProfileBit = 0x1;
+constexpr GLenum kContextFlags = 0x821E;
+constexpr GLint kContextForwardCompatibleBit = 0x1;
+
+// "core profile" or "forward-compatible" when the context has no fixed-function pipeline, empty
+// otherwise. Asked before anything else: a core profile rejects GL_EXTENSIONS and every
+// fixed-function query with GL_INVALID_ENUM.
+std::string missing_fixed_function(const Api& api, const Caps& caps) {
+    GLint value = 0;
+    if (caps.at_least(3, 2)) {
+        api.GetIntegerv(kContextProfileMask, &value);
+        if ((value & kContextCoreProfileBit) != 0) return "core profile";
+    }
+    if (caps.at_least(3, 0)) {
+        value = 0;
+        api.GetIntegerv(kContextFlags, &value);
+        if ((value & kContextForwardCompatibleBit) != 0) return "forward-compatible";
+    }
+    return {};
+}
+
 }  // namespace
 
 Result<Api> load_api(LoadFunction load, void* user) {
@@ -83,6 +106,13 @@ Result<Api> load_api(LoadFunction load, void* user) {
     if (const GLubyte* s = api.GetString(GL_VENDOR)) caps.vendor = reinterpret_cast<const char*>(s);
     if (const GLubyte* s = api.GetString(GL_RENDERER)) {
         caps.renderer = reinterpret_cast<const char*>(s);
+    }
+    const std::string missing = missing_fixed_function(api, caps);
+    if (!missing.empty()) {
+        return not_supported("profile", "profile: the context (GL " + caps.version + ", " +
+                                            caps.renderer + ") is a " + missing +
+                                            " context: no fixed-function pipeline; the module "
+                                            "needs a compatibility profile");
     }
     caps.extensions = read_extensions(api);
 

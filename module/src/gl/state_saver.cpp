@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
+#include <string>
 
 namespace aerial::gl {
 
@@ -37,6 +39,81 @@ GLenum detail::texture_binding_query(GLenum target) {
 }
 
 int detail::saved_texture_units(const Caps& caps) { return std::min(caps.max_texture_units, 8); }
+
+namespace {
+
+const std::initializer_list<GLenum> kBlendFactorList = {GL_ZERO,
+                                                        GL_ONE,
+                                                        GL_SRC_COLOR,
+                                                        GL_ONE_MINUS_SRC_COLOR,
+                                                        GL_DST_COLOR,
+                                                        GL_ONE_MINUS_DST_COLOR,
+                                                        GL_SRC_ALPHA,
+                                                        GL_ONE_MINUS_SRC_ALPHA,
+                                                        GL_DST_ALPHA,
+                                                        GL_ONE_MINUS_DST_ALPHA,
+                                                        GL_CONSTANT_COLOR,
+                                                        GL_ONE_MINUS_CONSTANT_COLOR,
+                                                        GL_CONSTANT_ALPHA,
+                                                        GL_ONE_MINUS_CONSTANT_ALPHA,
+                                                        GL_SRC_ALPHA_SATURATE};
+const StateSaver::EnumState kBlendSource{GL_BLEND_SRC, "GL_BLEND_SRC", GL_ONE, kBlendFactorList};
+const StateSaver::EnumState kBlendDestination{GL_BLEND_DST, "GL_BLEND_DST", GL_ZERO,
+                                              kBlendFactorList};
+const StateSaver::EnumState kBlendEquation{
+    GL_BLEND_EQUATION_RGB,
+    "GL_BLEND_EQUATION",
+    GL_FUNC_ADD,
+    {GL_FUNC_ADD, GL_FUNC_SUBTRACT, GL_FUNC_REVERSE_SUBTRACT, GL_MIN, GL_MAX}};
+const std::initializer_list<GLenum> kArrayTypeList = {
+    GL_BYTE,         GL_UNSIGNED_BYTE, GL_SHORT,  GL_UNSIGNED_SHORT, GL_INT,
+    GL_UNSIGNED_INT, GL_FLOAT,         GL_DOUBLE, GL_HALF_FLOAT};
+const StateSaver::EnumState kArrayType{0, "array type", GL_FLOAT, kArrayTypeList};
+
+const StateSaver::EnumState kMatrixMode{GL_MATRIX_MODE,
+                                        "GL_MATRIX_MODE",
+                                        GL_MODELVIEW,
+                                        {GL_MODELVIEW, GL_PROJECTION, GL_TEXTURE, GL_COLOR}};
+const StateSaver::EnumState kDepthFunc{
+    GL_DEPTH_FUNC,
+    "GL_DEPTH_FUNC",
+    GL_LESS,
+    {GL_NEVER, GL_LESS, GL_EQUAL, GL_LEQUAL, GL_GREATER, GL_NOTEQUAL, GL_GEQUAL, GL_ALWAYS}};
+const StateSaver::EnumState kColorMaterialFace{GL_COLOR_MATERIAL_FACE,
+                                               "GL_COLOR_MATERIAL_FACE",
+                                               GL_FRONT_AND_BACK,
+                                               {GL_FRONT, GL_BACK, GL_FRONT_AND_BACK}};
+const StateSaver::EnumState kColorMaterialParameter{
+    GL_COLOR_MATERIAL_PARAMETER,
+    "GL_COLOR_MATERIAL_PARAMETER",
+    GL_AMBIENT_AND_DIFFUSE,
+    {GL_EMISSION, GL_AMBIENT, GL_DIFFUSE, GL_SPECULAR, GL_AMBIENT_AND_DIFFUSE}};
+
+std::string hex(GLint value) {
+    char text[16];
+    std::snprintf(text, sizeof text, "0x%04X", static_cast<unsigned>(value));
+    return text;
+}
+
+}  // namespace
+
+GLint StateSaver::read_enum(const EnumState& state) { return read_enum(state, state.query); }
+
+GLint StateSaver::read_enum(const EnumState& state, GLenum query) {
+    GLint value = static_cast<GLint>(state.initial);
+    api_.GetIntegerv(query, &value);
+    return accepted_or_initial(state, value);
+}
+
+GLint StateSaver::accepted_or_initial(const EnumState& state, GLint value) {
+    for (GLenum accepted : state.accepted) {
+        if (static_cast<GLint>(accepted) == value) return value;
+    }
+    rejected_.push_back(std::string(state.name) + ": the driver reported " + hex(value) +
+                        ", which GL does not accept back; restored as its initial value " +
+                        hex(static_cast<GLint>(state.initial)));
+    return static_cast<GLint>(state.initial);
+}
 
 void StateSaver::restore() {
     for (auto it = undo_.rbegin(); it != undo_.rend(); ++it) (*it)();
@@ -106,18 +183,18 @@ void StateSaver::blend_func(GLenum source, GLenum destination) {
     const Api* api = &api_;
     if (api_.BlendFuncSeparate) {
         std::array<GLint, 4> was{};
-        api_.GetIntegerv(GL_BLEND_SRC_RGB, &was[0]);
-        api_.GetIntegerv(GL_BLEND_DST_RGB, &was[1]);
-        api_.GetIntegerv(GL_BLEND_SRC_ALPHA, &was[2]);
-        api_.GetIntegerv(GL_BLEND_DST_ALPHA, &was[3]);
+        was[0] = read_enum(kBlendSource, GL_BLEND_SRC_RGB);
+        was[1] = read_enum(kBlendDestination, GL_BLEND_DST_RGB);
+        was[2] = read_enum(kBlendSource, GL_BLEND_SRC_ALPHA);
+        was[3] = read_enum(kBlendDestination, GL_BLEND_DST_ALPHA);
         undo_.push_back([api, was] {
             api->BlendFuncSeparate(static_cast<GLenum>(was[0]), static_cast<GLenum>(was[1]),
                                    static_cast<GLenum>(was[2]), static_cast<GLenum>(was[3]));
         });
     } else {
         std::array<GLint, 2> was{};
-        api_.GetIntegerv(GL_BLEND_SRC, &was[0]);
-        api_.GetIntegerv(GL_BLEND_DST, &was[1]);
+        was[0] = read_enum(kBlendSource);
+        was[1] = read_enum(kBlendDestination);
         undo_.push_back([api, was] {
             api->BlendFunc(static_cast<GLenum>(was[0]), static_cast<GLenum>(was[1]));
         });
@@ -126,9 +203,11 @@ void StateSaver::blend_func(GLenum source, GLenum destination) {
     // Blending must add: an engine may have left MIN, MAX or SUBTRACT selected.
     if (api_.BlendEquation) {
         std::array<GLint, 2> equation{GL_FUNC_ADD, GL_FUNC_ADD};
-        api_.GetIntegerv(GL_BLEND_EQUATION_RGB, &equation[0]);
+        equation[0] = read_enum(kBlendEquation);
         equation[1] = equation[0];
-        if (api_.BlendEquationSeparate) api_.GetIntegerv(GL_BLEND_EQUATION_ALPHA, &equation[1]);
+        if (api_.BlendEquationSeparate) {
+            equation[1] = read_enum(kBlendEquation, GL_BLEND_EQUATION_ALPHA);
+        }
         undo_.push_back([api, equation] {
             if (api->BlendEquationSeparate) {
                 api->BlendEquationSeparate(static_cast<GLenum>(equation[0]),
@@ -142,8 +221,7 @@ void StateSaver::blend_func(GLenum source, GLenum destination) {
 }
 
 void StateSaver::depth_func(GLenum function) {
-    GLint was = GL_LESS;
-    api_.GetIntegerv(GL_DEPTH_FUNC, &was);
+    const GLint was = read_enum(kDepthFunc);
     const Api* api = &api_;
     undo_.push_back([api, was] { api->DepthFunc(static_cast<GLenum>(was)); });
     api_.DepthFunc(function);
@@ -211,8 +289,7 @@ void StateSaver::bind_texture(int unit, GLenum target, GLuint texture) {
 
 void StateSaver::texture_matrix_identity(int unit) {
     select_unit(unit);
-    GLint mode = GL_MODELVIEW;
-    api_.GetIntegerv(GL_MATRIX_MODE, &mode);
+    const GLint mode = read_enum(kMatrixMode);
     std::array<GLfloat, 16> was{};
     api_.GetFloatv(GL_TEXTURE_MATRIX, was.data());
     const Api* api = &api_;
@@ -254,8 +331,8 @@ void StateSaver::color_material() {
         std::array<std::array<GLfloat, 4>, 4> colours{};  // front/back × ambient/diffuse
     } was;
     was.enabled = api_.IsEnabled(GL_COLOR_MATERIAL) == GL_TRUE;
-    api_.GetIntegerv(GL_COLOR_MATERIAL_FACE, &was.face);
-    api_.GetIntegerv(GL_COLOR_MATERIAL_PARAMETER, &was.mode);
+    was.face = read_enum(kColorMaterialFace);
+    was.mode = read_enum(kColorMaterialParameter);
     static constexpr GLenum kFaces[2] = {GL_FRONT, GL_BACK};
     static constexpr GLenum kParams[2] = {GL_AMBIENT, GL_DIFFUSE};
     for (std::size_t f = 0; f < 2; ++f) {
@@ -309,8 +386,7 @@ void StateSaver::save_current_texcoord(int unit) {
 }
 
 void StateSaver::load_matrix(GLenum mode, const GLfloat matrix[16]) {
-    GLint was_mode = GL_MODELVIEW;
-    api_.GetIntegerv(GL_MATRIX_MODE, &was_mode);
+    const GLint was_mode = read_enum(kMatrixMode);
     std::array<GLfloat, 16> was{};
     api_.GetFloatv(mode == GL_PROJECTION ? GL_PROJECTION_MATRIX : GL_MODELVIEW_MATRIX, was.data());
     const Api* api = &api_;
@@ -370,9 +446,10 @@ ArraySaved read_array(const Api& api, GLenum array, GLenum size_q, GLenum type_q
 void StateSaver::color_array(GLint size, GLenum type, GLsizei stride, const void* pointer) {
     unbind_array_buffer();
     save_current_color();
-    const ArraySaved was =
+    ArraySaved was =
         read_array(api_, GL_COLOR_ARRAY, GL_COLOR_ARRAY_SIZE, GL_COLOR_ARRAY_TYPE,
                    GL_COLOR_ARRAY_STRIDE, GL_COLOR_ARRAY_POINTER, GL_COLOR_ARRAY_BUFFER_BINDING);
+    was.type = accepted_or_initial(kArrayType, was.type);
     const Api* api = &api_;
     undo_.push_back([api, was] {
         if (api->BindBuffer) api->BindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(was.buffer));
@@ -387,10 +464,11 @@ void StateSaver::secondary_color_array(GLint size, GLenum type, GLsizei stride,
                                        const void* pointer) {
     unbind_array_buffer();
     save_current_secondary_color();
-    const ArraySaved was =
+    ArraySaved was =
         read_array(api_, GL_SECONDARY_COLOR_ARRAY, GL_SECONDARY_COLOR_ARRAY_SIZE,
                    GL_SECONDARY_COLOR_ARRAY_TYPE, GL_SECONDARY_COLOR_ARRAY_STRIDE,
                    GL_SECONDARY_COLOR_ARRAY_POINTER, GL_SECONDARY_COLOR_ARRAY_BUFFER_BINDING);
+    was.type = accepted_or_initial(kArrayType, was.type);
     const Api* api = &api_;
     undo_.push_back([api, was] {
         if (api->BindBuffer) api->BindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(was.buffer));
@@ -407,10 +485,11 @@ void StateSaver::texcoord_array(int unit, GLint size, GLenum type, GLsizei strid
     unbind_array_buffer();
     save_current_texcoord(unit);
     select_client_unit(unit);
-    const ArraySaved was =
+    ArraySaved was =
         read_array(api_, GL_TEXTURE_COORD_ARRAY, GL_TEXTURE_COORD_ARRAY_SIZE,
                    GL_TEXTURE_COORD_ARRAY_TYPE, GL_TEXTURE_COORD_ARRAY_STRIDE,
                    GL_TEXTURE_COORD_ARRAY_POINTER, GL_TEXTURE_COORD_ARRAY_BUFFER_BINDING);
+    was.type = accepted_or_initial(kArrayType, was.type);
     const Api* api = &api_;
     undo_.push_back([api, unit, was] {
         if (api->ClientActiveTexture) {

@@ -8,6 +8,8 @@
 #include <dlfcn.h>
 #include <link.h>
 
+#include <cctype>
+#include <cstdlib>
 #include <cstring>
 #include <utility>
 
@@ -27,6 +29,23 @@ std::optional<Platform> parse_platform(std::string_view name) {
 namespace {
 
 constexpr int kMaxSize = 8192;
+
+// The Gallium drivers Mesa's OSMesa renders with: its software winsys creates only these, and
+// OSMesaCreateContextAttribs dereferences a null screen for any other GALLIUM_DRIVER (zink, a
+// typo), killing the process. Refused here instead, as "not supported".
+constexpr const char* kOsmesaDrivers[] = {"llvmpipe", "softpipe"};
+
+std::optional<Error> osmesa_driver_unsupported() {
+    const char* driver = std::getenv("GALLIUM_DRIVER");
+    if (driver == nullptr || driver[0] == '\0') return std::nullopt;
+    for (const char* known : kOsmesaDrivers) {
+        if (std::strcmp(driver, known) == 0) return std::nullopt;
+    }
+    return not_supported("GALLIUM_DRIVER",
+                         std::string("GALLIUM_DRIVER: OSMesa renders with llvmpipe or softpipe, "
+                                     "got '") +
+                             driver + "' (use the egl platform for other drivers)");
+}
 
 /// Keeps the Mesa drivers that eglInitialize loaded (the DRI driver under .../dri/ and the gallium
 /// library) mapped after eglTerminate, as OSMesa is (RTLD_NODELETE): Mesa's drivers are not built
@@ -141,19 +160,20 @@ struct Context::Impl {
         if (platform == Platform::osmesa) {
             if (!osmesa.MakeCurrent(osmesa_context, osmesa_buffer.data(), GL_UNSIGNED_BYTE, width,
                                     height)) {
-                return Error{"OSMesaMakeCurrent", "OSMesaMakeCurrent: failed"};
+                return not_supported("OSMesaMakeCurrent", "OSMesaMakeCurrent: failed");
             }
             return std::nullopt;
         }
         if (!egl.MakeCurrent(egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_context)) {
-            return Error{"eglMakeCurrent",
-                         "eglMakeCurrent: failed (" + egl_error_text(egl.GetError()) + ")"};
+            return not_supported("eglMakeCurrent",
+                                 "eglMakeCurrent: failed (" + egl_error_text(egl.GetError()) + ")");
         }
         if (framebuffer != 0) api.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
         return std::nullopt;
     }
 
     std::optional<Error> create_osmesa() {
+        if (auto e = osmesa_driver_unsupported()) return e;
         // RTLD_NODELETE: dlclose leaves Mesa mapped. Mesa's drivers are not built to be
         // unloaded, and an unloaded library's allocations lose their stack frames, so that
         // LeakSanitizer could no longer tell Mesa's own leaks (suppressed) from the module's.
@@ -161,15 +181,15 @@ struct Context::Impl {
         osmesa.handle = dlopen("libOSMesa.so.8", kFlags);
         if (!osmesa.handle) osmesa.handle = dlopen("libOSMesa.so", kFlags);
         if (!osmesa.handle) {
-            return Error{"libOSMesa",
-                         "libOSMesa: cannot open libOSMesa.so.8 (install Debian's libosmesa6)"};
+            return not_supported(
+                "libOSMesa", "libOSMesa: cannot open libOSMesa.so.8 (install Debian's libosmesa6)");
         }
         if (!load_symbol(osmesa.handle, "OSMesaCreateContextAttribs",
                          osmesa.CreateContextAttribs) ||
             !load_symbol(osmesa.handle, "OSMesaMakeCurrent", osmesa.MakeCurrent) ||
             !load_symbol(osmesa.handle, "OSMesaDestroyContext", osmesa.DestroyContext) ||
             !load_symbol(osmesa.handle, "OSMesaGetProcAddress", osmesa.GetProcAddress)) {
-            return Error{"libOSMesa", "libOSMesa: missing OSMesa 11.2 entry points"};
+            return not_supported("libOSMesa", "libOSMesa: missing OSMesa 11.2 entry points");
         }
         const int attributes[] = {OSMESA_FORMAT,
                                   OSMESA_RGBA,
@@ -182,8 +202,8 @@ struct Context::Impl {
                                   0};
         osmesa_context = osmesa.CreateContextAttribs(attributes, nullptr);
         if (!osmesa_context) {
-            return Error{"OSMesaCreateContextAttribs",
-                         "OSMesaCreateContextAttribs: no RGBA compatibility context"};
+            return not_supported("OSMesaCreateContextAttribs",
+                                 "OSMesaCreateContextAttribs: no RGBA compatibility context");
         }
         osmesa_buffer.assign(static_cast<std::size_t>(width) * height * 4, 0);
         if (auto e = make_current()) return e;
@@ -196,9 +216,9 @@ struct Context::Impl {
     std::optional<Error> create_egl() {
         egl.handle = dlopen("libEGL.so.1", RTLD_NOW | RTLD_LOCAL);
         if (!egl.handle) {
-            return Error{"libEGL",
-                         "libEGL: cannot open libEGL.so.1 (install Debian's libegl1 "
-                         "and libegl-mesa0)"};
+            return not_supported("libEGL",
+                                 "libEGL: cannot open libEGL.so.1 (install Debian's libegl1 "
+                                 "and libegl-mesa0)");
         }
         if (!load_symbol(egl.handle, "eglGetProcAddress", egl.GetProcAddress) ||
             !load_symbol(egl.handle, "eglQueryString", egl.QueryString) ||
@@ -210,56 +230,58 @@ struct Context::Impl {
             !load_symbol(egl.handle, "eglDestroyContext", egl.DestroyContext) ||
             !load_symbol(egl.handle, "eglMakeCurrent", egl.MakeCurrent) ||
             !load_symbol(egl.handle, "eglGetError", egl.GetError)) {
-            return Error{"libEGL", "libEGL: missing EGL 1.4 entry points"};
+            return not_supported("libEGL", "libEGL: missing EGL 1.4 entry points");
         }
         const char* client = egl.QueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
         if (!client || !std::strstr(client, "EGL_MESA_platform_surfaceless")) {
-            return Error{"EGL_MESA_platform_surfaceless",
-                         "EGL_MESA_platform_surfaceless: not offered by libEGL (install "
-                         "Debian's libegl-mesa0)"};
+            return not_supported("EGL_MESA_platform_surfaceless",
+                                 "EGL_MESA_platform_surfaceless: not offered by libEGL (install "
+                                 "Debian's libegl-mesa0)");
         }
         egl.GetPlatformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
             egl.GetProcAddress("eglGetPlatformDisplayEXT"));
         if (!egl.GetPlatformDisplay) {
-            return Error{"eglGetPlatformDisplayEXT", "eglGetPlatformDisplayEXT: not found"};
+            return not_supported("eglGetPlatformDisplayEXT", "eglGetPlatformDisplayEXT: not found");
         }
         egl_display =
             egl.GetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
         EGLint major = 0, minor = 0;
         if (egl_display == EGL_NO_DISPLAY || !egl.Initialize(egl_display, &major, &minor)) {
             egl_display = EGL_NO_DISPLAY;
-            return Error{"eglInitialize", "eglInitialize: the surfaceless display failed (" +
-                                              egl_error_text(egl.GetError()) + ")"};
+            return not_supported("eglInitialize",
+                                 "eglInitialize: the surfaceless display failed (" +
+                                     egl_error_text(egl.GetError()) + ")");
         }
         keep_mesa_drivers_loaded();
         const char* display_extensions = egl.QueryString(egl_display, EGL_EXTENSIONS);
         if (!display_extensions ||
             !std::strstr(display_extensions, "EGL_KHR_surfaceless_context")) {
-            return Error{"EGL_KHR_surfaceless_context",
-                         "EGL_KHR_surfaceless_context: not offered by the display"};
+            return not_supported("EGL_KHR_surfaceless_context",
+                                 "EGL_KHR_surfaceless_context: not offered by the display");
         }
         if (!egl.BindAPI(EGL_OPENGL_API)) {
-            return Error{"eglBindAPI", "eglBindAPI: desktop OpenGL is not available"};
+            return not_supported("eglBindAPI", "eglBindAPI: desktop OpenGL is not available");
         }
         const EGLint config_attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE,
                                             0, EGL_NONE};
         EGLConfig config = nullptr;
         EGLint count = 0;
         if (!egl.ChooseConfig(egl_display, config_attributes, &config, 1, &count) || count < 1) {
-            return Error{"eglChooseConfig", "eglChooseConfig: no desktop OpenGL config"};
+            return not_supported("eglChooseConfig", "eglChooseConfig: no desktop OpenGL config");
         }
         // No attributes: a compatibility-profile context, which keeps the fixed pipeline.
         egl_context = egl.CreateContext(egl_display, config, EGL_NO_CONTEXT, nullptr);
         if (egl_context == EGL_NO_CONTEXT) {
-            return Error{"eglCreateContext",
-                         "eglCreateContext: failed (" + egl_error_text(egl.GetError()) + ")"};
+            return not_supported("eglCreateContext", "eglCreateContext: failed (" +
+                                                         egl_error_text(egl.GetError()) + ")");
         }
         if (auto e = make_current()) return e;
         auto loaded = gl::load_api(egl_loader, &egl);
         if (!loaded) return loaded.error();
         api = std::move(loaded.value());
         if (!api.caps.framebuffer_object) {
-            return Error{"framebuffer", "framebuffer: the EGL context has no framebuffer objects"};
+            return not_supported("framebuffer",
+                                 "framebuffer: the EGL context has no framebuffer objects");
         }
         api.GenRenderbuffers(2, renderbuffers);
         api.BindRenderbuffer(GL_RENDERBUFFER, renderbuffers[0]);
@@ -280,12 +302,21 @@ struct Context::Impl {
             char text[96];
             std::snprintf(text, sizeof text, "framebuffer: incomplete (status 0x%04X)",
                           static_cast<unsigned>(status));
-            return Error{"framebuffer", text};
+            return not_supported("framebuffer", text);
         }
         api.Viewport(0, 0, width, height);
         return std::nullopt;
     }
 };
+
+std::string renderer_driver(std::string_view renderer) {
+    std::string driver;
+    for (char c : renderer) {
+        if (c == ' ' || c == '(') break;
+        driver += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    }
+    return driver;
+}
 
 Context::Context(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Context::Context(Context&&) noexcept = default;

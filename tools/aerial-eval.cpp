@@ -1,9 +1,11 @@
 // aerial-eval: evaluates one model of the physics core at points read from a file or stdin and
 // prints CSV of raw linear values (docs/conventions.md, Interfaces).
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -11,6 +13,7 @@
 
 #include "aerial/aerial.hpp"
 #include "aerial/arb_program.hpp"
+#include "eval/shader_tests.hpp"
 #include "support/cli.hpp"
 
 namespace {
@@ -29,7 +32,11 @@ constexpr const char* kDescription =
     "exits; reference has no program. --arb-height-fidelity spec-minimum|exact-optical-depth|full\n"
     "(with --print-arb-program; implies --model height) chooses how much of the height model the\n"
     "program computes; the levels beyond spec-minimum are checked against 256 instructions (the\n"
-    "native limit of Direct3D 9-class hardware) instead of the spec's 128.";
+    "native limit of Direct3D 9-class hardware) instead of the spec's 128.\n"
+    "--export-shader-tests DIR writes those programs (hoffman-preetham and each height level) as\n"
+    "piglit shader_test files, for the presets earth and hazy at noon and at a low sun, with\n"
+    "probes computed by the CPU executor of the same text, prints the files' paths and exits\n"
+    "(no other flag; docs/arb-program.md).";
 
 }  // namespace
 
@@ -49,18 +56,43 @@ int main(int argc, char** argv) {
     auto* model_opt =
         app.add_option("--model", model_text, "hoffman-preetham, height (default) or reference");
     bool print_arb_program = false;
-    app.add_flag("--print-arb-program", print_arb_program,
-                 "Print the ARB vertex program (hoffman-preetham) as loaded into GL, and exit");
+    auto* print_opt =
+        app.add_flag("--print-arb-program", print_arb_program,
+                     "Print the ARB vertex program (hoffman-preetham) as loaded into GL, and exit");
     std::string fidelity_text;
     auto* fidelity_opt = app.add_option(
         "--arb-height-fidelity", fidelity_text,
         "With --print-arb-program: spec-minimum (default), exact-optical-depth or full");
-    app.add_option("--up", up_text, "World up axis X,Y,Z (normalised; default 0,0,1)");
-    app.add_option("--points", points_file, "File of points x,y,z (default: stdin)");
+    std::string export_dir;
+    auto* export_opt =
+        app.add_option("--export-shader-tests", export_dir,
+                       "Write the ARB programs as piglit shader_test files into DIR, and exit");
+    auto* up_opt =
+        app.add_option("--up", up_text, "World up axis X,Y,Z (normalised; default 0,0,1)");
+    auto* points_opt =
+        app.add_option("--points", points_file, "File of points x,y,z (default: stdin)");
     if (auto status = tools::parse_command_line(app, argc, argv, kTool)) return *status;
 
+    if (export_opt->count() > 0) {
+        for (const CLI::Option* other : {preset_opt, file_opt, eye_opt, sun_opt, model_opt,
+                                         print_opt, fidelity_opt, up_opt, points_opt}) {
+            if (other->count() > 0) {
+                return tools::fail(
+                    kTool, "--export-shader-tests: takes no other flag, got " + other->get_name());
+            }
+        }
+        const auto files = eval::export_shader_tests(export_dir);
+        if (!files) return tools::fail(kTool, files.error().message);
+        for (const std::string& name : *files) {
+            std::printf("%s\n", (std::filesystem::path(export_dir) / name).string().c_str());
+        }
+        if (std::fflush(stdout) != 0) return tools::fail(kTool, "cannot write output");
+        return 0;
+    }
+
     if (print_arb_program) {
-        ArbProgramOptions options;  // the defaults: program.local[0...], one texture unit
+        Model program_model = Model::hoffman_preetham;
+        std::optional<ArbHeightFidelity> program_fidelity;
         if (fidelity_opt->count() > 0) {
             const auto fidelity = parse_arb_height_fidelity(fidelity_text);
             if (!fidelity || *fidelity == ArbHeightFidelity::automatic) {
@@ -69,11 +101,8 @@ int main(int argc, char** argv) {
                                    "exact-optical-depth or full, got '" +
                                        fidelity_text + "'");
             }
-            options.model = Model::height;
-            options.height_fidelity = *fidelity;
-            if (*fidelity != ArbHeightFidelity::spec_minimum) {
-                options.limits.max_instructions = 256;
-            }
+            program_model = Model::height;
+            program_fidelity = *fidelity;
         }
         if (model_opt->count() > 0) {
             auto model = parse_model(model_text);
@@ -89,9 +118,10 @@ int main(int argc, char** argv) {
                                    "fidelity levels, got --model " +
                                        model_text);
             }
-            options.model = *model;
+            program_model = *model;
         }
-        const auto program = generate_arb_program(options);
+        const auto program =
+            generate_arb_program(eval::arb_program_options(program_model, program_fidelity));
         if (!program) return tools::fail(kTool, program.error().message);
         const std::string& text = program->text;
         if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() ||

@@ -24,8 +24,14 @@ constexpr const char* kDescription =
     "difference (lcms2) with both images read as sRGB and converted to CIELAB (D50).\n"
     "--diff writes a PNG of the differences: equal pixels show A dimmed to a quarter in grey;\n"
     "others are blue (1 step), green (2), yellow (3-4), orange (5-8) or red (more than 8).\n"
-    "Alpha is ignored (composited on black). Exit status: 0 when compared (whatever the\n"
-    "differences), 2 on bad input (unreadable file, different sizes, bad flag).";
+    "--max-lsb, --p99-lsb, --max-over1 and --max-over2 bound max_lsb, p99_lsb, over1 and over2:\n"
+    "a bound exceeded is named on stderr and the exit status is 1.\n"
+    "Alpha is ignored (composited on black). Exit status: 0 when compared (and within every\n"
+    "bound given), 1 when a bound is exceeded, 2 on bad input (unreadable file, different sizes,\n"
+    "bad flag).";
+
+/// Exit status when a bound given on the command line is exceeded.
+constexpr int kExitOverBound = 1;
 
 }  // namespace
 
@@ -36,6 +42,17 @@ int main(int argc, char** argv) {
     app.add_option("A", a_path, "First image (PNG)")->required();
     app.add_option("B", b_path, "Second image (PNG)")->required();
     app.add_option("--diff", diff_path, "Write an image of the differences here (PNG)");
+    tools::LsbTolerance bounds;
+    app.add_option("--max-lsb", bounds.max_lsb, "Exit 1 when max_lsb is above this")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--p99-lsb", bounds.p99_lsb, "Exit 1 when p99_lsb is above this")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--max-over1", bounds.max_over1,
+                   "Exit 1 when the fraction of pixels off by more than 1 step is above this")
+        ->check(CLI::Range(0.0, 1.0));
+    app.add_option("--max-over2", bounds.max_over2,
+                   "Exit 1 when the fraction of pixels off by more than 2 steps is above this")
+        ->check(CLI::Range(0.0, 1.0));
     if (auto status = tools::parse_command_line(app, argc, argv, kTool)) return *status;
 
     const auto a = tools::read_png(a_path);
@@ -58,5 +75,12 @@ int main(int argc, char** argv) {
     std::printf("max_lsb=%d p99_lsb=%d rmse_lsb=%.4f over1=%.6f over2=%.6f de2000_mean=%.4f\n",
                 d.max_lsb, d.p99_lsb, d.rmse_lsb, d.over1, d.over2, d.de2000_mean);
     if (std::fflush(stdout) != 0) return tools::fail(kTool, "cannot write output");
+    const std::string over = bounds.violations(
+        tools::lsb_differences(d, std::size_t(a->width) * std::size_t(a->height)));
+    if (!over.empty()) {
+        std::fprintf(stderr, "%s: over the bounds (%s): %s\n", kTool, bounds.text().c_str(),
+                     over.c_str());
+        return kExitOverBound;
+    }
     return 0;
 }

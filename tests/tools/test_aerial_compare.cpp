@@ -98,6 +98,34 @@ TEST_F(AerialCompare, KnownDifferencesGiveTheDocumentedFigures) {
     EXPECT_EQ(one[2], 255);
 }
 
+TEST_F(AerialCompare, ABoundExceededExitsOneNamingIt) {
+    // The same two images as above: max_lsb 3, p99_lsb 1, over1 = over2 = 0.01.
+    const Rgb8Image a = grey_image(10, 10, 100);
+    Rgb8Image b = a;
+    b.rgb[3 * 17 + 0] = 103;
+    b.rgb[3 * 42 + 2] = 99;
+    const std::string pa = png("a.png", a), pb = png("b.png", b);
+    RunResult r = run({pa, pb, "--max-lsb", "3", "--p99-lsb", "1", "--max-over1", "0.01",
+                       "--max-over2", "0.01"});
+    EXPECT_EQ(r.exit_code, 0) << "every bound met exactly: " << r.err;
+    EXPECT_TRUE(r.err.empty()) << r.err;
+    r = run({pa, pb, "--max-lsb", "2", "--max-over1", "0.001"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_EQ(r.out.rfind("max_lsb=3 p99_lsb=1", 0), 0u) << "the figures are still printed";
+    EXPECT_EQ(r.err,
+              "aerial-compare: over the bounds (max_lsb<=2 max_over1<=0.001): max_lsb 3 > 2, "
+              "over1 0.01 > 0.001\n");
+    r = run({pa, pb, "--p99-lsb", "0"});
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("p99_lsb 1 > 0"), std::string::npos) << r.err;
+}
+
+TEST_F(AerialCompare, RejectsABoundOutOfRange) {
+    const Rgb8Image a = grey_image(2, 2, 0);
+    const RunResult r = run({png("a.png", a), png("b.png", a), "--max-over1", "2"});
+    EXPECT_TRUE(rejected_naming(r, "aerial-compare", {"--max-over1"}));
+}
+
 // ---- bad input: exit 2, one stderr line naming the culprit, nothing on stdout ---------------
 
 TEST_F(AerialCompare, RejectsAMissingSecondImage) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 #include <vector>
@@ -112,6 +113,61 @@ ImageDifferences compare_images(const Rgb8Image& a, const Rgb8Image& b, Rgb8Imag
     d.over2 = lsb.over2;
     d.de2000_mean = mean_de2000(a, b);
     return d;
+}
+
+namespace {
+
+std::string fraction_text(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
+}  // namespace
+
+std::string LsbTolerance::violations(const LsbDifferences& d) const {
+    std::string out;
+    const auto add = [&](const std::string& text) { out += (out.empty() ? "" : ", ") + text; };
+    if (max_lsb && d.max_lsb > *max_lsb) {
+        add("max_lsb " + std::to_string(d.max_lsb) + " > " + std::to_string(*max_lsb));
+    }
+    if (p99_lsb && d.p99_lsb > *p99_lsb) {
+        add("p99_lsb " + std::to_string(d.p99_lsb) + " > " + std::to_string(*p99_lsb));
+    }
+    if (min_p99_lsb && d.p99_lsb < *min_p99_lsb) {
+        add("p99_lsb " + std::to_string(d.p99_lsb) + " < " + std::to_string(*min_p99_lsb));
+    }
+    if (max_over1 && d.over1 > *max_over1) {
+        add("over1 " + fraction_text(d.over1) + " > " + fraction_text(*max_over1));
+    }
+    if (max_over2 && d.over2 > *max_over2) {
+        add("over2 " + fraction_text(d.over2) + " > " + fraction_text(*max_over2));
+    }
+    return out;
+}
+
+std::string LsbTolerance::text() const {
+    std::string out;
+    const auto add = [&](const char* name, const std::string& value) {
+        out += (out.empty() ? "" : " ") + std::string(name) + value;
+    };
+    if (max_lsb) add("max_lsb<=", std::to_string(*max_lsb));
+    if (p99_lsb) add("p99_lsb<=", std::to_string(*p99_lsb));
+    if (min_p99_lsb) add("min_p99_lsb>=", std::to_string(*min_p99_lsb));
+    if (max_over1) add("max_over1<=", fraction_text(*max_over1));
+    if (max_over2) add("max_over2<=", fraction_text(*max_over2));
+    return out;
+}
+
+LsbDifferences lsb_differences(const ImageDifferences& d, std::size_t pixels) {
+    LsbDifferences l;
+    l.max_lsb = d.max_lsb;
+    l.p99_lsb = d.p99_lsb;
+    l.rmse_lsb = d.rmse_lsb;
+    l.over1 = d.over1;
+    l.over2 = d.over2;
+    l.pixels = pixels;
+    return l;
 }
 
 }  // namespace aerial::tools

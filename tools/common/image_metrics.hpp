@@ -11,6 +11,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
+#include <string>
 
 #include "support/png.hpp"
 
@@ -57,9 +59,26 @@ struct ImageDifferences {
     double de2000_mean = 0.0;  ///< mean CIEDE2000 (lcms2), both read as sRGB, CIELAB D50
 };
 
+/// Bounds on LsbDifferences (aerial-compare's flags, the regression suite's tolerances): each
+/// bound given is checked, the others are not.
+struct LsbTolerance {
+    std::optional<int> max_lsb, p99_lsb;         ///< at most
+    std::optional<int> min_p99_lsb;              ///< at least (an image that must differ visibly)
+    std::optional<double> max_over1, max_over2;  ///< fractions of the pixels, at most
+
+    /// Empty when `d` is within every bound; otherwise the bounds exceeded,
+    /// "max_lsb 3 > 2, over1 0.002 > 0.001".
+    std::string violations(const LsbDifferences& d) const;
+    /// "max_lsb<=2 max_over1<=0.001".
+    std::string text() const;
+};
+
 /// Colour of one pixel of the diff image: equal pixels show A dimmed to a quarter in grey;
 /// others are blue (1 step), green (2), yellow (3-4), orange (5-8) or red (more than 8).
 std::array<std::uint8_t, 3> diff_colour(int lsb, const std::uint8_t* a);
+
+/// The LSB part of ImageDifferences (CIEDE2000 left out), over `pixels` pixels.
+LsbDifferences lsb_differences(const ImageDifferences& d, std::size_t pixels);
 
 /// The differences of two images of the same size (the caller checks the sizes); with `diff`,
 /// also the diff image.

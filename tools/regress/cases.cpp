@@ -36,17 +36,6 @@ CaseResult from_error(const Error& e) {
                   e.message);
 }
 
-tools::LsbDifferences lsb_of(const tools::ImageDifferences& d, std::size_t pixels) {
-    tools::LsbDifferences l;
-    l.max_lsb = d.max_lsb;
-    l.p99_lsb = d.p99_lsb;
-    l.rmse_lsb = d.rmse_lsb;
-    l.over1 = d.over1;
-    l.over2 = d.over2;
-    l.pixels = pixels;
-    return l;
-}
-
 void add_metrics(CaseResult& r, const tools::LsbDifferences& d) {
     r.metrics["max_lsb"] = std::to_string(d.max_lsb);
     r.metrics["p99_lsb"] = std::to_string(d.p99_lsb);
@@ -124,7 +113,7 @@ tools::LsbDifferences compare_and_keep(const CaseSettings& settings, const Case&
     tools::write_png(base.string() + "-fresh.png", fresh);
     tools::write_png(base.string() + "-reference.png", reference);
     tools::write_png(base.string() + "-diff.png", diff);
-    return lsb_of(d, std::size_t(fresh.width) * std::size_t(fresh.height));
+    return tools::lsb_differences(d, std::size_t(fresh.width) * std::size_t(fresh.height));
 }
 
 // ---- the kinds ------------------------------------------------------------------------------

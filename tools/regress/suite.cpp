@@ -15,12 +15,6 @@ namespace aerial::regress {
 
 namespace {
 
-std::string fraction_text(double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", v);
-    return text;
-}
-
 struct Bound {
     const char* name;
     std::optional<int> Tolerance::*integer;
@@ -122,40 +116,6 @@ std::optional<Error> line_error(const std::string& path, int number, const std::
 }
 
 }  // namespace
-
-std::string Tolerance::violations(const tools::LsbDifferences& d) const {
-    std::string out;
-    const auto add = [&](const std::string& text) { out += (out.empty() ? "" : ", ") + text; };
-    if (max_lsb && d.max_lsb > *max_lsb) {
-        add("max_lsb " + std::to_string(d.max_lsb) + " > " + std::to_string(*max_lsb));
-    }
-    if (p99_lsb && d.p99_lsb > *p99_lsb) {
-        add("p99_lsb " + std::to_string(d.p99_lsb) + " > " + std::to_string(*p99_lsb));
-    }
-    if (min_p99_lsb && d.p99_lsb < *min_p99_lsb) {
-        add("p99_lsb " + std::to_string(d.p99_lsb) + " < " + std::to_string(*min_p99_lsb));
-    }
-    if (max_over1 && d.over1 > *max_over1) {
-        add("over1 " + fraction_text(d.over1) + " > " + fraction_text(*max_over1));
-    }
-    if (max_over2 && d.over2 > *max_over2) {
-        add("over2 " + fraction_text(d.over2) + " > " + fraction_text(*max_over2));
-    }
-    return out;
-}
-
-std::string Tolerance::text() const {
-    std::string out;
-    for (const Bound& b : kBounds) {
-        std::string value;
-        if (b.integer && (this->*(b.integer))) value = std::to_string(*(this->*(b.integer)));
-        if (b.fraction && (this->*(b.fraction))) value = fraction_text(*(this->*(b.fraction)));
-        if (value.empty()) continue;
-        const bool at_least = std::string(b.name).rfind("min_", 0) == 0;
-        out += (out.empty() ? "" : " ") + std::string(b.name) + (at_least ? ">=" : "<=") + value;
-    }
-    return out;
-}
 
 const char* tier_name(Tier tier) {
     switch (tier) {

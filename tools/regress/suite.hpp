@@ -27,15 +27,7 @@
 namespace aerial::regress {
 
 /// Bounds on the differences of two images (or two sets of vertex colours), in 8-bit steps.
-struct Tolerance {
-    std::optional<int> max_lsb, p99_lsb, min_p99_lsb;
-    std::optional<double> max_over1, max_over2;
-
-    /// Empty when `d` is within every bound; otherwise the bounds exceeded, "max_lsb 3 > 2, ...".
-    std::string violations(const tools::LsbDifferences& d) const;
-    /// "max_lsb<=2 max_over1<=0.001".
-    std::string text() const;
-};
+using Tolerance = tools::LsbTolerance;
 
 enum class Tier { portable, golden, selftest };
 const char* tier_name(Tier tier);

@@ -6,7 +6,8 @@
 #   tools/aerial.sh sanitize  the clang ASan+UBSan build: the suite's subset and a short run of
 #                          each fuzzer
 #   tools/aerial.sh fuzz [SECONDS]  runs each libFuzzer target for SECONDS (default 300)
-#   tools/aerial.sh goldens  re-renders the golden images of tests/golden/ (never run by tests)
+#   tools/aerial.sh regress [FLAGS...]  builds and runs aerial-regress (the software-GL regression
+#                          runner; --bless re-blesses a device's goldens)
 #
 # Works from any directory. Needs Debian (apt) for the install step; root or sudo to install.
 set -euo pipefail
@@ -38,6 +39,7 @@ TEST_PACKAGES=(
     xvfb
     xauth
     python3-matplotlib
+    mesa-vulkan-drivers
     python3
     clang
     libclang-rt-14-dev
@@ -55,7 +57,7 @@ SANITIZE_DIR=build-sanitize
 # as test_aerial_render does; consumer.install_and_build links the installed (sanitized) static
 # libraries into a program built without the sanitizer runtime, which cannot link (the Release
 # suite checks the install). Plus each fuzzer for FUZZ_SMOKE_SECONDS.
-SANITIZE_EXCLUDE='\.(softpipe|no_ext)$|\.egl\.|GoldenImage\.|CrossBackend\.|^consumer\.install_and_build$'
+SANITIZE_EXCLUDE='\.(softpipe|no_ext)$|\.egl\.|^regress\.|^consumer\.install_and_build$'
 FUZZ_SMOKE_SECONDS=20
 # What `test` runs in $SANITIZE_DIR/ after the Release suite (CI's budget does not hold the whole
 # sanitizer build): the test executables of the core, the C interface, the mesh and the ARB
@@ -104,11 +106,12 @@ Commands:
   fuzz [SECONDS]  install, configure and build $SANITIZE_DIR/ as above, then run every libFuzzer
                   target for SECONDS (default 300) and print the executions of each; new inputs
                   land in $SANITIZE_DIR/tests/fuzz/NAME/corpus, crashes next to it (crash-*).
-  goldens         install and configure as above, build aerial-render, and re-render every
-                  golden image listed in tests/golden/goldens.txt with the settings listed
-                  there (OSMesa, llvmpipe, LP_NUM_THREADS pinned); records GL_RENDERER and
-                  the settings in tests/golden/RENDERER.txt. Review the images before
-                  committing them: the tests compare against whatever is there.
+  regress [FLAGS...]
+                  install every package, configure $BUILD_DIR/ as for test, build aerial-regress
+                  and run it with --out $BUILD_DIR/regress and FLAGS, for example
+                  --gl egl --driver softpipe --tier portable, or --gl osmesa --driver llvmpipe
+                  --bless to re-bless that device's goldens in tests/golden/osmesa-llvmpipe/
+                  (review the images before committing them); see docs/regression-testing.md
   -h, --help      print this help
 
 Packages installed when missing (apt-get, needs root or sudo):
@@ -234,49 +237,6 @@ run_fuzzers() {
     return "$status"
 }
 
-# Re-renders the goldens of tests/golden/goldens.txt (its format is described in the file).
-render_goldens() {
-    local dir=tests/golden size="" gl="" envs=() kind a b c name line renderer="" count=0
-    say "building aerial-render"
-    cmake --build "$BUILD_DIR" --target aerial-render
-    while read -r kind a b c; do
-        case $kind in
-            setting)
-                case $a in
-                    size) size=$b ;;
-                    gl) gl=$b ;;
-                    env) envs+=("$b") ;;
-                    *) die "$dir/goldens.txt: unknown setting '$a'" ;;
-                esac
-                ;;
-            golden)
-                name="$a-$b${c:+-$c}"
-                line=$(env "${envs[@]}" "$BUILD_DIR/bin/aerial-render" --scene "$dir/scenes/$a.json" \
-                    --backend "$b" ${c:+--path "$c"} --gl "$gl" --size "$size" \
-                    --out "$dir/$name.png") || die "rendering $name failed"
-                say "$name: $line"
-                if [[ -z $renderer ]]; then
-                    renderer=${line#*renderer=}
-                elif [[ ${line#*renderer=} != "$renderer" ]]; then
-                    die "$name was rendered by ${line#*renderer=}, the others by $renderer"
-                fi
-                count=$((count + 1))
-                ;;
-        esac
-    done < <(grep -Ev '^[[:space:]]*(#|$)' "$dir/goldens.txt")
-    renderer=${renderer#\"}
-    renderer=${renderer%\"}
-    {
-        printf 'Golden images of tests/golden/ (%d), made by: tools/aerial.sh goldens\n' "$count"
-        printf 'GL_RENDERER: %s\n' "$renderer"
-        printf 'Mesa: libosmesa6 %s\n' "$(dpkg-query -W -f='${Version}' libosmesa6 2>/dev/null || echo unknown)"
-        printf 'Context: --gl %s, --size %s\n' "$gl" "$size"
-        printf 'Environment: %s\n' "${envs[*]}"
-        printf 'CPU: %s\n' "$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n1)"
-    } >"$dir/RENDERER.txt"
-    say "wrote $count goldens and $dir/RENDERER.txt"
-}
-
 main() {
     local command=${1:-}
     case $command in
@@ -284,14 +244,14 @@ main() {
             usage
             return 0
             ;;
-        run | test | goldens | sanitize | fuzz) shift ;;
+        run | test | regress | sanitize | fuzz) shift ;;
         "")
             usage >&2
-            printf '\naerial.sh: missing command (run, test, sanitize, fuzz or goldens)\n' >&2
+            printf '\naerial.sh: missing command (run, test, regress, sanitize or fuzz)\n' >&2
             exit 2
             ;;
         *)
-            printf 'aerial.sh: unknown command %q (expected run, test, sanitize, fuzz or goldens; see --help)\n' \
+            printf 'aerial.sh: unknown command %q (expected run, test, regress, sanitize or fuzz; see --help)\n' \
                 "$command" >&2
             exit 2
             ;;
@@ -305,7 +265,7 @@ main() {
         fuzz_seconds=$1
         shift
     fi
-    if [[ $command != run && $# -gt 0 ]]; then
+    if [[ $command != run && $command != regress && $# -gt 0 ]]; then
         printf 'aerial.sh: %s takes no further arguments, got %q (see --help)\n' "$command" "$1" >&2
         exit 2
     fi
@@ -313,10 +273,12 @@ main() {
     # Everything below runs from the repository root, whatever the caller's directory.
     cd "$(dirname "$(readlink -f "${BASH_SOURCE[0]}")")/.."
 
-    if [[ $command == goldens ]]; then
+    if [[ $command == regress ]]; then
         install_missing_packages
         configure all
-        render_goldens
+        say "building aerial-regress"
+        cmake --build "$BUILD_DIR" --target aerial-regress
+        "$BUILD_DIR/bin/aerial-regress" --out "$BUILD_DIR/regress" "$@"
         return
     fi
     if [[ $command == sanitize ]]; then

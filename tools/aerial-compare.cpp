@@ -75,8 +75,7 @@ int main(int argc, char** argv) {
     std::printf("max_lsb=%d p99_lsb=%d rmse_lsb=%.4f over1=%.6f over2=%.6f de2000_mean=%.4f\n",
                 d.max_lsb, d.p99_lsb, d.rmse_lsb, d.over1, d.over2, d.de2000_mean);
     if (std::fflush(stdout) != 0) return tools::fail(kTool, "cannot write output");
-    const std::string over = bounds.violations(
-        tools::lsb_differences(d, std::size_t(a->width) * std::size_t(a->height)));
+    const std::string over = bounds.violations(d);
     if (!over.empty()) {
         std::fprintf(stderr, "%s: over the bounds (%s): %s\n", kTool, bounds.text().c_str(),
                      over.c_str());

@@ -104,13 +104,8 @@ ImageDifferences compare_images(const Rgb8Image& a, const Rgb8Image& b, Rgb8Imag
             std::copy(colour.begin(), colour.end(), &diff->rgb[3 * i]);
         }
     }
-    const LsbDifferences lsb = histogram.differences();
     ImageDifferences d;
-    d.max_lsb = lsb.max_lsb;
-    d.p99_lsb = lsb.p99_lsb;
-    d.rmse_lsb = lsb.rmse_lsb;
-    d.over1 = lsb.over1;
-    d.over2 = lsb.over2;
+    static_cast<LsbDifferences&>(d) = histogram.differences();
     d.de2000_mean = mean_de2000(a, b);
     return d;
 }
@@ -157,17 +152,6 @@ std::string LsbTolerance::text() const {
     if (max_over1) add("max_over1<=", fraction_text(*max_over1));
     if (max_over2) add("max_over2<=", fraction_text(*max_over2));
     return out;
-}
-
-LsbDifferences lsb_differences(const ImageDifferences& d, std::size_t pixels) {
-    LsbDifferences l;
-    l.max_lsb = d.max_lsb;
-    l.p99_lsb = d.p99_lsb;
-    l.rmse_lsb = d.rmse_lsb;
-    l.over1 = d.over1;
-    l.over2 = d.over2;
-    l.pixels = pixels;
-    return l;
 }
 
 }  // namespace aerial::tools

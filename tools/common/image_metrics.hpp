@@ -49,14 +49,10 @@ class LsbHistogram {
     std::size_t pixels_ = 0;
 };
 
-/// What two images differ by. A pixel's difference is the largest of |A - B| over R, G and B.
-struct ImageDifferences {
-    int max_lsb = 0;           ///< largest pixel difference
-    int p99_lsb = 0;           ///< 99th percentile (nearest rank) of the pixel differences
-    double rmse_lsb = 0.0;     ///< root mean square over every channel of every pixel
-    double over1 = 0.0;        ///< fraction of pixels off by more than 1 step
-    double over2 = 0.0;        ///< ... by more than 2 steps
-    double de2000_mean = 0.0;  ///< mean CIEDE2000 (lcms2), both read as sRGB, CIELAB D50
+/// What two images differ by: the LSB figures (LsbDifferences, over every pixel) and the mean
+/// CIEDE2000 (lcms2), both images read as sRGB, CIELAB D50.
+struct ImageDifferences : LsbDifferences {
+    double de2000_mean = 0.0;
 };
 
 /// Bounds on LsbDifferences (aerial-compare's flags, the regression suite's tolerances): each
@@ -76,9 +72,6 @@ struct LsbTolerance {
 /// Colour of one pixel of the diff image: equal pixels show A dimmed to a quarter in grey;
 /// others are blue (1 step), green (2), yellow (3-4), orange (5-8) or red (more than 8).
 std::array<std::uint8_t, 3> diff_colour(int lsb, const std::uint8_t* a);
-
-/// The LSB part of ImageDifferences (CIEDE2000 left out), over `pixels` pixels.
-LsbDifferences lsb_differences(const ImageDifferences& d, std::size_t pixels);
 
 /// The differences of two images of the same size (the caller checks the sizes); with `diff`,
 /// also the diff image.

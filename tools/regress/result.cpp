@@ -1,20 +1,19 @@
 // Case results on disk (result.hpp).
 #include "regress/result.hpp"
 
+#include "regress/names.hpp"
+
 #include <fstream>
 
 namespace aerial::regress {
 
 namespace {
 
-constexpr struct {
-    Status status;
-    const char* name;
-} kStatusNames[] = {{Status::pass, "pass"},
-                    {Status::fail, "fail"},
-                    {Status::skip, "skip"},
-                    {Status::crash, "crash"},
-                    {Status::not_supported, "not-supported"}};
+constexpr Names<Status, 5> kStatusNames = {{Status::pass, "pass"},
+                                           {Status::fail, "fail"},
+                                           {Status::skip, "skip"},
+                                           {Status::crash, "crash"},
+                                           {Status::not_supported, "not-supported"}};
 
 std::string one_line(std::string text) {
     for (char& c : text) {
@@ -25,19 +24,9 @@ std::string one_line(std::string text) {
 
 }  // namespace
 
-const char* status_name(Status status) {
-    for (const auto& entry : kStatusNames) {
-        if (entry.status == status) return entry.name;
-    }
-    return "unknown";
-}
+const char* status_name(Status status) { return name_in(kStatusNames, status); }
 
-std::optional<Status> parse_status(const std::string& name) {
-    for (const auto& entry : kStatusNames) {
-        if (name == entry.name) return entry.status;
-    }
-    return std::nullopt;
-}
+std::optional<Status> parse_status(const std::string& name) { return value_in(kStatusNames, name); }
 
 bool write_result(const std::string& path, const CaseResult& result) {
     std::ofstream file(path);

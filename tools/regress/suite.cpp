@@ -1,6 +1,8 @@
 // The suite file (suite.hpp).
 #include "regress/suite.hpp"
 
+#include "regress/names.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -28,6 +30,15 @@ constexpr Bound kBounds[] = {
     {"max_over1", nullptr, &Tolerance::max_over1},
     {"max_over2", nullptr, &Tolerance::max_over2},
 };
+
+constexpr Names<Tier, 3> kTierNames = {
+    {Tier::portable, "portable"}, {Tier::golden, "golden"}, {Tier::selftest, "selftest"}};
+constexpr Names<CaseKind, 9> kCaseKindNames = {
+    {CaseKind::context, "context"},  {CaseKind::cross, "cross"},
+    {CaseKind::fog, "fog"},          {CaseKind::paths, "paths"},
+    {CaseKind::state, "state"},      {CaseKind::cpu_model, "cpu-model"},
+    {CaseKind::golden, "golden"},    {CaseKind::cpu_golden, "cpu-golden"},
+    {CaseKind::selftest, "selftest"}};
 
 constexpr const char* kChecks[] = {"cross", "fog", "paths", "cpu-model", "golden", "cpu-golden"};
 
@@ -117,41 +128,8 @@ std::optional<Error> line_error(const std::string& path, int number, const std::
 
 }  // namespace
 
-const char* tier_name(Tier tier) {
-    switch (tier) {
-        case Tier::portable:
-            return "portable";
-        case Tier::golden:
-            return "golden";
-        case Tier::selftest:
-            return "selftest";
-    }
-    return "unknown";
-}
-
-const char* case_kind_name(CaseKind kind) {
-    switch (kind) {
-        case CaseKind::context:
-            return "context";
-        case CaseKind::cross:
-            return "cross";
-        case CaseKind::fog:
-            return "fog";
-        case CaseKind::paths:
-            return "paths";
-        case CaseKind::state:
-            return "state";
-        case CaseKind::cpu_model:
-            return "cpu-model";
-        case CaseKind::golden:
-            return "golden";
-        case CaseKind::cpu_golden:
-            return "cpu-golden";
-        case CaseKind::selftest:
-            return "selftest";
-    }
-    return "unknown";
-}
+const char* tier_name(Tier tier) { return name_in(kTierNames, tier); }
+const char* case_kind_name(CaseKind kind) { return name_in(kCaseKindNames, kind); }
 
 const Case* Suite::find(const std::string& name) const {
     for (const Case& c : cases) {

@@ -281,7 +281,7 @@ int main(int argc, char** argv) {
             kTool, "--renderer: '" + renderer_text + "' is unknown (expected osg or module)");
     }
     auto backend = aerial::osg_adapter::parse_backend(backend_text);
-    if (!backend) return aerial::tools::fail(kTool, "--" + backend.error().message);
+    if (!backend) return aerial::tools::fail(kTool, "--backend: " + backend.error().message);
     auto model = aerial::parse_model(model_text);
     if (!model || *model == aerial::Model::reference) {
         return aerial::tools::fail(

@@ -464,8 +464,12 @@ TEST(CApiStatus, EveryStatusComesFromSomeBadInputWithItsText) {
         if (status == AERIAL_OK) {
             EXPECT_STREQ(aerial_last_error_message(), "");
         } else {
-            EXPECT_NE(std::string(aerial_last_error_message()).find(": "), std::string::npos)
-                << "the message starts with the function's name";
+            const std::string message = aerial_last_error_message();
+            const std::string field = c.field;
+            EXPECT_EQ(message.rfind("aerial_", 0), 0u) << "starts with the function's name";
+            EXPECT_NE(message.find(field.empty() ? "(): " : "(): " + field + ": "),
+                      std::string::npos)
+                << message;
         }
         seen[std::size_t(status)] = true;
     }
@@ -481,9 +485,11 @@ TEST(CApiStatus, ObjectsKeepTheMessageOfTheirLastCall) {
     aerial_view v = test_view();
     v.meters_per_unit = -2.0;
     EXPECT_EQ(aerial_context_set_view(ctx.p, &v), AERIAL_ERROR_INVALID_VIEW);
-    EXPECT_EQ(std::string(aerial_context_last_error(ctx.p)).rfind("aerial_context_set_view: ", 0),
-              0u)
-        << aerial_context_last_error(ctx.p);
+    // The library's one style, with the C function's name: "FUNCTION(): FIELD: TEXT".
+    EXPECT_STREQ(aerial_context_last_error(ctx.p),
+                 "aerial_context_set_view(): meters_per_unit: expected a finite value > 0 (0 "
+                 "means 1), got -2");
+    EXPECT_STREQ(aerial_last_error_message(), aerial_context_last_error(ctx.p));
     EXPECT_STREQ(aerial_last_error_field(), "meters_per_unit");
     // The failed call left the context as it was: still no view.
     const float xyz[3] = {0, 0, 0};
@@ -492,6 +498,18 @@ TEST(CApiStatus, ObjectsKeepTheMessageOfTheirLastCall) {
     v.meters_per_unit = 0.0;  // 0 means 1
     EXPECT_EQ(aerial_context_set_view(ctx.p, &v), AERIAL_OK);
     EXPECT_STREQ(aerial_context_last_error(ctx.p), "");
+}
+
+TEST(CApiStatus, ACppErrorKeepsItsTextUnderTheCFunctionsName) {
+    auto a = zeroed<aerial_atmosphere>();
+    a.mie_g = 1.5;
+    EXPECT_EQ(aerial_validate_atmosphere(&a), AERIAL_ERROR_INVALID_ATMOSPHERE);
+    EXPECT_STREQ(aerial_last_error_message(),
+                 "aerial_validate_atmosphere(): mie_g: expected |g| < 1 (g > 0 scatters "
+                 "forwards), got 1.5");
+    EXPECT_EQ(aerial_validate_atmosphere(nullptr), AERIAL_ERROR_NULL_ARGUMENT);
+    EXPECT_STREQ(aerial_last_error_message(),
+                 "aerial_validate_atmosphere(): atmosphere: expected a pointer, got NULL");
 }
 
 TEST(CApiVersion, MismatchesAreDetected) {

@@ -20,8 +20,8 @@ void expect_rejected(const Atmosphere& a, const std::string& field, const std::s
     const auto error = aerial::validate(a);
     ASSERT_TRUE(error.has_value()) << "expected an error on " << field;
     EXPECT_EQ(error->field, field);
-    EXPECT_EQ(error->message.rfind(field, 0), 0u)
-        << "message must start with the field: " << error->message;
+    EXPECT_EQ(error->message.rfind("aerial::validate(): " + field + ": expected ", 0), 0u)
+        << "message must start with the function and the field: " << error->message;
     EXPECT_NE(error->message.find(fragment), std::string::npos)
         << "message '" << error->message << "' lacks '" << fragment << "'";
 }
@@ -40,20 +40,20 @@ TEST(AtmosphereValidate, NamesEachBadFieldAndValue) {
     expect_rejected(a, "rayleigh_scattering[1]", "got -1e-06");
     a = {};
     a.mie_scattering.z = kNaN;
-    expect_rejected(a, "mie_scattering[2]", "finite");
+    expect_rejected(a, "mie_scattering[2]", "got nan");
     a = {};
     a.mie_absorption.x = kInf;
-    expect_rejected(a, "mie_absorption[0]", "finite");
+    expect_rejected(a, "mie_absorption[0]", "got inf");
     a = {};
     a.mie_absorption.x = 2.0;
-    expect_rejected(a, "mie_absorption[0]", "<= 1");
+    expect_rejected(a, "mie_absorption[0]", "in [0, 1] 1/m, got 2");
     a = {};
     a.mie_g = 1.0;
     expect_rejected(a, "mie_g", "|g| < 1");
     a.mie_g = -1.2;
     expect_rejected(a, "mie_g", "got -1.2");
     a.mie_g = kNaN;
-    expect_rejected(a, "mie_g", "finite");
+    expect_rejected(a, "mie_g", "got nan");
     a = {};
     a.rayleigh_scale_height_m = 0.0;
     expect_rejected(a, "rayleigh_scale_height_m", "got 0");
@@ -62,13 +62,35 @@ TEST(AtmosphereValidate, NamesEachBadFieldAndValue) {
     expect_rejected(a, "mie_scale_height_m", "got -5");
     a = {};
     a.planet_radius_m = kNaN;
-    expect_rejected(a, "planet_radius_m", "finite");
+    expect_rejected(a, "planet_radius_m", "got nan");
     a = {};
     a.atmosphere_radius_m = a.planet_radius_m;
     expect_rejected(a, "atmosphere_radius_m", "above planet_radius_m");
     a = {};
     a.sun_irradiance.y = -1.0;
     expect_rejected(a, "sun_irradiance[1]", "got -1");
+}
+
+// The one message style, pinned whole: "aerial::FUNCTION(): FIELD: expected ..., got ...".
+TEST(AtmosphereValidate, MessageIsFunctionFieldExpectedGot) {
+    Atmosphere a;
+    a.mie_g = 1.5;
+    const auto error = aerial::validate(a);
+    ASSERT_TRUE(error.has_value());
+    EXPECT_EQ(error->field, "mie_g");
+    EXPECT_EQ(error->message,
+              "aerial::validate(): mie_g: expected |g| < 1 (g > 0 scatters forwards), got 1.5");
+    // A constructor reports the validation of what it built as its own error.
+    const auto dirty = aerial::atmosphere_with_air_pollution(2.0);
+    ASSERT_FALSE(dirty.ok());
+    EXPECT_EQ(dirty.error().message,
+              "aerial::atmosphere_with_air_pollution(): pollution: expected a value in [0, 1], "
+              "got 2");
+    const auto from_pollution = aerial::atmosphere_with_air_pollution(0.5, a);
+    ASSERT_FALSE(from_pollution.ok());
+    EXPECT_EQ(from_pollution.error().message,
+              "aerial::atmosphere_with_air_pollution(): mie_g: expected |g| < 1 (g > 0 scatters "
+              "forwards), got 1.5");
 }
 
 TEST(AtmospherePresets, EarthHasTheDesignValues) {
@@ -90,8 +112,10 @@ TEST(AtmospherePresets, EarthHasTheDesignValues) {
 TEST(AtmospherePresets, UnknownNameListsTheKnownOnes) {
     const auto a = aerial::atmosphere_preset("venus");
     ASSERT_FALSE(a.ok());
-    EXPECT_NE(a.error().message.find("'venus'"), std::string::npos);
-    EXPECT_NE(a.error().message.find("earth, hp2002, hazy, foggy, mars"), std::string::npos);
+    EXPECT_EQ(a.error().field, "preset");
+    EXPECT_EQ(a.error().message,
+              "aerial::atmosphere_preset(): preset: expected one of earth, hp2002, hazy, foggy, "
+              "mars, got 'venus'");
 }
 
 TEST(Hp2002, RayleighFromTheTalkFormulaMatchesItsPublishedValues) {
@@ -132,7 +156,10 @@ TEST(Hp2002, RejectsTurbidityWherePreethamsFitTurnsUnphysical) {
         const auto mie = aerial::mie_scattering_from_turbidity(t);
         ASSERT_FALSE(mie.ok()) << t;
         EXPECT_EQ(mie.error().field, "turbidity");
-        EXPECT_NE(mie.error().message.find("turbidity must be in [1.3, 64]"), std::string::npos)
+        EXPECT_EQ(mie.error().message.rfind("aerial::mie_scattering_from_turbidity(): turbidity: "
+                                            "expected a value in [1.3, 64] ",
+                                            0),
+                  0u)
             << mie.error().message;
     }
     EXPECT_TRUE(aerial::mie_scattering_from_turbidity(1.3).ok());
@@ -234,14 +261,15 @@ TEST(AtmosphereJson, ErrorsNameTheField) {
         const char* fragment;
     } cases[] = {
         {R"({"mie_g": 0.5, "colour": 1})", "colour", "not an atmosphere field"},
-        {R"({"mie_g": "high"})", "mie_g", "must be a number"},
+        {R"({"mie_g": "high"})", "mie_g", "expected a number, got string \"high\""},
         {R"({"rayleigh_scattering": [1e-6, 2e-6]})", "rayleigh_scattering", "array of 3"},
-        {R"({"mie_scattering": [1e-6, "x", 2e-6]})", "mie_scattering[1]", "must be a number"},
-        {R"({"rayleigh_scattering": [1e-6, -2e-6, 3e-6]})", "rayleigh_scattering[1]", ">= 0"},
+        {R"({"mie_scattering": [1e-6, "x", 2e-6]})", "mie_scattering[1]", "expected a number"},
+        {R"({"rayleigh_scattering": [1e-6, -2e-6, 3e-6]})", "rayleigh_scattering[1]",
+         "in [0, 1] 1/m, got -2e-06"},
         {R"({"mie_g": 1.0})", "mie_g", "|g| < 1"},
         {R"({"planet_radius_m": 7000000})", "atmosphere_radius_m", "above planet_radius_m"},
         {R"({"mie_g": 1e999})", "json", "number overflow"},
-        {R"([1, 2, 3])", "json", "must be an object"},
+        {R"([1, 2, 3])", "json", "expected an object, got array"},
         {R"({"mie_g": 0.5,})", "json", "parse error"},
         {"", "json", "parse error"},
     };
@@ -249,6 +277,10 @@ TEST(AtmosphereJson, ErrorsNameTheField) {
         const auto a = aerial::atmosphere_from_json(c.json);
         ASSERT_FALSE(a.ok()) << c.json;
         EXPECT_EQ(a.error().field, c.field) << c.json << " -> " << a.error().message;
+        EXPECT_EQ(a.error().message.rfind(
+                      std::string("aerial::atmosphere_from_json(): ") + c.field + ": ", 0),
+                  0u)
+            << a.error().message;
         EXPECT_NE(a.error().message.find(c.fragment), std::string::npos)
             << c.json << " -> " << a.error().message;
         EXPECT_EQ(a.error().message.find('\n'), std::string::npos) << "one line: " << c.json;
@@ -258,7 +290,10 @@ TEST(AtmosphereJson, ErrorsNameTheField) {
 TEST(AtmosphereJson, MissingFileIsNamed) {
     const auto a = aerial::load_atmosphere_json("/nonexistent/dir/air.json");
     ASSERT_FALSE(a.ok());
-    EXPECT_NE(a.error().message.find("/nonexistent/dir/air.json"), std::string::npos);
+    EXPECT_EQ(a.error().field, "/nonexistent/dir/air.json");
+    EXPECT_EQ(a.error().message,
+              "aerial::load_atmosphere_json(): /nonexistent/dir/air.json: cannot open the "
+              "atmosphere file");
 }
 
 }  // namespace

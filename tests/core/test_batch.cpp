@@ -323,7 +323,9 @@ TEST(Batch, ErrorsNameWhatIsWrong) {
         const auto r = aerial::shade_into(frame, p, o, s);
         ASSERT_FALSE(r.ok()) << field;
         EXPECT_EQ(r.error().field, field);
-        EXPECT_EQ(r.error().message.rfind("aerial::shade_into(): ", 0), 0u) << r.error().message;
+        EXPECT_EQ(r.error().message.rfind(std::string("aerial::shade_into(): ") + field + ": ", 0),
+                  0u)
+            << r.error().message;
     };
     expect_error(aerial::Positions::aos(nullptr, 10), out, {}, "positions");
     expect_error(aerial::Positions::aos(xyz.data(), 10), aerial::BatchOutputs{}, {}, "outputs");

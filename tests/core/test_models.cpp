@@ -35,7 +35,10 @@ TEST(Models, NamesRoundTripAndUnknownNamesAreListed) {
     for (Model m : aerial::all_models()) EXPECT_EQ(*aerial::parse_model(aerial::model_name(m)), m);
     const auto bad = aerial::parse_model("preetham");
     ASSERT_FALSE(bad.ok());
-    EXPECT_NE(bad.error().message.find("hoffman-preetham, height, reference"), std::string::npos);
+    EXPECT_NE(bad.error().message.find("expected one of hoffman-preetham, height, reference, got "
+                                       "'preetham'"),
+              std::string::npos)
+        << bad.error().message;
 }
 
 TEST(Models, ZeroDistanceHasNoExtinctionAndNoInScattering) {
@@ -370,14 +373,16 @@ TEST(Names, EveryNameParsesBackAndUnknownNamesListTheKnownOnes) {
     ASSERT_FALSE(model.ok());
     EXPECT_EQ(model.error().field, "model");
     EXPECT_EQ(model.error().message,
-              "model: 'fast' is unknown; expected one of: hoffman-preetham, height, reference");
+              "aerial::parse_model(): model: expected one of hoffman-preetham, height, reference, "
+              "got 'fast'");
     for (auto curve : {aerial::ToneCurve::clamp, aerial::ToneCurve::exponential}) {
         EXPECT_EQ(*aerial::parse_tone_curve(aerial::tone_curve_name(curve)), curve);
     }
     const auto curve = aerial::parse_tone_curve("filmic");
     ASSERT_FALSE(curve.ok());
     EXPECT_EQ(curve.error().message,
-              "tone_curve: 'filmic' is unknown; expected one of: clamp, exponential");
+              "aerial::parse_tone_curve(): tone_curve: expected one of clamp, exponential, got "
+              "'filmic'");
 }
 
 }  // namespace

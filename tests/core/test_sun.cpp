@@ -141,9 +141,13 @@ TEST(SunPosition, RejectsBadInputNamingTheField) {
         auto sun = aerial::sun_position(c.t, c.lat, c.lon);
         ASSERT_FALSE(sun.ok()) << c.field;
         EXPECT_EQ(sun.error().field, c.field);
-        EXPECT_EQ(sun.error().message.rfind(c.field, 0), 0u) << sun.error().message;
+        EXPECT_EQ(
+            sun.error().message.rfind(std::string("aerial::sun_position(): ") + c.field + ": ", 0),
+            0u)
+            << sun.error().message;
     }
-    EXPECT_EQ(aerial::solar_events(2024, 2, 30, 0.0, 0.0).error().field, "day");
+    EXPECT_EQ(aerial::solar_events(2024, 2, 30, 0.0, 0.0).error().message,
+              "aerial::solar_events(): day: expected 1 .. 29 for 2024-2, got 30");
 }
 
 TEST(SunIrradiance, MountainTopsAreLitAtDawnWhileValleysAreDark) {

@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "aerial/scene.hpp"
+#include "aerial/scene_file.hpp"
 
 namespace {
 
@@ -253,6 +254,43 @@ TEST(MeshFile, RefusesWhatOpenMeshWouldMisread) {
     // What they guard keeps working: relative indices, texture coordinates.
     EXPECT_TRUE(load_mesh_file(
         temp_file("relative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf -3/1 -2/1 -1/1\n")));
+}
+
+// The one message style for the scene file, pinned whole: the function the caller called, the
+// field's path in the file, expected and got; a file's content errors end with its path.
+TEST(SceneFile, MessagesAreFunctionFieldExpectedGot) {
+    const std::string text =
+        R"({"camera": {"eye": [0, 0, 100], "direction": [0, 1, 0], "fov_y_deg": 200},)"
+        R"( "sun": {"elevation_deg": 30, "azimuth_deg": 0}, "terrain": {}})";
+    const auto parsed = scene_file_from_json(text);
+    ASSERT_FALSE(parsed);
+    EXPECT_EQ(parsed.error().field, "camera.fov_y_deg");
+    EXPECT_EQ(parsed.error().message,
+              "aerial::scene::scene_file_from_json(): camera.fov_y_deg: expected a number in "
+              "(0, 180), got 200");
+
+    const std::string path = temp_file("scene.json", text);
+    const auto loaded = load_scene_file(path);
+    ASSERT_FALSE(loaded);
+    EXPECT_EQ(loaded.error().field, "camera.fov_y_deg");
+    EXPECT_EQ(loaded.error().message,
+              "aerial::scene::load_scene_file(): camera.fov_y_deg: expected a number in (0, 180), "
+              "got 200 (in " +
+                  path + ")");
+
+    // An error of the atmosphere the file holds: its field under "atmosphere.".
+    const auto atmosphere = scene_file_from_json(
+        R"({"camera": {"eye": [0, 0, 100], "direction": [0, 1, 0]}, "atmosphere": {"mie_g": 2},)"
+        R"( "sun": {"elevation_deg": 30, "azimuth_deg": 0}, "terrain": {}})");
+    ASSERT_FALSE(atmosphere);
+    EXPECT_EQ(atmosphere.error().field, "atmosphere.mie_g");
+    EXPECT_EQ(atmosphere.error().message,
+              "aerial::scene::scene_file_from_json(): atmosphere.mie_g: expected |g| < 1 (g > 0 "
+              "scatters forwards), got 2");
+
+    const std::string missing = ::testing::TempDir() + "no_such_scene.json";
+    EXPECT_EQ(load_scene_file(missing).error().message,
+              "aerial::scene::load_scene_file(): " + missing + ": cannot open the scene file");
 }
 
 }  // namespace

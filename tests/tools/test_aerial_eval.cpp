@@ -449,7 +449,7 @@ TEST_F(AerialEval, RejectsMissingAtmosphereFileNamingFlagAndPath) {
 TEST_F(AerialEval, RejectsMalformedJsonNamingTheFile) {
     const std::string json = file("broken.json", "{\"mie_g\": 0.8,\n");
     EXPECT_TRUE(rejected_naming(run(with(view_, {"--atmosphere", json}), kPoints),
-                                {"--atmosphere", json.c_str(), "JSON"}));
+                                {"--atmosphere", json.c_str(), "json: parse error"}));
 }
 
 TEST_F(AerialEval, RejectsJsonWithUnknownFieldNamingIt) {

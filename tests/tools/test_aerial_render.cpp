@@ -273,7 +273,7 @@ TEST_F(AerialRender, RejectsBadGeometryAndTextureNamingThem) {
     EXPECT_TRUE(rejects_field("/texture/seed", -1, {"texture.seed"}));
     EXPECT_TRUE(rejects_field("/terrain/resolution", 0, {"terrain.resolution"}));
     EXPECT_TRUE(rejects_field("/terrain/octaves", 13, {"terrain.octaves", "[1, 12]"}));
-    EXPECT_TRUE(rejects_field("/texture/kind", 3, {"texture.kind", "must be a string"}));
+    EXPECT_TRUE(rejects_field("/texture/kind", 3, {"texture.kind", "expected a string"}));
     EXPECT_TRUE(rejects_field("/terrain/resolution", 2.5, {"terrain.resolution"}));
     EXPECT_TRUE(rejects_field("/terrain/size", -10, {"terrain.size"}));
     EXPECT_TRUE(rejects_field("/terrain/height_amplitude", -1, {"terrain.height_amplitude"}));

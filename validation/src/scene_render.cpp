@@ -78,7 +78,8 @@ const char* render_backend_name(RenderBackend backend) {
 }
 
 Result<RenderBackend> parse_render_backend(std::string_view name, std::string_view field) {
-    return detail::parse_in(kRenderBackendNames, field, name);
+    return detail::parse_in("validation::parse_render_backend", kRenderBackendNames,
+                            std::string(field), name);
 }
 
 std::optional<Error> check_backend(const scene::SceneFile& file, const RenderOptions& options,

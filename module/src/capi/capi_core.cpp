@@ -10,6 +10,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "../common/error_text.hpp"
 #include "aerial/aerial.h"
 #include "aerial/atmosphere.hpp"
 #include "aerial/batch.hpp"
@@ -62,14 +63,16 @@ double scalar_field(double v, const double fallback) { return v == 0.0 ? fallbac
 
 }  // namespace
 
-void fail(aerial_status status, std::string field, std::string message) {
-    throw Failure{status, std::move(field), std::move(message)};
+void fail(aerial_status status, std::string field, std::string text) {
+    throw Failure{status, std::move(field), std::move(text)};
 }
 
-void fail(aerial_status status, const Error& error) { fail(status, error.field, error.message); }
+void fail(aerial_status status, const Error& error) {
+    fail(status, error.field, std::string(detail::text_of(error)));
+}
 
 void fail_null(const char* name) {
-    fail(AERIAL_ERROR_NULL_ARGUMENT, name, std::string(name) + " is NULL");
+    fail(AERIAL_ERROR_NULL_ARGUMENT, name, "expected a pointer, got NULL");
 }
 
 void require(const void* pointer, const char* name) {
@@ -77,14 +80,14 @@ void require(const void* pointer, const char* name) {
 }
 
 void record(aerial_status status, const char* function, const std::string& field,
-            const std::string& message, std::string* object_error) {
+            const std::string& text, std::string* object_error) {
     ThreadError& error = thread_error();
     if (status == AERIAL_OK) {
         error.field.clear();
         error.message.clear();
     } else {
         error.field = field;
-        error.message = std::string(function) + ": " + message;
+        error.message = detail::styled(function, field, text);
     }
     if (object_error != nullptr) *object_error = error.message;
 }
@@ -177,8 +180,7 @@ Model to_cpp_model(int model, const char* field) {
 
 const Frame<float>& current_frame(const aerial_context& context) {
     if (!context.frame) {
-        fail(AERIAL_ERROR_NO_VIEW, "view",
-             "the context has no view yet: call aerial_context_set_view first");
+        fail(AERIAL_ERROR_NO_VIEW, "view", "none set yet: call aerial_context_set_view first");
     }
     return *context.frame;
 }
@@ -195,8 +197,8 @@ View validated(const aerial_view* view) {
     require(view, "view");
     if (view->meters_per_unit < 0.0) {
         fail(AERIAL_ERROR_INVALID_VIEW, "meters_per_unit",
-             "meters_per_unit must be finite and > 0 (0 means 1), got " +
-                 std::to_string(view->meters_per_unit));
+             "expected a finite value > 0 (0 means 1), got " +
+                 detail::number(view->meters_per_unit));
     }
     View v = to_cpp(*view);
     if (auto error = validate(v)) fail(AERIAL_ERROR_INVALID_VIEW, *error);
@@ -206,14 +208,14 @@ View validated(const aerial_view* view) {
 Positions to_cpp_positions(const aerial_positions& positions) {
     if ((positions.y == nullptr) != (positions.z == nullptr)) {
         fail(AERIAL_ERROR_INVALID_BATCH, "positions",
-             "positions: y and z are both NULL (interleaved records at x) or both set "
-             "(separate arrays), got one of them");
+             "expected y and z both NULL (interleaved records at x) or both set (separate "
+             "arrays), got one of them");
     }
     if (positions.y == nullptr) {
         if (positions.stride_bytes != 0 && positions.stride_bytes < 3 * sizeof(float)) {
             fail(AERIAL_ERROR_INVALID_BATCH, "positions.stride_bytes",
-                 "positions.stride_bytes: interleaved x, y, z records need >= 12 (or 0), got " +
-                     std::to_string(positions.stride_bytes));
+                 "expected 0 or >= 12 for interleaved x, y, z records, got " +
+                     detail::number(positions.stride_bytes));
         }
         return Positions::aos(positions.x, positions.count, positions.stride_bytes);
     }
@@ -339,10 +341,9 @@ aerial_status aerial_check_version(int header_version, size_t sizeof_atmosphere,
             (major == 0 ? minor == AERIAL_VERSION_MINOR : minor <= AERIAL_VERSION_MINOR);
         if (!compatible) {
             fail(AERIAL_ERROR_VERSION_MISMATCH, "header_version",
-                 "header_version: the caller was compiled with aerial.h " + std::to_string(major) +
-                     "." + std::to_string(minor) + ", the library is " +
-                     std::to_string(AERIAL_VERSION_MAJOR) + "." +
-                     std::to_string(AERIAL_VERSION_MINOR));
+                 "expected aerial.h " + std::to_string(AERIAL_VERSION_MAJOR) + "." +
+                     std::to_string(AERIAL_VERSION_MINOR) + " (the library's), got the caller's " +
+                     std::to_string(major) + "." + std::to_string(minor));
         }
         const struct {
             const char* name;
@@ -357,8 +358,8 @@ aerial_status aerial_check_version(int header_version, size_t sizeof_atmosphere,
         for (const auto& s : sizes) {
             if (s.caller != s.library) {
                 fail(AERIAL_ERROR_VERSION_MISMATCH, s.name,
-                     std::string(s.name) + ": the caller's is " + std::to_string(s.caller) +
-                         " bytes, the library's " + std::to_string(s.library));
+                     "expected " + detail::number(s.library) + " bytes (the library's), got " +
+                         detail::number(s.caller) + " (the caller's)");
             }
         }
     });
@@ -415,8 +416,9 @@ aerial_status aerial_evaluate(const aerial_atmosphere* atmosphere, const aerial_
         const bool finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
         if (finite && glm::length(p - v.eye) * v.meters_per_unit > kMaxDistanceM) {
             fail(AERIAL_ERROR_INVALID_VERTEX, "vertex",
-                 "vertex: expected within 1e12 m of the eye, got " +
-                     std::to_string(glm::length(p - v.eye) * v.meters_per_unit) + " m");
+                 "expected a point within " + detail::number(kMaxDistanceM) +
+                     " m of the eye, got " +
+                     detail::number(glm::length(p - v.eye) * v.meters_per_unit) + " m");
         }
         capi::copy_scattering(
             capi::value_or_fail(evaluate(a, v, m, p), AERIAL_ERROR_INVALID_VERTEX), *out);

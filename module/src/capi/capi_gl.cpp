@@ -217,8 +217,9 @@ aerial_status aerial_arb_generate(const aerial_arb_options* options, char* text,
         if (capacity == 0 && text == nullptr) return;  // asking the size
         if (capacity < program.text.size() + 1) {
             fail(AERIAL_ERROR_BUFFER_TOO_SMALL, "capacity",
-                 "capacity: the program needs " + std::to_string(program.text.size() + 1) +
-                     " bytes with its terminating 0, got " + std::to_string(capacity));
+                 "expected >= " + std::to_string(program.text.size() + 1) +
+                     " bytes (the program with its terminating 0), got " +
+                     std::to_string(capacity));
         }
         std::memcpy(text, program.text.c_str(), program.text.size() + 1);
     });
@@ -238,8 +239,8 @@ aerial_status aerial_arb_parameters(const aerial_context* context,
         if (count != nullptr) *count = p.size();
         if (capacity_vectors < p.size()) {
             fail(AERIAL_ERROR_BUFFER_TOO_SMALL, "capacity_vectors",
-                 "capacity_vectors: the program reads " + std::to_string(p.size()) +
-                     " vectors, got room for " + std::to_string(capacity_vectors));
+                 "expected >= " + std::to_string(p.size()) +
+                     " vectors (what the program reads), got " + std::to_string(capacity_vectors));
         }
         for (size_t i = 0; i < p.size(); ++i) std::memcpy(vectors + 4 * i, p[i].data(), 16);
     });

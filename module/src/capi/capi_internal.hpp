@@ -28,13 +28,15 @@ namespace aerial::capi {
 struct Failure {
     aerial_status status;
     std::string field;
-    std::string message;  ///< without the function's name (the guard adds it)
+    std::string text;  ///< the TEXT of "FUNCTION(): FIELD: TEXT" (the guard adds the rest)
 };
 
-[[noreturn]] void fail(aerial_status status, std::string field, std::string message);
-/// A C++ Error as a failure with `status`.
+/// Leaves the entry point with `status`; its message is "aerial_FUNCTION(): FIELD: TEXT", the
+/// library's one style (common/error_text.hpp) with the C function's name.
+[[noreturn]] void fail(aerial_status status, std::string field, std::string text);
+/// A C++ Error as a failure with `status`: its field and TEXT, under the C function's name.
 [[noreturn]] void fail(aerial_status status, const Error& error);
-/// Fails with AERIAL_ERROR_NULL_ARGUMENT naming `name` ("name is NULL").
+/// Fails with AERIAL_ERROR_NULL_ARGUMENT naming `name` ("name: expected a pointer, got NULL").
 [[noreturn]] void fail_null(const char* name);
 /// Fails with AERIAL_ERROR_NULL_ARGUMENT naming `name` when `pointer` is null.
 void require(const void* pointer, const char* name);
@@ -59,7 +61,7 @@ struct EnumValue {
 };
 
 /// The C++ value of the C enum value `value`, or AERIAL_ERROR_INVALID_ARGUMENT naming `field`:
-/// "field: expected <expected>, got <value>".
+/// "expected <expected>, got <value>".
 template <class Cpp, std::size_t N>
 Cpp to_cpp_enum(int value, const EnumValue<Cpp> (&values)[N], const char* field,
                 const char* expected) {
@@ -67,7 +69,7 @@ Cpp to_cpp_enum(int value, const EnumValue<Cpp> (&values)[N], const char* field,
         if (v.c == value) return v.cpp;
     }
     fail(AERIAL_ERROR_INVALID_ARGUMENT, field,
-         std::string(field) + ": expected " + expected + ", got " + std::to_string(value));
+         std::string("expected ") + expected + ", got " + std::to_string(value));
 }
 
 /// The value of a C++ result, or a failure with `status` and the result's error.
@@ -77,9 +79,10 @@ T value_or_fail(Result<T> result, aerial_status status) {
     return std::move(result).value();
 }
 
-/// Records the outcome of one call for aerial_last_error_*() (and for the object, if any).
+/// Records the outcome of one call for aerial_last_error_*() (and for the object, if any): the
+/// message "FUNCTION(): FIELD: TEXT" ("FUNCTION(): TEXT" without a field).
 void record(aerial_status status, const char* function, const std::string& field,
-            const std::string& message, std::string* object_error);
+            const std::string& text, std::string* object_error);
 
 /// Test hook (capi_testing.hpp): throws the armed exception inside the next guarded call.
 void throw_if_armed();
@@ -95,7 +98,7 @@ aerial_status guard(const char* function, std::string* object_error, Body&& body
             record(AERIAL_OK, function, {}, {}, object_error);
             return AERIAL_OK;
         } catch (const Failure& failure) {
-            record(failure.status, function, failure.field, failure.message, object_error);
+            record(failure.status, function, failure.field, failure.text, object_error);
             return failure.status;
         } catch (const std::bad_alloc&) {
             record(AERIAL_ERROR_OUT_OF_MEMORY, function, {}, "out of memory", object_error);

@@ -1,6 +1,6 @@
 // Internal: one table per enum (value <-> name), read by the name and parse functions of every
 // library of the module, so that a name is spelled once and every "unknown name" message has one
-// form: "FIELD: 'NAME' is unknown; expected one of: a, b, c".
+// form (error_text.hpp's): "aerial::FUNCTION(): FIELD: expected one of a, b, c, got 'NAME'".
 #pragma once
 
 #include <array>
@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "aerial/error.hpp"
+#include "error_text.hpp"
 
 namespace aerial::detail {
 
@@ -52,18 +53,19 @@ std::string names_of(const NameTable<E, N>& table) {
     return list;
 }
 
-/// The error for a name the table does not have.
+/// The error of `function` for a name the table does not have.
 template <class E, std::size_t N>
-Error unknown_name(const NameTable<E, N>& table, std::string_view field, std::string_view name) {
-    return Error{std::string(field), std::string(field) + ": '" + std::string(name) +
-                                         "' is unknown; expected one of: " + names_of(table)};
+Error unknown_name(std::string_view function, const NameTable<E, N>& table, std::string field,
+                   std::string_view name) {
+    return invalid(function, std::move(field), "one of " + names_of(table), quoted(name));
 }
 
 /// The value named `name`, or unknown_name().
 template <class E, std::size_t N>
-Result<E> parse_in(const NameTable<E, N>& table, std::string_view field, std::string_view name) {
+Result<E> parse_in(std::string_view function, const NameTable<E, N>& table, std::string field,
+                   std::string_view name) {
     if (auto value = find_in(table, name)) return *value;
-    return unknown_name(table, field, name);
+    return unknown_name(function, table, std::move(field), name);
 }
 
 }  // namespace aerial::detail

@@ -6,13 +6,14 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "../common/error_text.hpp"
 #include "aerial/phase.hpp"
-#include "format.hpp"
 
 namespace aerial {
 namespace {
 
-using detail::format_number;
+using detail::invalid;
+using detail::number;
 
 /// Largest coefficient accepted, 1/m: a 4 m visibility, denser than any fog. Keeps every optical
 /// depth finite in float for distances up to 1e7 m.
@@ -22,33 +23,26 @@ constexpr double kMaxScaleHeightM = 1e6;
 constexpr double kMaxRadiusM = 1e9;
 constexpr double kMaxSunIrradiance = 1e6;
 constexpr const char* kChannel[3] = {"[0]", "[1]", "[2]"};
+constexpr const char* kValidate = "validate";
 
 std::optional<Error> check_coefficients(const char* field, const glm::dvec3& value) {
     for (int c = 0; c < 3; ++c) {
-        const std::string name = std::string(field) + kChannel[c];
         const double v = value[c];
-        if (!std::isfinite(v))
-            return Error{name, name + " must be finite, got " + format_number(v)};
-        if (v < 0.0) {
-            return Error{name,
-                         name + " must be >= 0 (a coefficient in 1/m), got " + format_number(v)};
-        }
-        if (v > kMaxCoefficientPerM) {
-            return Error{name, name + " must be <= " + format_number(kMaxCoefficientPerM) +
-                                   " 1/m (a 4 m visibility), got " + format_number(v)};
+        if (!(v >= 0.0 && v <= kMaxCoefficientPerM)) {  // NaN too
+            return invalid(kValidate, std::string(field) + kChannel[c],
+                           "a coefficient in [0, " + number(kMaxCoefficientPerM) + "] 1/m",
+                           number(v));
         }
     }
     return std::nullopt;
 }
 
-std::optional<Error> check_range(const char* field, double value, double lo, double hi,
+std::optional<Error> check_range(std::string field, double value, double lo, double hi,
                                  const char* unit) {
-    if (!std::isfinite(value)) {
-        return Error{field, std::string(field) + " must be finite, got " + format_number(value)};
-    }
-    if (value < lo || value > hi) {
-        return Error{field, std::string(field) + " must be in [" + format_number(lo) + ", " +
-                                format_number(hi) + "] " + unit + ", got " + format_number(value)};
+    if (!(value >= lo && value <= hi)) {  // NaN too
+        return invalid(kValidate, std::move(field),
+                       "a value in [" + number(lo) + ", " + number(hi) + "] " + unit,
+                       number(value));
     }
     return std::nullopt;
 }
@@ -67,12 +61,8 @@ std::optional<Error> validate(const Atmosphere& a) {
     if (auto e = check_coefficients("rayleigh_scattering", a.rayleigh_scattering)) return e;
     if (auto e = check_coefficients("mie_scattering", a.mie_scattering)) return e;
     if (auto e = check_coefficients("mie_absorption", a.mie_absorption)) return e;
-    if (!std::isfinite(a.mie_g)) {
-        return Error{"mie_g", "mie_g must be finite, got " + format_number(a.mie_g)};
-    }
-    if (std::abs(a.mie_g) >= 1.0) {
-        return Error{"mie_g", "mie_g must satisfy |g| < 1 (g > 0 scatters forwards), got " +
-                                  format_number(a.mie_g)};
+    if (!(std::abs(a.mie_g) < 1.0)) {  // NaN too
+        return invalid(kValidate, "mie_g", "|g| < 1 (g > 0 scatters forwards)", number(a.mie_g));
     }
     if (auto e = check_range("rayleigh_scale_height_m", a.rayleigh_scale_height_m, kMinScaleHeightM,
                              kMaxScaleHeightM, "m")) {
@@ -85,21 +75,16 @@ std::optional<Error> validate(const Atmosphere& a) {
     if (auto e = check_range("planet_radius_m", a.planet_radius_m, 1.0, kMaxRadiusM, "m")) {
         return e;
     }
-    if (!std::isfinite(a.atmosphere_radius_m)) {
-        return Error{"atmosphere_radius_m", "atmosphere_radius_m must be finite, got " +
-                                                format_number(a.atmosphere_radius_m)};
-    }
-    if (a.atmosphere_radius_m <= a.planet_radius_m || a.atmosphere_radius_m > kMaxRadiusM) {
-        return Error{"atmosphere_radius_m", "atmosphere_radius_m must be above planet_radius_m (" +
-                                                format_number(a.planet_radius_m) +
-                                                " m) and <= " + format_number(kMaxRadiusM) +
-                                                " m, got " + format_number(a.atmosphere_radius_m)};
+    if (!(a.atmosphere_radius_m > a.planet_radius_m && a.atmosphere_radius_m <= kMaxRadiusM)) {
+        return invalid(kValidate, "atmosphere_radius_m",
+                       "a value above planet_radius_m (" + number(a.planet_radius_m) +
+                           " m) and <= " + number(kMaxRadiusM) + " m",
+                       number(a.atmosphere_radius_m));
     }
     for (int c = 0; c < 3; ++c) {
-        const std::string name = std::string("sun_irradiance") + kChannel[c];
-        if (auto e = check_range(name.c_str(), a.sun_irradiance[c], 0.0, kMaxSunIrradiance,
-                                 "(linear RGB)")) {
-            return Error{name, e->message};
+        if (auto e = check_range(std::string("sun_irradiance") + kChannel[c], a.sun_irradiance[c],
+                                 0.0, kMaxSunIrradiance, "(linear RGB)")) {
+            return e;
         }
     }
     return std::nullopt;
@@ -119,12 +104,11 @@ double rayleigh_scattering_from_wavelength(double wavelength_m) {
 
 Result<glm::dvec3> mie_scattering_from_turbidity(double turbidity) {
     if (!std::isfinite(turbidity) || turbidity < kMinTurbidity || turbidity > kMaxTurbidity) {
-        return Error{"turbidity",
-                     "turbidity must be in [" + format_number(kMinTurbidity) + ", " +
-                         format_number(kMaxTurbidity) +
-                         "] (Preetham's aerosol fit is not physical below 1.3: its concentration "
-                         "turns negative at 0.995), got " +
-                         format_number(turbidity)};
+        return invalid("mie_scattering_from_turbidity", "turbidity",
+                       "a value in [" + number(kMinTurbidity) + ", " + number(kMaxTurbidity) +
+                           "] (Preetham's aerosol fit is not physical below 1.3: its "
+                           "concentration turns negative at 0.995)",
+                       number(turbidity));
     }
     constexpr double K[3] = {0.685, 0.679, 0.670};
     constexpr double v = 4.0;  // Junge exponent
@@ -142,29 +126,29 @@ Result<glm::dvec3> mie_scattering_from_turbidity(double turbidity) {
 // ---- Constructors ----------------------------------------------------------------------------
 
 Result<Atmosphere> atmosphere_from_turbidity(double turbidity, const Atmosphere& base) {
+    constexpr const char* kFunction = "atmosphere_from_turbidity";
     auto mie = mie_scattering_from_turbidity(turbidity);
-    if (!mie) return mie.error();
+    if (!mie) return detail::from(kFunction, mie.error());
     Atmosphere a = base;
     a.mie_scattering = *mie;
     a.mie_absorption = glm::dvec3(0.0);
-    if (auto e = validate(a)) return *e;
+    if (auto e = validate(a)) return detail::from(kFunction, *e);
     return a;
 }
 
 namespace {
 
-std::optional<Error> check_albedo(const char* field, double albedo) {
-    if (!std::isfinite(albedo) || albedo <= 0.0 || albedo > 1.0) {
-        return Error{field,
-                     std::string(field) + " must be in (0, 1], got " + format_number(albedo)};
+std::optional<Error> check_albedo(const char* function, const char* field, double albedo) {
+    if (!(albedo > 0.0 && albedo <= 1.0)) {  // NaN too
+        return invalid(function, field, "a value in (0, 1]", number(albedo));
     }
     return std::nullopt;
 }
 
-std::optional<Error> check_positive_length(const char* field, double value_m) {
+std::optional<Error> check_positive_length(const char* function, const char* field,
+                                           double value_m) {
     if (!std::isfinite(value_m) || value_m <= 0.0) {
-        return Error{field, std::string(field) + " must be a finite length > 0 m, got " +
-                                format_number(value_m)};
+        return invalid(function, field, "a finite length > 0 m", number(value_m));
     }
     return std::nullopt;
 }
@@ -186,63 +170,69 @@ void set_grey_mie(Atmosphere& a, double extinction, double albedo) {
 
 Result<Atmosphere> atmosphere_from_visibility(double visibility_m, const Atmosphere& base,
                                               double mie_albedo) {
-    if (auto e = check_positive_length("visibility_m", visibility_m)) return *e;
-    if (auto e = check_albedo("mie_albedo", mie_albedo)) return *e;
+    constexpr const char* kFunction = "atmosphere_from_visibility";
+    if (auto e = check_positive_length(kFunction, "visibility_m", visibility_m)) return *e;
+    if (auto e = check_albedo(kFunction, "mie_albedo", mie_albedo)) return *e;
     const double mie = mie_extinction_for_visibility(base, visibility_m, 1.0);
     if (!(mie >= 0.0)) {
-        return Error{"visibility_m",
-                     "visibility_m must be at most " +
-                         format_number(kKoschmiederConstant / base.rayleigh_scattering.y) +
-                         " m (clean air alone limits it), got " + format_number(visibility_m)};
+        return invalid(kFunction, "visibility_m",
+                       "at most " + number(kKoschmiederConstant / base.rayleigh_scattering.y) +
+                           " m (clean air alone limits it)",
+                       number(visibility_m));
     }
     Atmosphere a = base;
     set_grey_mie(a, mie, mie_albedo);
-    if (auto e = validate(a)) return *e;
+    if (auto e = validate(a)) return detail::from(kFunction, *e);
     return a;
 }
 
 Result<Atmosphere> atmosphere_with_ground_haze(const GroundHaze& haze, const Atmosphere& base) {
-    if (auto e = check_positive_length("visibility_in_layer_m", haze.visibility_in_layer_m))
+    constexpr const char* kFunction = "atmosphere_with_ground_haze";
+    if (auto e =
+            check_positive_length(kFunction, "visibility_in_layer_m", haze.visibility_in_layer_m)) {
         return *e;
-    if (auto e = check_positive_length("layer_thickness_m", haze.layer_thickness_m)) return *e;
-    if (auto e = check_positive_length("visibility_aloft_m", haze.visibility_aloft_m)) return *e;
-    if (auto e = check_albedo("mie_albedo", haze.mie_albedo)) return *e;
+    }
+    if (auto e = check_positive_length(kFunction, "layer_thickness_m", haze.layer_thickness_m))
+        return *e;
+    if (auto e = check_positive_length(kFunction, "visibility_aloft_m", haze.visibility_aloft_m))
+        return *e;
+    if (auto e = check_albedo(kFunction, "mie_albedo", haze.mie_albedo)) return *e;
     if (haze.visibility_aloft_m <= haze.visibility_in_layer_m) {
-        return Error{"visibility_aloft_m",
-                     "visibility_aloft_m must exceed visibility_in_layer_m (" +
-                         format_number(haze.visibility_in_layer_m) + " m), got " +
-                         format_number(haze.visibility_aloft_m)};
+        return invalid(
+            kFunction, "visibility_aloft_m",
+            "more than visibility_in_layer_m (" + number(haze.visibility_in_layer_m) + " m)",
+            number(haze.visibility_aloft_m));
     }
     const double ground = mie_extinction_for_visibility(base, haze.visibility_in_layer_m, 1.0);
     if (!(ground > 0.0)) {
-        return Error{"visibility_in_layer_m",
-                     "visibility_in_layer_m must be below " +
-                         format_number(kKoschmiederConstant / base.rayleigh_scattering.y) +
-                         " m (clean air alone limits it), got " +
-                         format_number(haze.visibility_in_layer_m)};
+        return invalid(kFunction, "visibility_in_layer_m",
+                       "less than " + number(kKoschmiederConstant / base.rayleigh_scattering.y) +
+                           " m (clean air alone limits it)",
+                       number(haze.visibility_in_layer_m));
     }
     const double top_rayleigh_density =
         std::exp(-haze.layer_thickness_m / base.rayleigh_scale_height_m);
     const double top =
         mie_extinction_for_visibility(base, haze.visibility_aloft_m, top_rayleigh_density);
     if (!(top > 0.0)) {
-        return Error{"visibility_aloft_m",
-                     "visibility_aloft_m must be below " +
-                         format_number(kKoschmiederConstant /
-                                       (base.rayleigh_scattering.y * top_rayleigh_density)) +
-                         " m at the layer top (clean air alone limits it), got " +
-                         format_number(haze.visibility_aloft_m)};
+        return invalid(
+            kFunction, "visibility_aloft_m",
+            "less than " +
+                number(kKoschmiederConstant / (base.rayleigh_scattering.y * top_rayleigh_density)) +
+                " m at the layer top (clean air alone limits it)",
+            number(haze.visibility_aloft_m));
     }
     Atmosphere a = base;
     set_grey_mie(a, ground, haze.mie_albedo);
     a.mie_scale_height_m = haze.layer_thickness_m / std::log(ground / top);
-    if (auto e = validate(a)) return *e;
+    if (auto e = validate(a)) return detail::from(kFunction, *e);
     return a;
 }
 
 Result<Atmosphere> atmosphere_with_air_pollution(double pollution, const Atmosphere& base) {
     if (!std::isfinite(pollution) || pollution < 0.0 || pollution > 1.0) {
-        return Error{"pollution", "pollution must be in [0, 1], got " + format_number(pollution)};
+        return invalid("atmosphere_with_air_pollution", "pollution", "a value in [0, 1]",
+                       number(pollution));
     }
     // Urban aerosol: grey extinction up to kMaxPollutionExtinction at sea level, with a
     // single-scattering albedo that drops towards blue.
@@ -252,7 +242,7 @@ Result<Atmosphere> atmosphere_with_air_pollution(double pollution, const Atmosph
     Atmosphere a = base;
     a.mie_scattering += added * albedo;
     a.mie_absorption += added * (glm::dvec3(1.0) - albedo);
-    if (auto e = validate(a)) return *e;
+    if (auto e = validate(a)) return detail::from("atmosphere_with_air_pollution", *e);
     return a;
 }
 
@@ -315,15 +305,19 @@ Atmosphere mars() {
 }  // namespace
 
 Result<Atmosphere> atmosphere_preset(std::string_view name) {
+    // The built presets cannot fail; if one did, its error would still be this function's.
+    const auto built = [](const Result<Atmosphere>& a) -> Result<Atmosphere> {
+        if (!a) return detail::from("atmosphere_preset", a.error());
+        return a;
+    };
     if (name == "earth") return Atmosphere{};
-    if (name == "hp2002") return hp2002();
-    if (name == "hazy") return hazy();
-    if (name == "foggy") return foggy();
+    if (name == "hp2002") return built(hp2002());
+    if (name == "hazy") return built(hazy());
+    if (name == "foggy") return built(foggy());
     if (name == "mars") return mars();
     std::string known;
     for (const auto& n : atmosphere_preset_names()) known += (known.empty() ? "" : ", ") + n;
-    return Error{"preset",
-                 "preset '" + std::string(name) + "' is unknown; known presets: " + known};
+    return invalid("atmosphere_preset", "preset", "one of " + known, detail::quoted(name));
 }
 
 }  // namespace aerial

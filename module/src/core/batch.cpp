@@ -19,8 +19,8 @@
 #include <unistd.h>
 #endif
 
+#include "../common/error_text.hpp"
 #include "batch_kernels.hpp"
-#include "format.hpp"
 
 namespace aerial {
 namespace {
@@ -380,10 +380,13 @@ class WorkerPool {
 #endif
 };
 
+constexpr const char* kShadeInto = "shade_into";
+
 std::optional<Error> check_stride(const char* field, std::size_t stride, std::size_t element) {
     if (stride != 0 && stride < element) {
-        return Error{field, std::string(field) + " must be 0 (packed) or >= " +
-                                std::to_string(element) + " bytes, got " + std::to_string(stride)};
+        return detail::invalid(kShadeInto, field,
+                               "0 (packed) or >= " + detail::number(element) + " bytes",
+                               detail::number(stride));
     }
     return std::nullopt;
 }
@@ -392,19 +395,17 @@ std::optional<Error> check_stride(const char* field, std::size_t stride, std::si
 
 Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positions,
                               const BatchOutputs& out, const BatchSettings& settings) {
-    constexpr const char* kWhere = "aerial::shade_into(): ";
     if (positions.count > 0 && (!positions.x || !positions.y || !positions.z)) {
-        return Error{"positions", std::string(kWhere) + "positions has a null array for " +
-                                      std::to_string(positions.count) + " vertices"};
+        return detail::error(kShadeInto, "positions",
+                             "a null array for " + detail::number(positions.count) + " vertices");
     }
     if (positions.count > 0 && positions.stride_bytes < sizeof(float)) {
-        return Error{"positions.stride_bytes", std::string(kWhere) +
-                                                   "positions.stride_bytes must be >= 4, got " +
-                                                   std::to_string(positions.stride_bytes)};
+        return detail::invalid(kShadeInto, "positions.stride_bytes", ">= 4",
+                               detail::number(positions.stride_bytes));
     }
     if (!out.extinction_rgba8 && !out.lit_rgba8 && !out.in_scattering_rgba8 &&
         !out.extinction_rgb && !out.in_scattering_rgb && !out.sun_irradiance_rgb) {
-        return Error{"outputs", std::string(kWhere) + "no output array is set"};
+        return detail::error(kShadeInto, "outputs", "no output array is set");
     }
     const struct {
         const char* field;
@@ -417,24 +418,20 @@ Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positi
                    {"in_scattering_rgb_stride", out.in_scattering_rgb_stride, 12},
                    {"sun_irradiance_rgb_stride", out.sun_irradiance_rgb_stride, 12}};
     for (const auto& s : strides) {
-        if (auto e = check_stride(s.field, s.stride, s.element)) {
-            return Error{e->field, kWhere + e->message};
-        }
+        if (auto e = check_stride(s.field, s.stride, s.element)) return *e;
     }
     if (out.lit_rgba8 && (!settings.lighting || !settings.lighting->normals)) {
-        return Error{"lighting", std::string(kWhere) +
-                                     "lit_rgba8 needs settings.lighting with normals, got none"};
+        return detail::invalid(kShadeInto, "lighting", "normals for lit_rgba8", "none");
     }
     if (settings.lighting) {
         if (auto e = check_stride("lighting.normal_stride_bytes",
                                   settings.lighting->normal_stride_bytes, 12)) {
-            return Error{e->field, kWhere + e->message};
+            return *e;
         }
     }
     if (!std::isfinite(settings.display.exposure) || settings.display.exposure <= 0.0f) {
-        return Error{"display.exposure", std::string(kWhere) +
-                                             "display.exposure must be finite and > 0, got " +
-                                             detail::format_number(settings.display.exposure)};
+        return detail::invalid(kShadeInto, "display.exposure", "a finite value > 0",
+                               detail::number(settings.display.exposure));
     }
 
     auto packed = [](std::size_t stride, std::size_t element) { return stride ? stride : element; };

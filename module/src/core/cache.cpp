@@ -35,8 +35,8 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
+#include "../common/error_text.hpp"
 #include "aerial/phase.hpp"
-#include "format.hpp"
 #include "math.hpp"
 
 namespace aerial {
@@ -635,8 +635,8 @@ double sun_cos_zenith(const Frame<double>& f, const dvec3& p_m) {
 
 std::optional<Error> validate_display(const Display& display) {
     if (std::isfinite(display.exposure) && display.exposure > 0.0f) return std::nullopt;
-    return Error{"display.exposure", "display.exposure must be finite and > 0, got " +
-                                         detail::format_number(double(display.exposure))};
+    return detail::invalid("prepare_shading_key", "display.exposure", "a finite value > 0",
+                           detail::number(display.exposure));
 }
 
 bool valid(const ShadingKey& key) {
@@ -648,7 +648,7 @@ bool valid(const ShadingKey& key) {
 Result<PreparedShadingKey> prepare_shading_key(const ShadingKey& key) {
     if (auto e = validate_display(key.display)) return *e;
     auto frame = prepare_frame<double>(key.atmosphere, key.view, key.model);
-    if (!frame) return frame.error();
+    if (!frame) return detail::from("prepare_shading_key", frame.error());
     return PreparedShadingKey{key, std::move(frame).value()};
 }
 

@@ -8,17 +8,18 @@
 
 #include <glm/geometric.hpp>
 
+#include "../common/error_text.hpp"
 #include "../common/names.hpp"
 #include "aerial/phase.hpp"
-#include "format.hpp"
 #include "height_constants.hpp"
 #include "math.hpp"
 
 namespace aerial {
 namespace {
 
-using detail::format_number;
-using detail::format_vector;
+using detail::invalid;
+using detail::number;
+using detail::vector;
 
 template <class T>
 using Vec3 = glm::vec<3, T>;
@@ -47,30 +48,28 @@ const std::vector<Model>& all_models() {
 }
 
 Result<Model> parse_model(std::string_view name) {
-    return detail::parse_in(kModelNames, "model", name);
+    return detail::parse_in("parse_model", kModelNames, "model", name);
 }
 
 std::optional<Error> validate(const View& view) {
     auto finite = [](const glm::dvec3& v) {
         return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
     };
-    if (!finite(view.eye)) {
-        return Error{"eye", "eye must be finite, got " + format_vector(view.eye)};
-    }
+    constexpr const char* kFunction = "validate";
+    if (!finite(view.eye)) return invalid(kFunction, "eye", "finite coordinates", vector(view.eye));
     const struct {
         const char* name;
         const glm::dvec3& value;
     } units[] = {{"sun_dir", view.sun_dir}, {"up", view.up}};
     for (const auto& u : units) {
         if (!finite(u.value) || std::abs(glm::length(u.value) - 1.0) > kUnitLengthTolerance) {
-            return Error{u.name, std::string(u.name) + " must be a unit vector, got " +
-                                     format_vector(u.value) + " (length " +
-                                     format_number(glm::length(u.value)) + ")"};
+            return invalid(kFunction, u.name, "a unit vector",
+                           vector(u.value) + " (length " + number(glm::length(u.value)) + ")");
         }
     }
     if (!std::isfinite(view.meters_per_unit) || view.meters_per_unit <= 0.0) {
-        return Error{"meters_per_unit", "meters_per_unit must be finite and > 0, got " +
-                                            format_number(view.meters_per_unit)};
+        return invalid(kFunction, "meters_per_unit", "a finite value > 0",
+                       number(view.meters_per_unit));
     }
     // The float paths take the eye in engine units and in metres: beyond kMaxDistanceM (where
     // vertices count as invalid) or beyond float's range it would be infinite there, and every
@@ -79,11 +78,10 @@ std::optional<Error> validate(const View& view) {
         std::max({std::abs(view.eye.x), std::abs(view.eye.y), std::abs(view.eye.z)});
     if (largest * view.meters_per_unit > kMaxDistanceM ||
         largest > double(std::numeric_limits<float>::max())) {
-        return Error{"eye", "eye must be within " + format_number(kMaxDistanceM) +
-                                " m of the origin on each axis (and float-sized in engine "
-                                "units), got " +
-                                format_vector(view.eye) + " at " +
-                                format_number(view.meters_per_unit) + " m per unit"};
+        return invalid(kFunction, "eye",
+                       "coordinates within " + number(kMaxDistanceM) +
+                           " m of the origin (and float-sized in engine units)",
+                       vector(view.eye) + " at " + number(view.meters_per_unit) + " m per unit");
     }
     return std::nullopt;
 }
@@ -365,8 +363,8 @@ void set_frame_eye(Frame<T>& f, const glm::dvec3& eye_m, bool exact_sun_irradian
 
 template <class T>
 Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, Model model) {
-    if (auto e = validate(atmosphere)) return *e;
-    if (auto e = validate(view)) return *e;
+    if (auto e = validate(atmosphere)) return detail::from("prepare_frame", *e);
+    if (auto e = validate(view)) return detail::from("prepare_frame", *e);
     Frame<T> f;
     f.model = model;
     f.atmosphere = atmosphere;
@@ -432,10 +430,9 @@ Scattering<T> scatter(const Frame<T>& f, const Vec3<T>& vertex) {
 Result<Scattering<double>> evaluate(const Atmosphere& atmosphere, const View& view, Model model,
                                     const glm::dvec3& vertex) {
     auto frame = prepare_frame<double>(atmosphere, view, model);
-    if (!frame) return frame.error();
-    if (!std::isfinite(vertex.x) || !std::isfinite(vertex.y) || !std::isfinite(vertex.z)) {
-        return Error{"vertex", "vertex must be finite, got " + format_vector(vertex)};
-    }
+    if (!frame) return detail::from("evaluate", frame.error());
+    if (!std::isfinite(vertex.x) || !std::isfinite(vertex.y) || !std::isfinite(vertex.z))
+        return invalid("evaluate", "vertex", "finite coordinates", vector(vertex));
     return scatter(*frame, vertex);
 }
 

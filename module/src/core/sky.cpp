@@ -11,15 +11,16 @@
 
 #include <glm/geometric.hpp>
 
+#include "../common/error_text.hpp"
 #include "../common/names.hpp"
 #include "aerial/phase.hpp"
-#include "format.hpp"
 #include "sky_internal.hpp"
 
 namespace aerial {
 namespace {
 
-using detail::format_number;
+using detail::invalid;
+using detail::number;
 using glm::dvec3;
 
 /// Distance along a ray from `origin` (frame centred on the planet) in unit direction `dir` to a
@@ -64,14 +65,14 @@ double dome_elevation(double u) { return (u < 0 ? -u * u : u * u) * (kPi / 2); }
 std::optional<Error> check_given_dome(const VirtualDome* dome) {
     if (!dome) return std::nullopt;
     if (dome->radius_m.size() < 2) {
-        return Error{"dome", "dome: a fitted virtual dome needs >= 2 radii, got " +
-                                 std::to_string(dome->radius_m.size()) +
-                                 " (fit_virtual_dome, or null to fit here)"};
+        return invalid("prepare_sky", "dome",
+                       "a fitted virtual dome of >= 2 radii (fit_virtual_dome, or null to fit "
+                       "here)",
+                       number(dome->radius_m.size()) + " radii");
     }
     for (double r : dome->radius_m) {
-        if (!std::isfinite(r) || r < 0) {
-            return Error{"dome", "dome: radii must be finite and >= 0, got " + format_number(r)};
-        }
+        if (!std::isfinite(r) || r < 0)
+            return invalid("prepare_sky", "dome", "finite radii >= 0", number(r));
     }
     return std::nullopt;
 }
@@ -103,7 +104,7 @@ const std::vector<SkyMethod>& all_sky_methods() {
 }
 
 Result<SkyMethod> parse_sky_method(std::string_view name) {
-    return detail::parse_in(kSkyMethodNames, "sky_method", name);
+    return detail::parse_in("parse_sky_method", kSkyMethodNames, "sky_method", name);
 }
 
 double VirtualDome::radius_at(double elevation_rad) const {
@@ -117,13 +118,11 @@ double VirtualDome::radius_at(double elevation_rad) const {
 
 Result<VirtualDome> fit_virtual_dome(const Atmosphere& atmosphere, double eye_altitude_m,
                                      int samples) {
-    if (auto e = validate(atmosphere)) return *e;
-    if (samples < 3)
-        return Error{"samples", "samples must be >= 3, got " + std::to_string(samples)};
-    if (!std::isfinite(eye_altitude_m)) {
-        return Error{"eye_altitude_m",
-                     "eye_altitude_m must be finite, got " + format_number(eye_altitude_m)};
-    }
+    constexpr const char* kFunction = "fit_virtual_dome";
+    if (auto e = validate(atmosphere)) return detail::from(kFunction, *e);
+    if (samples < 3) return invalid(kFunction, "samples", ">= 3", number(samples));
+    if (!std::isfinite(eye_altitude_m))
+        return invalid(kFunction, "eye_altitude_m", "a finite value", number(eye_altitude_m));
     View view;
     view.eye = {0.0, 0.0, eye_altitude_m};
     ReferenceOptions no_sun;
@@ -148,9 +147,9 @@ Result<VirtualDome> fit_virtual_dome(const Atmosphere& atmosphere, double eye_al
 
 Result<SkyContext> prepare_sky(const Atmosphere& atmosphere, const View& view, SkyMethod method,
                                const SkyOptions& options) {
-    if (options.segments < 1) {
-        return Error{"segments", "segments must be >= 1, got " + std::to_string(options.segments)};
-    }
+    constexpr const char* kFunction = "prepare_sky";
+    if (options.segments < 1)
+        return invalid(kFunction, "segments", ">= 1", number(options.segments));
     if (auto e = check_given_dome(options.dome)) return *e;
     View metres = view;
     metres.eye = view.eye * view.meters_per_unit;
@@ -158,7 +157,7 @@ Result<SkyContext> prepare_sky(const Atmosphere& atmosphere, const View& view, S
     const bool hp = method == SkyMethod::dome_hp || method == SkyMethod::dome_hp_single;
     auto frame =
         prepare_frame<double>(atmosphere, metres, hp ? Model::hoffman_preetham : Model::height);
-    if (!frame) return frame.error();
+    if (!frame) return detail::from(kFunction, frame.error());
     SkyContext sky;
     sky.method = method;
     sky.atmosphere = atmosphere;
@@ -172,7 +171,7 @@ Result<SkyContext> prepare_sky(const Atmosphere& atmosphere, const View& view, S
             sky.dome = *options.dome;
         } else {
             auto dome = fit_virtual_dome(atmosphere, sky.eye_altitude_m);
-            if (!dome) return dome.error();
+            if (!dome) return detail::from(kFunction, dome.error());
             sky.dome = std::move(dome).value();
         }
         // Mean over the upper hemisphere, uniform in solid angle (uniform in sin(elevation)).
@@ -238,13 +237,12 @@ glm::dvec3 sky_radiance(const SkyContext& sky, const dvec3& direction) {
 // ---- Dome ------------------------------------------------------------------------------------
 
 Result<SkyDomeMesh> make_sky_dome_mesh(int rings, int segments, const dvec3& up) {
-    if (rings < 1) return Error{"rings", "rings must be >= 1, got " + std::to_string(rings)};
-    if (segments < 3) {
-        return Error{"segments", "segments must be >= 3, got " + std::to_string(segments)};
-    }
+    constexpr const char* kFunction = "make_sky_dome_mesh";
+    if (rings < 1) return invalid(kFunction, "rings", ">= 1", number(rings));
+    if (segments < 3) return invalid(kFunction, "segments", ">= 3", number(segments));
     if (!std::isfinite(up.x) || !std::isfinite(up.y) || !std::isfinite(up.z) ||
         std::abs(glm::length(up) - 1.0) > 1e-3) {
-        return Error{"up", "up must be a unit vector, got " + detail::format_vector(up)};
+        return invalid(kFunction, "up", "a unit vector", detail::vector(up));
     }
     const dvec3 u = glm::normalize(up);
     // Two horizontal axes: any vector not parallel to up, made orthogonal.
@@ -315,7 +313,7 @@ glm::dvec3 cubemap_texel_direction(int face, int i, int j, int size) {
 
 Result<SkyCubemap> compute_sky_cubemap(const SkyContext& sky, int size) {
     if (size < 1 || size > 4096) {
-        return Error{"size", "size must be in 1 .. 4096, got " + std::to_string(size)};
+        return invalid("compute_sky_cubemap", "size", "1 .. 4096", number(size));
     }
     SkyCubemap out;
     out.size = size;
@@ -390,8 +388,9 @@ glm::dvec3 sample_cubemap_rgba8(const std::array<std::vector<std::uint8_t>, 6>& 
 }
 
 Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& view) {
-    if (auto e = validate(atmosphere)) return *e;
-    if (auto e = validate(view)) return *e;
+    constexpr const char* kFunction = "SkyCubemapCache::update";
+    if (auto e = validate(atmosphere)) return detail::from(kFunction, *e);
+    if (auto e = validate(view)) return detail::from(kFunction, *e);
     const dvec3 sun = glm::normalize(view.sun_dir);
     const dvec3 up = glm::normalize(view.up);
     const double altitude = altitude_above_sphere(dvec3(view.eye * view.meters_per_unit), up,
@@ -403,9 +402,9 @@ Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& v
         return false;
     }
     auto sky = prepare_sky(atmosphere, view, options_.method);
-    if (!sky) return sky.error();
+    if (!sky) return detail::from(kFunction, sky.error());
     auto cubemap = compute_sky_cubemap(*sky, options_.size);
-    if (!cubemap) return cubemap.error();
+    if (!cubemap) return detail::from(kFunction, cubemap.error());
     cubemap_ = std::move(cubemap).value();
     atmosphere_ = atmosphere;
     sun_dir_ = sun;
@@ -420,28 +419,21 @@ Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& v
 
 Result<SunSprite> make_sun_sprite(const SkyContext& sky, double exposure, ToneCurve curve,
                                   const SunSpriteOptions& o) {
-    if (o.size < 8 || o.size > 4096) {
-        return Error{"size", "size must be in 8 .. 4096, got " + std::to_string(o.size)};
-    }
+    constexpr const char* kFunction = "make_sun_sprite";
+    if (o.size < 8 || o.size > 4096) return invalid(kFunction, "size", "8 .. 4096", number(o.size));
     if (!(o.half_width_rad > o.sun_radius_rad) || !(o.half_width_rad < kPi / 4)) {
-        return Error{"half_width_rad", "half_width_rad must be in (sun_radius_rad, pi/4), got " +
-                                           format_number(o.half_width_rad)};
+        return invalid(kFunction, "half_width_rad", "a value in (sun_radius_rad, pi/4)",
+                       number(o.half_width_rad));
     }
-    if (!(o.sun_radius_rad > 0)) {
-        return Error{"sun_radius_rad",
-                     "sun_radius_rad must be > 0, got " + format_number(o.sun_radius_rad)};
-    }
-    if (!(o.halo_g >= 0.9 && o.halo_g < 1.0)) {
-        return Error{"halo_g", "halo_g must be in [0.9, 1), got " + format_number(o.halo_g)};
-    }
+    if (!(o.sun_radius_rad > 0))
+        return invalid(kFunction, "sun_radius_rad", "a value > 0", number(o.sun_radius_rad));
+    if (!(o.halo_g >= 0.9 && o.halo_g < 1.0))
+        return invalid(kFunction, "halo_g", "a value in [0.9, 1)", number(o.halo_g));
     if (o.disc_supersampling < 1) {
-        return Error{"disc_supersampling", "disc_supersampling must be >= 1, got " +
-                                               std::to_string(o.disc_supersampling)};
+        return invalid(kFunction, "disc_supersampling", ">= 1", number(o.disc_supersampling));
     }
-    if (!(exposure >= 0) || !std::isfinite(exposure)) {
-        return Error{"exposure",
-                     "exposure must be finite and >= 0, got " + format_number(exposure)};
-    }
+    if (!(exposure >= 0) || !std::isfinite(exposure))
+        return invalid(kFunction, "exposure", "a finite value >= 0", number(exposure));
     const Atmosphere& a = sky.atmosphere;
     const dvec3 sun = sky.view.sun_dir;
     const double sun_elevation = elevation_of(sky, sun);

@@ -6,16 +6,17 @@
 #include <cmath>
 #include <string>
 
+#include "../common/error_text.hpp"
 #include "../common/names.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/scattering.hpp"
 #include "aerial/sky.hpp"
-#include "format.hpp"
 
 namespace aerial {
 namespace {
 
-using detail::format_number;
+using detail::invalid;
+using detail::number;
 
 constexpr double kDeg = kPi / 180.0;
 /// Optical depth standing for "shadowed" in the altitude table: exp(-80) is 0 in any 8-bit step.
@@ -86,29 +87,25 @@ double refraction_rad(double elevation_rad) {
     return arcsec / 3600.0 * kDeg;
 }
 
-std::optional<Error> validate_place(double latitude_rad, double longitude_rad) {
+std::optional<Error> validate_place(const char* function, double latitude_rad,
+                                    double longitude_rad) {
     if (!std::isfinite(latitude_rad) || std::abs(latitude_rad) > kPi / 2) {
-        return Error{"latitude",
-                     "latitude must be in [-pi/2, pi/2] rad, got " + format_number(latitude_rad)};
+        return invalid(function, "latitude", "a value in [-pi/2, pi/2] rad", number(latitude_rad));
     }
     if (!std::isfinite(longitude_rad) || std::abs(longitude_rad) > kPi) {
-        return Error{"longitude",
-                     "longitude must be in [-pi, pi] rad, got " + format_number(longitude_rad)};
+        return invalid(function, "longitude", "a value in [-pi, pi] rad", number(longitude_rad));
     }
     return std::nullopt;
 }
 
-std::optional<Error> validate_date(int year, int month, int day) {
-    if (year < 1901 || year > 2099) {
-        return Error{"year", "year must be in 1901 .. 2099, got " + std::to_string(year)};
-    }
-    if (month < 1 || month > 12) {
-        return Error{"month", "month must be in 1 .. 12, got " + std::to_string(month)};
-    }
+std::optional<Error> validate_date(const char* function, int year, int month, int day) {
+    if (year < 1901 || year > 2099) return invalid(function, "year", "1901 .. 2099", number(year));
+    if (month < 1 || month > 12) return invalid(function, "month", "1 .. 12", number(month));
     if (day < 1 || day > days_in_month(year, month)) {
-        return Error{"day", "day must be in 1 .. " + std::to_string(days_in_month(year, month)) +
-                                " for " + std::to_string(year) + "-" + std::to_string(month) +
-                                ", got " + std::to_string(day)};
+        return invalid(function, "day",
+                       "1 .. " + number(days_in_month(year, month)) + " for " + number(year) + "-" +
+                           number(month),
+                       number(day));
     }
     return std::nullopt;
 }
@@ -130,23 +127,20 @@ void horizontal(double declination, double hour_angle, double latitude, double& 
 }  // namespace
 
 std::optional<Error> validate(const UtcDateTime& t) {
-    if (auto e = validate_date(t.year, t.month, t.day)) return e;
-    if (t.hour < 0 || t.hour > 23) {
-        return Error{"hour", "hour must be in 0 .. 23, got " + std::to_string(t.hour)};
-    }
-    if (t.minute < 0 || t.minute > 59) {
-        return Error{"minute", "minute must be in 0 .. 59, got " + std::to_string(t.minute)};
-    }
-    if (!std::isfinite(t.second) || t.second < 0 || t.second >= 61) {
-        return Error{"second", "second must be in [0, 61), got " + format_number(t.second)};
-    }
+    constexpr const char* kFunction = "validate";
+    if (auto e = validate_date(kFunction, t.year, t.month, t.day)) return e;
+    if (t.hour < 0 || t.hour > 23) return invalid(kFunction, "hour", "0 .. 23", number(t.hour));
+    if (t.minute < 0 || t.minute > 59)
+        return invalid(kFunction, "minute", "0 .. 59", number(t.minute));
+    if (!std::isfinite(t.second) || t.second < 0 || t.second >= 61)
+        return invalid(kFunction, "second", "a value in [0, 61)", number(t.second));
     return std::nullopt;
 }
 
 Result<SunPosition> sun_position(const UtcDateTime& time, double latitude_rad,
                                  double longitude_rad) {
-    if (auto e = validate(time)) return *e;
-    if (auto e = validate_place(latitude_rad, longitude_rad)) return *e;
+    if (auto e = validate(time)) return detail::from("sun_position", *e);
+    if (auto e = validate_place("sun_position", latitude_rad, longitude_rad)) return *e;
     const double minutes = time.hour * 60.0 + time.minute + time.second / 60.0;
     const double jd = julian_day_at_midnight(time.year, time.month, time.day) + minutes / 1440.0;
     const SolarCoordinates sc = solar_coordinates(jd);
@@ -169,8 +163,8 @@ glm::dvec3 sun_direction_enu(const SunPosition& sun) {
 
 Result<SolarEvents> solar_events(int year, int month, int day, double latitude_rad,
                                  double longitude_rad) {
-    if (auto e = validate_date(year, month, day)) return *e;
-    if (auto e = validate_place(latitude_rad, longitude_rad)) return *e;
+    if (auto e = validate_date("solar_events", year, month, day)) return *e;
+    if (auto e = validate_place("solar_events", latitude_rad, longitude_rad)) return *e;
     const double jd0 = julian_day_at_midnight(year, month, day);
     const double longitude_deg = longitude_rad / kDeg;
     SolarEvents out;
@@ -227,20 +221,17 @@ Result<SunIrradianceProfile> SunIrradianceProfile::build(const Atmosphere& atmos
                                                          double sun_elevation_rad,
                                                          double min_altitude_m,
                                                          double max_altitude_m, int samples) {
-    if (auto e = validate(atmosphere)) return *e;
-    if (!std::isfinite(sun_elevation_rad)) {
-        return Error{"sun_elevation_rad",
-                     "sun_elevation_rad must be finite, got " + format_number(sun_elevation_rad)};
-    }
+    constexpr const char* kFunction = "SunIrradianceProfile::build";
+    if (auto e = validate(atmosphere)) return detail::from(kFunction, *e);
+    if (!std::isfinite(sun_elevation_rad))
+        return invalid(kFunction, "sun_elevation_rad", "a finite value", number(sun_elevation_rad));
     if (!std::isfinite(min_altitude_m) || !std::isfinite(max_altitude_m) ||
         !(max_altitude_m > min_altitude_m)) {
-        return Error{"max_altitude_m", "max_altitude_m must be finite and > min_altitude_m (" +
-                                           format_number(min_altitude_m) + "), got " +
-                                           format_number(max_altitude_m)};
+        return invalid(kFunction, "max_altitude_m",
+                       "a finite value > min_altitude_m (" + number(min_altitude_m) + ")",
+                       number(max_altitude_m));
     }
-    if (samples < 2) {
-        return Error{"samples", "samples must be >= 2, got " + std::to_string(samples)};
-    }
+    if (samples < 2) return invalid(kFunction, "samples", ">= 2", number(samples));
     SunIrradianceProfile p;
     p.min_ = min_altitude_m;
     p.max_ = max_altitude_m;
@@ -271,26 +262,23 @@ glm::dvec3 SunIrradianceProfile::at(double altitude_m) const {
 
 Result<glm::dvec3> sky_ambient(const Atmosphere& atmosphere, double altitude_m,
                                double sun_elevation_rad, const SkyAmbientOptions& options) {
+    constexpr const char* kFunction = "sky_ambient";
     if (options.elevation_steps < 2) {
-        return Error{"elevation_steps", "elevation_steps must be >= 2, got " +
-                                            std::to_string(options.elevation_steps)};
+        return invalid(kFunction, "elevation_steps", ">= 2", number(options.elevation_steps));
     }
-    if (options.azimuth_steps < 4) {
-        return Error{"azimuth_steps",
-                     "azimuth_steps must be >= 4, got " + std::to_string(options.azimuth_steps)};
-    }
-    if (!std::isfinite(altitude_m) || !std::isfinite(sun_elevation_rad)) {
-        return Error{"altitude_m", "altitude_m and sun_elevation_rad must be finite, got " +
-                                       format_number(altitude_m) + " and " +
-                                       format_number(sun_elevation_rad)};
-    }
+    if (options.azimuth_steps < 4)
+        return invalid(kFunction, "azimuth_steps", ">= 4", number(options.azimuth_steps));
+    if (!std::isfinite(altitude_m))
+        return invalid(kFunction, "altitude_m", "a finite value", number(altitude_m));
+    if (!std::isfinite(sun_elevation_rad))
+        return invalid(kFunction, "sun_elevation_rad", "a finite value", number(sun_elevation_rad));
     View view;
     view.eye = {0.0, 0.0, altitude_m};
     view.up = {0.0, 0.0, 1.0};
     view.sun_dir = {std::cos(sun_elevation_rad), 0.0, std::sin(sun_elevation_rad)};
     auto sky = prepare_sky(
         atmosphere, view, options.use_reference ? SkyMethod::reference : SkyMethod::height_chained);
-    if (!sky) return sky.error();
+    if (!sky) return detail::from(kFunction, sky.error());
     // E = integral of L(mu, phi) mu dmu dphi over mu in [0, 1]: midpoint rule in mu^2 (so the
     // cosine weight is flat: mu dmu = d(mu^2) / 2), midpoint in azimuth.
     glm::dvec3 sum(0.0);
@@ -314,7 +302,7 @@ std::string_view tone_curve_name(ToneCurve curve) {
 }
 
 Result<ToneCurve> parse_tone_curve(std::string_view name) {
-    return detail::parse_in(kToneCurveNames, "tone_curve", name);
+    return detail::parse_in("parse_tone_curve", kToneCurveNames, "tone_curve", name);
 }
 
 glm::dvec3 tone_map(const glm::dvec3& linear, double exposure, ToneCurve curve) {

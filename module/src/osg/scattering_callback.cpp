@@ -66,7 +66,7 @@ const char* backend_name(Backend backend) {
 }
 
 Result<Backend> parse_backend(std::string_view name) {
-    return aerial::detail::parse_in(kBackendNames, "backend", name);
+    return aerial::detail::parse_in("osg_adapter::parse_backend", kBackendNames, "backend", name);
 }
 
 std::optional<Error> validate(const Settings& s) {

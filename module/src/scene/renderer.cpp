@@ -159,7 +159,7 @@ const char* backend_name(Backend backend) {
 }
 
 Result<Backend> parse_backend(std::string_view name) {
-    return aerial::detail::parse_in(kBackendNames, "backend", name);
+    return aerial::detail::parse_in("scene::parse_backend", kBackendNames, "backend", name);
 }
 
 constexpr aerial::detail::NameTable<Method, 7> kMethodNames{

@@ -160,7 +160,8 @@ const char* texture_kind_name(TextureKind kind) {
 }
 
 Result<TextureKind> parse_texture_kind(std::string_view name) {
-    return aerial::detail::parse_in(kTextureKindNames, "texture_kind", name);
+    return aerial::detail::parse_in("scene::parse_texture_kind", kTextureKindNames, "texture_kind",
+                                    name);
 }
 
 }  // namespace aerial::scene

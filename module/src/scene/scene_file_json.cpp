@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
+#include "../common/error_text.hpp"
 #include "../common/json_text.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/sun.hpp"
@@ -20,10 +21,18 @@ namespace {
 using Json = nlohmann::json;
 constexpr double kDegree = kPi / 180.0;
 
+using aerial::detail::number;
+using aerial::detail::vector;
+/// Every error of the scene file is scene_file_from_json's; load_scene_file re-attributes it.
+constexpr const char* kFromJson = "scene::scene_file_from_json";
+
 std::string describe(const Json& j) { return std::string(j.type_name()) + " " + j.dump(); }
 
-Error bad(const std::string& field, const std::string& what) {
-    return Error{field, field + ": " + what};
+Error bad(const std::string& field, const std::string& text) {
+    return aerial::detail::error(kFromJson, field, text);
+}
+Error invalid(const std::string& field, const std::string& expected, const std::string& got) {
+    return aerial::detail::invalid(kFromJson, field, expected, got);
 }
 
 /// The fields of one JSON object, each read at most once; anything left over is unknown.
@@ -59,32 +68,32 @@ class Object {
 };
 
 std::optional<Error> expect_object(const Json& j, const std::string& field) {
-    if (!j.is_object()) return bad(field, "must be an object, got " + describe(j));
+    if (!j.is_object()) return invalid(field, "an object", describe(j));
     return std::nullopt;
 }
 
 /// A finite number in [lo, hi] (bounds inclusive unless open_lo / open_hi).
 std::optional<Error> read_number(const Json& j, const std::string& field, double& out, double lo,
                                  double hi, bool open_lo = false, bool open_hi = false) {
-    if (!j.is_number()) return bad(field, "must be a number, got " + describe(j));
+    if (!j.is_number()) return invalid(field, "a number", describe(j));
     const double v = j.get<double>();
     const bool low = open_lo ? v <= lo : v < lo;
     const bool high = open_hi ? v >= hi : v > hi;
     if (!std::isfinite(v) || low || high) {
-        auto bound = [](double b) { return std::isinf(b) ? std::string("inf") : Json(b).dump(); };
-        return bad(field, "must be in " + std::string(open_lo ? "(" : "[") + bound(lo) + ", " +
-                              bound(hi) + (open_hi ? ")" : "]") + ", got " + j.dump());
+        return invalid(field,
+                       "a number in " + std::string(open_lo ? "(" : "[") + number(lo) + ", " +
+                           number(hi) + (open_hi ? ")" : "]"),
+                       number(v));
     }
     out = v;
     return std::nullopt;
 }
 
 std::optional<Error> read_int(const Json& j, const std::string& field, int& out, int lo, int hi) {
-    if (!j.is_number_integer()) return bad(field, "must be an integer, got " + describe(j));
+    if (!j.is_number_integer()) return invalid(field, "an integer", describe(j));
     const auto v = j.get<long long>();
     if (v < lo || v > hi) {
-        return bad(field, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                              "], got " + j.dump());
+        return invalid(field, "an integer in [" + number(lo) + ", " + number(hi) + "]", number(v));
     }
     out = int(v);
     return std::nullopt;
@@ -92,7 +101,7 @@ std::optional<Error> read_int(const Json& j, const std::string& field, int& out,
 
 std::optional<Error> read_seed(const Json& j, const std::string& field, std::uint32_t& out) {
     if (!j.is_number_integer() || j.get<long long>() < 0 || j.get<long long>() > 0xffffffffLL) {
-        return bad(field, "must be an integer in [0, 4294967295], got " + describe(j));
+        return invalid(field, "an integer in [0, 4294967295]", describe(j));
     }
     out = std::uint32_t(j.get<long long>());
     return std::nullopt;
@@ -102,7 +111,7 @@ template <int N>
 std::optional<Error> read_vector(const Json& j, const std::string& field, glm::vec<N, double>& out,
                                  double lo = -INFINITY, double hi = INFINITY) {
     if (!j.is_array() || j.size() != N) {
-        return bad(field, "must be an array of " + std::to_string(N) + " numbers, got " + j.dump());
+        return invalid(field, "an array of " + number(N) + " numbers", j.dump());
     }
     for (int i = 0; i < N; ++i) {
         if (auto e = read_number(j[std::size_t(i)], field + "[" + std::to_string(i) + "]", out[i],
@@ -121,13 +130,9 @@ std::optional<Error> read_colour(const Json& j, const std::string& field, glm::d
 /// under this field).
 template <class Enum, class Parse>
 std::optional<Error> read_name(const Json& j, const std::string& field, Parse parse, Enum& out) {
-    if (!j.is_string()) return bad(field, "must be a string, got " + describe(j));
+    if (!j.is_string()) return invalid(field, "a string", describe(j));
     auto value = parse(j.get<std::string>());
-    if (!value) {
-        const std::string& message = value.error().message;
-        const auto colon = message.find(": ");
-        return bad(field, colon == std::string::npos ? message : message.substr(colon + 2));
-    }
+    if (!value) return bad(field, std::string(aerial::detail::text_of(value.error())));
     out = *value;
     return std::nullopt;
 }
@@ -148,11 +153,13 @@ std::optional<Error> read_camera(const Json& j, Camera& camera) {
     if (look_at) {
         if (auto e = read_vector<3>(*look_at, o.field("look_at"), camera.target)) return e;
         if (glm::length(camera.target - camera.eye) == 0.0)
-            return bad("camera.look_at", "must differ from camera.eye");
+            return invalid("camera.look_at", "a point other than camera.eye",
+                           vector(camera.target));
     } else {
         glm::dvec3 d;
         if (auto e = read_vector<3>(*direction, o.field("direction"), d)) return e;
-        if (glm::length(d) == 0.0) return bad("camera.direction", "must not be the zero vector");
+        if (glm::length(d) == 0.0)
+            return invalid("camera.direction", "a non-zero vector", vector(d));
         camera.target = camera.eye + glm::normalize(d);
     }
     if (const Json* v = o.get("up")) {
@@ -160,7 +167,8 @@ std::optional<Error> read_camera(const Json& j, Camera& camera) {
     }
     const glm::dvec3 forward = glm::normalize(camera.target - camera.eye);
     if (!(glm::length(glm::cross(forward, camera.up)) > 1e-6 * glm::length(camera.up))) {
-        return bad("camera.up", "must not be zero or parallel to the view direction");
+        return invalid("camera.up", "a vector not zero and not parallel to the view direction",
+                       vector(camera.up));
     }
     if (const Json* v = o.get("fov_y_deg")) {
         double deg = 0.0;
@@ -176,9 +184,8 @@ std::optional<Error> read_camera(const Json& j, Camera& camera) {
             return e;
     }
     if (!(camera.far_units > camera.near_units)) {
-        return bad("camera.far", "must be greater than camera.near (" +
-                                     Json(camera.near_units).dump() + "), got " +
-                                     Json(camera.far_units).dump());
+        return invalid("camera.far", "more than camera.near (" + number(camera.near_units) + ")",
+                       number(camera.far_units));
     }
     return std::nullopt;
 }
@@ -198,7 +205,7 @@ std::optional<Error> read_sun(const Json& j, glm::dvec3& sun_dir) {
         }
         glm::dvec3 d;
         if (auto e = read_vector<3>(*direction, "sun.direction", d)) return e;
-        if (glm::length(d) == 0.0) return bad("sun.direction", "must not be the zero vector");
+        if (glm::length(d) == 0.0) return invalid("sun.direction", "a non-zero vector", vector(d));
         sun_dir = glm::normalize(d);
         return std::nullopt;
     }
@@ -217,15 +224,15 @@ std::optional<Error> read_sun(const Json& j, glm::dvec3& sun_dir) {
 std::optional<Error> read_atmosphere(const Json& j, Atmosphere& atmosphere) {
     if (j.is_string()) {
         auto a = atmosphere_preset(j.get<std::string>());
-        if (!a) return bad("atmosphere", a.error().message);
+        if (!a) return bad("atmosphere", std::string(aerial::detail::text_of(a.error())));
         atmosphere = *a;
         return std::nullopt;
     }
     if (!j.is_object()) {
-        return bad("atmosphere", "must be a preset name or an object, got " + describe(j));
+        return invalid("atmosphere", "a preset name or an object", describe(j));
     }
     auto a = atmosphere_from_json(j.dump());
-    if (!a) return Error{"atmosphere." + a.error().field, "atmosphere." + a.error().message};
+    if (!a) return aerial::detail::from(kFromJson, a.error(), "atmosphere.");
     atmosphere = *a;
     return std::nullopt;
 }
@@ -255,18 +262,18 @@ std::optional<Error> read_texture(const Json& j, TextureSpec& t) {
     if (const Json* v = o.get("size")) {
         if (auto e = read_int(*v, "texture.size", t.size, 2, 1024)) return e;
         if ((t.size & (t.size - 1)) != 0)
-            return bad("texture.size", "must be a power of two, got " + v->dump());
+            return invalid("texture.size", "a power of two", v->dump());
     }
     if (const Json* v = o.get("cells")) {
         if (auto e = read_int(*v, "texture.cells", t.cells, 1, 1024)) return e;
     }
     if (t.size % t.cells != 0) {
-        return bad("texture.cells", "must divide texture.size (" + std::to_string(t.size) +
-                                        "), got " + std::to_string(t.cells));
+        return invalid("texture.cells", "a divisor of texture.size (" + number(t.size) + ")",
+                       number(t.cells));
     }
     if (const Json* v = o.get("colors")) {
         if (!v->is_array() || v->size() != 2)
-            return bad("texture.colors", "must be an array of 2 colours, got " + v->dump());
+            return invalid("texture.colors", "an array of 2 colours", v->dump());
         for (std::size_t i = 0; i < 2; ++i) {
             if (auto e = read_colour((*v)[i], "texture.colors[" + std::to_string(i) + "]",
                                      t.colors[i])) {
@@ -330,7 +337,7 @@ std::optional<Error> read_box(const Json& j, const std::string& path, BoxSpec& b
     if (auto e = read_vector<3>(*center, o.field("center"), box.center)) return e;
     if (auto e = read_vector<3>(*size, o.field("size"), box.size, 0.0)) return e;
     if (box.size.x <= 0.0 || box.size.y <= 0.0 || box.size.z <= 0.0)
-        return bad(o.field("size"), "every side must be > 0, got " + size->dump());
+        return invalid(o.field("size"), "every side > 0", size->dump());
     if (const Json* v = o.get("subdivisions")) {
         if (auto e = read_int(*v, o.field("subdivisions"), box.subdivisions, 1, 64)) return e;
     }
@@ -338,7 +345,7 @@ std::optional<Error> read_box(const Json& j, const std::string& path, BoxSpec& b
 }
 
 std::optional<Error> read_scene(const Json& root, SceneFile& s) {
-    if (!root.is_object()) return bad("scene", "must be a JSON object, got " + describe(root));
+    if (!root.is_object()) return invalid("scene", "a JSON object", describe(root));
     const Object o(root, "");
     if (auto e = o.check_known({"camera", "sun", "atmosphere", "model", "display",
                                 "meters_per_unit", "background", "texture", "terrain", "boxes"})) {
@@ -356,7 +363,8 @@ std::optional<Error> read_scene(const Json& root, SceneFile& s) {
     if (const Json* v = o.get("model")) {
         if (auto e = read_name(*v, "model", parse_model, s.model)) return e;
         if (s.model == Model::reference)
-            return bad("model", "reference is too slow to render; use hoffman-preetham or height");
+            return invalid("model", "hoffman-preetham or height (reference is too slow to render)",
+                           "reference");
     }
     if (const Json* v = o.get("display")) {
         if (auto e = read_display(*v, s.display)) return e;
@@ -376,7 +384,7 @@ std::optional<Error> read_scene(const Json& root, SceneFile& s) {
         if (auto e = read_terrain(*v, *s.terrain)) return e;
     }
     if (const Json* v = o.get("boxes")) {
-        if (!v->is_array()) return bad("boxes", "must be an array, got " + describe(*v));
+        if (!v->is_array()) return invalid("boxes", "an array", describe(*v));
         for (std::size_t i = 0; i < v->size(); ++i) {
             BoxSpec box;
             if (auto e = read_box((*v)[i], "boxes[" + std::to_string(i) + "]", box)) return e;
@@ -387,7 +395,7 @@ std::optional<Error> read_scene(const Json& root, SceneFile& s) {
         return bad("terrain",
                    "the scene has no geometry: give "
                    "terrain or boxes");
-    if (auto e = validate(s.view())) return e;
+    if (auto e = validate(s.view())) return aerial::detail::from(kFromJson, *e);
     return std::nullopt;
 }
 
@@ -433,7 +441,7 @@ FrameSettings SceneFile::frame_settings() const {
 }
 
 Result<SceneFile> scene_file_from_json(std::string_view json_text) {
-    auto root = aerial::detail::parse_json(json_text, "JSON");
+    auto root = aerial::detail::parse_json(kFromJson, json_text);
     if (!root) return root.error();
     SceneFile scene;
     if (auto e = read_scene(root.value(), scene)) return *e;
@@ -441,10 +449,10 @@ Result<SceneFile> scene_file_from_json(std::string_view json_text) {
 }
 
 Result<SceneFile> load_scene_file(const std::string& path) {
-    auto text = aerial::detail::read_text_file(path, "file");
+    auto text = aerial::detail::read_text_file("scene::load_scene_file", path, "scene file");
     if (!text) return text.error();
     auto scene = scene_file_from_json(text.value());
-    if (!scene) return Error{scene.error().field, path + ": " + scene.error().message};
+    if (!scene) return aerial::detail::from_file("scene::load_scene_file", path, scene.error());
     return scene;
 }
 

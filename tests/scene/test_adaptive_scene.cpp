@@ -11,6 +11,7 @@
 #include "aerial/adaptive_scene.hpp"
 #include "aerial/scene_renderer.hpp"
 #include "gl_test_context.hpp"
+#include "scene_test_support.hpp"
 
 namespace {
 
@@ -47,21 +48,12 @@ std::shared_ptr<const Texture> grey_texture() {
 }
 
 Camera low_camera() {
-    Camera c;
-    c.eye = {0.0, 200.0, 150.0};
-    c.target = {0.0, 8000.0, 0.0};
-    c.aspect = double(kWidth) / kHeight;
-    c.near_units = 5.0;
-    c.far_units = 20000.0;
-    return c;
+    return aerial_test::scene_camera({0.0, 200.0, 150.0}, {0.0, 8000.0, 0.0},
+                                     double(kWidth) / kHeight, 5.0, 20000.0);
 }
 
 FrameSettings hazy_settings() {
-    FrameSettings s;
-    s.atmosphere = aerial::atmosphere_preset("hazy").value();
-    s.sun_dir = glm::normalize(glm::dvec3(0.2, 0.6, 0.3));
-    s.display.exposure = 8.0f;
-    s.model = aerial::Model::height;
+    FrameSettings s = aerial_test::hazy_frame({0.2, 0.6, 0.3});
     s.policy = false;
     s.ambient = glm::vec3(0.02f);
     return s;
@@ -97,17 +89,10 @@ TEST(MeshDataFrom, KeepsEverySlotTheLiveFacesAndGivesTexcoordsAndNormals) {
     EXPECT_EQ(without.indices.size(), 7u * 3u);
 }
 
-class AdaptiveSceneTest : public aerial_test::DrawingTest<kWidth, kHeight> {
+class AdaptiveSceneTest : public aerial_test::SceneDrawingTest<kWidth, kHeight> {
   protected:
     std::vector<std::uint8_t> draw(SceneRenderer& r, const Node& root, FrameReport* report) {
-        gl().ClearColor(0, 0, 0, 1);
-        gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        gl().Viewport(0, 0, kWidth, kHeight);
-        auto result = r.render(root, low_camera(), hazy_settings());
-        EXPECT_TRUE(result) << result.error().message;
-        if (result && report) *report = *result;
-        gl().Finish();
-        return ctx_->read_rgba8();
+        return SceneDrawingTest::draw(r, root, low_camera(), hazy_settings(), report);
     }
 
     /// The adaptive mesh as it is now, as a plain terrain node drawn by a fresh renderer.

@@ -28,6 +28,7 @@
 #include "aerial/scene_sky.hpp"
 #include "aerial/sky_gl.hpp"
 #include "gl_test_context.hpp"
+#include "scene_test_support.hpp"
 
 namespace {
 
@@ -45,12 +46,10 @@ using Normal3fFn = void (*)(GLfloat, GLfloat, GLfloat);
 using TexGeniFn = void (*)(GLenum, GLenum, GLint);
 using StencilFuncFn = void (*)(GLenum, GLint, GLuint);
 
-class StateHygiene : public aerial_test::DrawingTest<kWidth, kHeight> {
+struct SmallWorld;
+
+class StateHygiene : public aerial_test::SceneDrawingTest<kWidth, kHeight> {
   protected:
-    void SetUp() override {
-        DrawingTest::SetUp();
-        if (ctx_) std::printf("context: %s\n", aerial_test::context_label(*ctx_).c_str());
-    }
     void TearDown() override {
         if (!ctx_) return;
         if (!textures_.empty()) {
@@ -199,20 +198,36 @@ class StateHygiene : public aerial_test::DrawingTest<kWidth, kHeight> {
         EXPECT_EQ(gl().GetError(), GLenum(GL_NO_ERROR)) << what;
     }
 
+    /// Where the bad-data tests start: the engine's unusual state, a cpu renderer (renderer_)
+    /// and `first`, its frame of `world` drawn onto a frame cleared as an engine clears it
+    /// (clear_frame). Call it through ASSERT_NO_FATAL_FAILURE.
+    void draw_first_frame(const SmallWorld& world, std::vector<std::uint8_t>& first);
+
     std::vector<GLuint> textures_;
     GLuint engine_program_ = 0;
     std::array<float, 64> engine_floats_{};
+    std::optional<SceneRenderer> renderer_;
 };
 
-/// Shaded colours of a few vertices of a hazy view: real F_ex and L_in.
+/// The triangle the path and program tests draw: world positions 2 to 3 km in front of the eye.
+constexpr std::array<float, 9> kTriangle{-500, 2000, 0, 500, 2000, 0, 0, 3000, 300};
+
+/// The engine's draw of kTriangle, in immediate mode.
+void draw_triangle(const aerial::gl::Api& g) {
+    g.Begin(GL_TRIANGLES);
+    for (std::size_t v = 0; v < 3; ++v) {
+        g.Vertex3f(kTriangle[3 * v], kTriangle[3 * v + 1], kTriangle[3 * v + 2]);
+    }
+    g.End();
+}
+
+/// Shaded colours of kTriangle's vertices in a hazy view: real F_ex and L_in.
 struct Colours {
-    std::vector<float> positions;
     std::vector<std::uint8_t> fex, lin;
 };
 
 Colours shaded_triangle() {
     Colours c;
-    c.positions = {-500, 2000, 0, 500, 2000, 0, 0, 3000, 300};
     auto atmosphere = aerial::atmosphere_preset("hazy");
     aerial::View view;
     view.eye = {0, 0, 50};
@@ -225,8 +240,8 @@ Colours shaded_triangle() {
     outputs.in_scattering_rgba8 = c.lin.data();
     aerial::BatchSettings settings;
     settings.display.exposure = 8.0f;
-    auto stats = aerial::shade_into(*frame, aerial::Positions::aos(c.positions.data(), 3), outputs,
-                                    settings);
+    auto stats =
+        aerial::shade_into(*frame, aerial::Positions::aos(kTriangle.data(), 3), outputs, settings);
     EXPECT_TRUE(stats) << stats.error().message;
     return c;
 }
@@ -280,15 +295,8 @@ TEST_F(StateHygiene, EveryFixedFunctionPathRestoresTheEnginesState) {
                 colours.primary = c.fex.data();
                 colours.secondary = c.lin.data();
                 colours.vertex_count = 3;
-                auto stats = aerial::gl::draw_with_colours(gl(), options, colours, [&] {
-                    gl().Begin(GL_TRIANGLES);
-                    for (int v = 0; v < 3; ++v) {
-                        gl().Vertex3f(c.positions[std::size_t(3 * v)],
-                                      c.positions[std::size_t(3 * v + 1)],
-                                      c.positions[std::size_t(3 * v + 2)]);
-                    }
-                    gl().End();
-                });
+                auto stats = aerial::gl::draw_with_colours(gl(), options, colours,
+                                                           [&] { draw_triangle(gl()); });
                 ASSERT_TRUE(stats) << stats.error().message;
                 ++drawn;
             });
@@ -317,15 +325,7 @@ TEST_F(StateHygiene, ArbProgramsRestoreTheEnginesStateAndParameters) {
             for (bool textured : {true, false}) {
                 aerial::gl::ApplyOptions apply;
                 apply.textured = textured;
-                auto stats = program->draw(
-                    [&] {
-                        gl().Begin(GL_TRIANGLES);
-                        gl().Vertex3f(0, 10, 0);
-                        gl().Vertex3f(10, 10, 0);
-                        gl().Vertex3f(0, 10, 10);
-                        gl().End();
-                    },
-                    apply);
+                auto stats = program->draw([&] { draw_triangle(gl()); }, apply);
                 ASSERT_TRUE(stats) << stats.error().message;
             }
         });
@@ -387,29 +387,18 @@ std::unique_ptr<Node> small_world() {
     return root;
 }
 
-/// The camera the small-world tests draw with: 800 m before the tiles and 300 m up.
-Camera small_world_camera() {
-    Camera camera;
-    camera.eye = {0, -800, 300};
-    camera.target = {0, 1000, 0};
-    camera.aspect = double(kWidth) / kHeight;
-    return camera;
-}
-
-/// The frame settings the small-world tests draw with (hazy, a sun well above the horizon).
-FrameSettings small_world_settings() {
-    FrameSettings settings;
-    settings.atmosphere = aerial::atmosphere_preset("hazy").value();
-    settings.sun_dir = glm::normalize(glm::dvec3(0.3, 0.8, 0.4));
-    settings.display.exposure = 8.0f;
-    return settings;
-}
+/// The small world with what its tests draw it with: a camera 800 m before the tiles and 300 m
+/// up, hazy air with the sun well above the horizon.
+struct SmallWorld {
+    std::unique_ptr<Node> root = small_world();
+    Camera camera =
+        aerial_test::scene_camera({0, -800, 300}, {0, 1000, 0}, double(kWidth) / kHeight);
+    FrameSettings settings = aerial_test::hazy_frame({0.3, 0.8, 0.4});
+};
 
 TEST_F(StateHygiene, SceneRendererRestoresTheEnginesStateOnEveryBackendAndSky) {
     set_unusual_engine_state();
-    const auto world = small_world();
-    const Camera camera = small_world_camera();
-    FrameSettings settings = small_world_settings();
+    SmallWorld world;
     struct Case {
         const char* what;
         Backend backend;
@@ -434,9 +423,9 @@ TEST_F(StateHygiene, SceneRendererRestoresTheEnginesStateOnEveryBackendAndSky) {
                     EXPECT_EQ(stats.error().field, "cube_map") << stats.error().message;
                 }
             }
-            settings.model = k.model;
+            world.settings.model = k.model;
             for (int frame = 0; frame < 2; ++frame) {  // the second one from the caches
-                auto report = renderer.value().render(*world, camera, settings);
+                auto report = renderer.value().render(*world.root, world.camera, world.settings);
                 ASSERT_TRUE(report) << report.error().message;
             }
         });
@@ -474,16 +463,20 @@ void clear_frame(const aerial::gl::Api& g) {
     g.DepthMask(depth_writes);
 }
 
-TEST_F(StateHygiene, NoCurrentContextIsAnErrorNamingTheContextEverywhere) {
+void StateHygiene::draw_first_frame(const SmallWorld& world, std::vector<std::uint8_t>& first) {
     set_unusual_engine_state();
-    const auto world = small_world();
-    const Camera camera = small_world_camera();
-    const FrameSettings settings = small_world_settings();
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
+    auto created = SceneRenderer::create(gl());
+    ASSERT_TRUE(created) << created.error().message;
+    renderer_.emplace(std::move(created.value()));
     clear_frame(gl());
-    ASSERT_TRUE(renderer.value().render(*world, camera, settings));
-    const auto first = ctx_->read_rgba8();
+    ASSERT_TRUE(renderer_->render(*world.root, world.camera, world.settings));
+    first = ctx_->read_rgba8();
+}
+
+TEST_F(StateHygiene, NoCurrentContextIsAnErrorNamingTheContextEverywhere) {
+    const SmallWorld world;
+    std::vector<std::uint8_t> first;
+    ASSERT_NO_FATAL_FAILURE(draw_first_frame(world, first));
     const auto before = aerial::gl::capture_state(gl());
     if (!release_current(*ctx_)) GTEST_SKIP() << "cannot release the context here";
 
@@ -497,7 +490,7 @@ TEST_F(StateHygiene, NoCurrentContextIsAnErrorNamingTheContextEverywhere) {
     auto created = SceneRenderer::create(gl());
     ASSERT_FALSE(created);
     EXPECT_TRUE(is_context_error(created.error())) << created.error().message;
-    auto rendered = renderer.value().render(*world, camera, settings);
+    auto rendered = renderer_->render(*world.root, world.camera, world.settings);
     ASSERT_FALSE(rendered);
     EXPECT_TRUE(is_context_error(rendered.error())) << rendered.error().message;
     const Colours c = shaded_triangle();
@@ -531,7 +524,7 @@ TEST_F(StateHygiene, NoCurrentContextIsAnErrorNamingTheContextEverywhere) {
     EXPECT_TRUE(changed.empty()) << "calls without a context changed:" << list;
     // Nothing the renderer had is lost: the same frame again, from its caches.
     clear_frame(gl());
-    ASSERT_TRUE(renderer.value().render(*world, camera, settings));
+    ASSERT_TRUE(renderer_->render(*world.root, world.camera, world.settings));
     const auto second = ctx_->read_rgba8();
     const auto d = aerial_test::compare_rgb(first, second);
     EXPECT_EQ(d.max_lsb, 0) << "the frame after the calls without a context differs at pixel "
@@ -603,15 +596,11 @@ std::shared_ptr<MeshData> mesh_of(std::vector<float> positions,
 }
 
 TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
-    set_unusual_engine_state();
-    const Camera camera = small_world_camera();
-    const FrameSettings settings = small_world_settings();
-    const auto good = small_world();
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    ASSERT_TRUE(renderer.value().render(*good, camera, settings));
-    const auto first = ctx_->read_rgba8();
+    const SmallWorld good;
+    const Camera& camera = good.camera;
+    const FrameSettings& settings = good.settings;
+    std::vector<std::uint8_t> first;
+    ASSERT_NO_FATAL_FAILURE(draw_first_frame(good, first));
 
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float inf = std::numeric_limits<float>::infinity();
@@ -619,7 +608,7 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
         auto world = small_world();
         world->add(make_mesh("bad box", mesh_of({0, 0, 0, 10, 0, 0, 0, bad, 10}, {0, 1, 2})));
         const auto before = aerial::gl::capture_state(gl());
-        auto report = renderer.value().render(*world, camera, settings);
+        auto report = renderer_->render(*world, camera, settings);
         ASSERT_FALSE(report);
         EXPECT_NE(report.error().field.find("bad box"), std::string::npos)
             << report.error().field << ": " << report.error().message;
@@ -628,8 +617,8 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
         EXPECT_TRUE(aerial::gl::state_differences(before, aerial::gl::capture_state(gl())).empty());
     }
     // The renderer's caches are intact: the good world draws as before.
-    gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    ASSERT_TRUE(renderer.value().render(*good, camera, settings));
+    clear_frame(gl());
+    ASSERT_TRUE(renderer_->render(*good.root, camera, settings));
     EXPECT_EQ(aerial_test::compare_rgb(first, ctx_->read_rgba8()).max_lsb, 0);
 
     // Empty, degenerate and non-manifold meshes, and a mesh 1e7 units away from the origin seen
@@ -646,8 +635,8 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
     const auto before = aerial::gl::capture_state(gl());
     FrameReport odd_report;
     for (int frame = 0; frame < 2; ++frame) {
-        gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        auto report = renderer.value().render(*odd, camera, settings);
+        clear_frame(gl());
+        auto report = renderer_->render(*odd, camera, settings);
         ASSERT_TRUE(report) << report.error().message;
         odd_report = *report;
     }
@@ -661,8 +650,8 @@ TEST_F(StateHygiene, BadSceneMeshesAreAnErrorNamingTheNodeAndLoseNothing) {
     Camera far_camera = camera;
     far_camera.eye += glm::dvec3(far_away, -far_away, 0.0);
     far_camera.target += glm::dvec3(far_away, -far_away, 0.0);
-    gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    auto far_report = renderer.value().render(*moved, far_camera, settings);
+    clear_frame(gl());
+    auto far_report = renderer_->render(*moved, far_camera, settings);
     ASSERT_TRUE(far_report) << far_report.error().message;
     EXPECT_GT(far_report->vertices_drawn, 0u) << "the moved tiles are in view";
     EXPECT_TRUE(aerial::gl::state_differences(before, aerial::gl::capture_state(gl())).empty());

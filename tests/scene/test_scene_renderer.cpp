@@ -3,6 +3,7 @@
 // skipped), the cheapest method per node, the arb backend, GL state and errors.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -15,6 +16,7 @@
 #include "aerial/scene_sky.hpp"
 #include "aerial/sky_gl.hpp"
 #include "gl_test_context.hpp"
+#include "scene_test_support.hpp"
 
 namespace {
 
@@ -71,23 +73,11 @@ struct TestScene {
 };
 
 Camera test_camera() {
-    Camera c;
-    c.eye = {0, -1500, 600};
-    c.target = {0, 2000, 100};
-    c.aspect = double(kWidth) / kHeight;
-    c.near_units = 1.0;
-    c.far_units = 20000.0;
-    return c;
+    return aerial_test::scene_camera({0, -1500, 600}, {0, 2000, 100}, double(kWidth) / kHeight, 1.0,
+                                     20000.0);
 }
 
-FrameSettings test_settings() {
-    FrameSettings s;
-    s.atmosphere = aerial::atmosphere_preset("hazy").value();
-    s.sun_dir = glm::normalize(glm::dvec3(0.3, 0.8, 0.5));
-    s.display.exposure = 8.0f;
-    s.model = aerial::Model::height;
-    return s;
-}
+FrameSettings test_settings() { return aerial_test::hazy_frame({0.3, 0.8, 0.5}); }
 
 /// The test camera turned 31° up: only sky.
 Camera sky_camera() {
@@ -113,24 +103,28 @@ glm::dvec3 turned(const glm::dvec3& v, double angle_rad) {
                       glm::dvec4(v, 0.0));
 }
 
-class SceneRendererTest : public aerial_test::DrawingTest<kWidth, kHeight> {
+/// Each test has a cpu renderer with the default options and its own TestScene.
+class SceneRendererTest : public aerial_test::SceneDrawingTest<kWidth, kHeight> {
   protected:
     void SetUp() override {
-        DrawingTest::SetUp();
-        if (ctx_) std::printf("context: %s\n", aerial_test::context_label(*ctx_).c_str());
+        SceneDrawingTest::SetUp();
+        if (HasFatalFailure()) return;
+        auto created = SceneRenderer::create(gl());
+        ASSERT_TRUE(created) << created.error().message;
+        renderer_.emplace(std::move(created.value()));
     }
+
+    SceneRenderer& renderer() { return *renderer_; }
 
     std::vector<std::uint8_t> draw(SceneRenderer& r, const TestScene& scene, const Camera& camera,
                                    const FrameSettings& settings, FrameReport* report = nullptr) {
-        gl().ClearColor(0, 0, 0, 1);
-        gl().Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        gl().Viewport(0, 0, kWidth, kHeight);
-        auto result = r.render(*scene.root, camera, settings);
-        EXPECT_TRUE(result) << result.error().message;
-        if (result && report) *report = *result;
-        gl().Finish();
-        return ctx_->read_rgba8();
+        return SceneDrawingTest::draw(r, *scene.root, camera, settings, report);
     }
+
+    TestScene scene_;
+
+  private:
+    std::optional<SceneRenderer> renderer_;
 };
 
 std::size_t count(const FrameReport& r, Method m) {
@@ -148,12 +142,9 @@ const NodeReport& node(const FrameReport& r, const std::string& name) {
 }
 
 TEST_F(SceneRendererTest, StaticViewRecomputesNothingAndLooksTheSame) {
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    TestScene scene;
     FrameReport first, second;
-    const auto a = draw(renderer.value(), scene, test_camera(), test_settings(), &first);
-    const auto b = draw(renderer.value(), scene, test_camera(), test_settings(), &second);
+    const auto a = draw(renderer(), scene_, test_camera(), test_settings(), &first);
+    const auto b = draw(renderer(), scene_, test_camera(), test_settings(), &second);
     EXPECT_GT(first.vertices_shaded, 0u);
     EXPECT_EQ(first.cache_hits, 0u);
     EXPECT_EQ(second.vertices_shaded, 0u) << "a static view must recompute nothing";
@@ -163,19 +154,16 @@ TEST_F(SceneRendererTest, StaticViewRecomputesNothingAndLooksTheSame) {
 }
 
 TEST_F(SceneRendererTest, MovedSunRecomputesWhatItMust) {
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    TestScene scene;
     FrameSettings s = test_settings();
     FrameReport first, tiny, moved;
-    draw(renderer.value(), scene, test_camera(), s, &first);
+    draw(renderer(), scene_, test_camera(), s, &first);
     // A sun turned by 1e-7 rad changes no output by half a step: nothing to redo.
     s.sun_dir = turned(s.sun_dir, 1e-7);
-    draw(renderer.value(), scene, test_camera(), s, &tiny);
+    draw(renderer(), scene_, test_camera(), s, &tiny);
     EXPECT_EQ(tiny.vertices_shaded, 0u);
     // Ten degrees: every visible node that scatters is shaded again.
     s.sun_dir = turned(s.sun_dir, 10.0 * 3.14159265358979323846 / 180.0);
-    draw(renderer.value(), scene, test_camera(), s, &moved);
+    draw(renderer(), scene_, test_camera(), s, &moved);
     std::size_t expected = 0;
     for (const NodeReport& n : first.nodes) {
         if (n.method != Method::culled && n.method != Method::skipped) expected += n.vertices;
@@ -185,47 +173,41 @@ TEST_F(SceneRendererTest, MovedSunRecomputesWhatItMust) {
 }
 
 TEST_F(SceneRendererTest, MovedNodeAloneIsShadedAgain) {
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    TestScene scene;
-    draw(renderer.value(), scene, test_camera(), test_settings());
-    Node* tile = scene.tiles[9];
+    draw(renderer(), scene_, test_camera(), test_settings());
+    Node* tile = scene_.tiles[9];
     tile->transform = glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, 50));
     FrameReport report;
-    draw(renderer.value(), scene, test_camera(), test_settings(), &report);
+    draw(renderer(), scene_, test_camera(), test_settings(), &report);
     EXPECT_EQ(report.vertices_shaded, tile->mesh->vertex_count());
     EXPECT_NE(node(report, tile->name).method, Method::cached);
 }
 
 TEST_F(SceneRendererTest, CullsWhatIsOutsideTheFrustumAndSkipsNegligibleScattering) {
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    TestScene scene;
     FrameReport report;
     FrameSettings clear = test_settings();
     clear.atmosphere = aerial::atmosphere_preset("earth").value();
-    draw(renderer.value(), scene, test_camera(), clear, &report);
+    draw(renderer(), scene_, test_camera(), clear, &report);
     EXPECT_EQ(node(report, "behind").method, Method::culled);
     EXPECT_EQ(node(report, "near box").method, Method::skipped)
         << "1.7 m of clear air change no output by half a step";
     // In haze the bound (phase at its peak) is 2.3 steps at exposure 8: shaded.
-    draw(renderer.value(), scene, test_camera(), test_settings(), &report);
+    draw(renderer(), scene_, test_camera(), test_settings(), &report);
     EXPECT_NE(node(report, "near box").method, Method::skipped);
-    draw(renderer.value(), scene, test_camera(), clear, &report);
+    draw(renderer(), scene_, test_camera(), clear, &report);
     EXPECT_GE(report.culled, 1u);
     EXPECT_EQ(report.skipped, 1u);
     // Looking the other way, the terrain is culled and the box behind is drawn.
     Camera back = test_camera();
     back.target = {0, -5000, 600};
-    draw(renderer.value(), scene, back, test_settings(), &report);
+    draw(renderer(), scene_, back, test_settings(), &report);
     EXPECT_NE(node(report, "behind").method, Method::culled);
-    EXPECT_EQ(count(report, Method::culled), scene.tiles.size() + 1)
+    EXPECT_EQ(count(report, Method::culled), scene_.tiles.size() + 1)
         << "every tile and the near box lie behind";
     // Without the policy nothing is skipped or reused.
     FrameSettings off = test_settings();
     off.policy = false;
-    draw(renderer.value(), scene, test_camera(), off, &report);
-    draw(renderer.value(), scene, test_camera(), off, &report);
+    draw(renderer(), scene_, test_camera(), off, &report);
+    draw(renderer(), scene_, test_camera(), off, &report);
     EXPECT_EQ(node(report, "near box").method, Method::height);
     EXPECT_EQ(report.cache_hits, 0u);
     EXPECT_EQ(report.skipped, 0u);
@@ -233,48 +215,39 @@ TEST_F(SceneRendererTest, CullsWhatIsOutsideTheFrustumAndSkipsNegligibleScatteri
 }
 
 TEST_F(SceneRendererTest, PicksTheCheapestModelMeetingTheTarget) {
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    TestScene scene;
     FrameSettings s = test_settings();
     s.error_target_lsb = 1000.0;
     FrameReport loose, strict;
-    draw(renderer.value(), scene, test_camera(), s, &loose);
+    draw(renderer(), scene_, test_camera(), s, &loose);
     EXPECT_EQ(loose.shaded_height, 0u) << "every node meets a 1000-step target with the 2002 model";
     EXPECT_GT(loose.shaded_hoffman_preetham, 0u);
-    renderer.value().clear_caches();
+    renderer().clear_caches();
     s.error_target_lsb = 0.0;
-    draw(renderer.value(), scene, test_camera(), s, &strict);
+    draw(renderer(), scene_, test_camera(), s, &strict);
     EXPECT_GT(strict.shaded_height, 0u)
         << "the 2002 model is not exact for hazy terrain 1-4 km away";
 }
 
 TEST_F(SceneRendererTest, ReusedColoursStayWithinOneStepOfFreshOnes) {
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    TestScene scene;
     FrameSettings s = test_settings();
     s.error_target_lsb = 0.0;
-    draw(renderer.value(), scene, test_camera(), s);
+    draw(renderer(), scene_, test_camera(), s);
     Camera moved = test_camera();
     moved.eye += glm::dvec3(0.01, 0.0, 0.0);  // 1 cm: colours reused, image of the new eye
     FrameReport report;
-    const auto reused = draw(renderer.value(), scene, moved, s, &report);
+    const auto reused = draw(renderer(), scene_, moved, s, &report);
     EXPECT_GT(report.cache_hits, 0u);
     s.policy = false;
     auto fresh_renderer = SceneRenderer::create(gl());
-    const auto fresh = draw(fresh_renderer.value(), scene, moved, s);
+    const auto fresh = draw(fresh_renderer.value(), scene_, moved, s);
     const auto d = aerial_test::compare_rgb(reused, fresh);
     EXPECT_LE(d.max_lsb, 1) << aerial_test::pixel_text(reused, d.pixel) << " vs "
                             << aerial_test::pixel_text(fresh, d.pixel);
 }
 
 TEST_F(SceneRendererTest, RestoresTheGlStateItTouches) {
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    TestScene scene;
     const auto before = aerial::gl::capture_state(gl());
-    draw(renderer.value(), scene, test_camera(), test_settings());
+    draw(renderer(), scene_, test_camera(), test_settings());
     const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
     EXPECT_TRUE(changed.empty()) << changed.front();
 }
@@ -282,18 +255,17 @@ TEST_F(SceneRendererTest, RestoresTheGlStateItTouches) {
 TEST_F(SceneRendererTest, ArbBackendShadesOnTheGpuEveryFrame) {
     RendererOptions options;
     options.backend = Backend::arb;
-    auto renderer = SceneRenderer::create(gl(), options);
+    auto arb = SceneRenderer::create(gl(), options);
     if (!gl().caps.vertex_program) {
-        ASSERT_FALSE(renderer);
-        EXPECT_EQ(renderer.error().field, "GL_ARB_vertex_program") << renderer.error().message;
+        ASSERT_FALSE(arb);
+        EXPECT_EQ(arb.error().field, "GL_ARB_vertex_program") << arb.error().message;
         return;
     }
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    TestScene scene;
+    ASSERT_TRUE(arb) << arb.error().message;
     FrameReport first, second;
     const auto before = aerial::gl::capture_state(gl());
-    const auto a = draw(renderer.value(), scene, test_camera(), test_settings(), &first);
-    const auto b = draw(renderer.value(), scene, test_camera(), test_settings(), &second);
+    const auto a = draw(arb.value(), scene_, test_camera(), test_settings(), &first);
+    const auto b = draw(arb.value(), scene_, test_camera(), test_settings(), &second);
     const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
     EXPECT_TRUE(changed.empty()) << changed.front();
     EXPECT_GT(first.vertices_shaded, 0u);
@@ -309,49 +281,43 @@ TEST_F(SceneRendererTest, ArbBackendShadesOnTheGpuEveryFrame) {
     EXPECT_EQ(lit, std::size_t(kWidth));
     FrameSettings reference = test_settings();
     reference.model = aerial::Model::reference;
-    auto rejected = renderer.value().render(*scene.root, test_camera(), reference);
+    auto rejected = arb.value().render(*scene_.root, test_camera(), reference);
     ASSERT_FALSE(rejected);
     EXPECT_EQ(rejected.error().field, "model");
 }
 
 TEST_F(SceneRendererTest, DrawsABlueSkyAtNoonAndCallsReplacedDrawers) {
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    TestScene scene;
     const Camera up = sky_camera();
     FrameSettings clear = clear_noon_settings();
     for (aerial::Model model : {aerial::Model::hoffman_preetham, aerial::Model::height}) {
         clear.model = model;
-        const auto image = draw(renderer.value(), scene, up, clear);
+        const auto image = draw(renderer(), scene_, up, clear);
         const std::size_t p = kCentre;
         EXPECT_GT(image[p + 2], image[p])
             << aerial::model_name(model) << ": " << aerial_test::pixel_text(image, p / 4);
         EXPECT_GT(image[p + 2], 60) << aerial::model_name(model);
     }
     int sky_calls = 0;
-    renderer.value().set_sky_drawer([&](const SkyDrawContext& c) {
+    renderer().set_sky_drawer([&](const SkyDrawContext& c) {
         ++sky_calls;
         EXPECT_NE(c.hoffman_preetham, nullptr);
         EXPECT_NE(c.model, nullptr);
     });
-    renderer.value().set_sun_drawer(nullptr);
-    const auto image = draw(renderer.value(), scene, up, clear);
+    renderer().set_sun_drawer(nullptr);
+    const auto image = draw(renderer(), scene_, up, clear);
     EXPECT_EQ(sky_calls, 1);
     const std::size_t p = kCentre;
     EXPECT_EQ(image[p] + image[p + 1] + image[p + 2], 0) << "the replaced sky drew nothing";
 }
 
 TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMust) {
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    auto sky = install_cubemap_sky(renderer.value(), gl());
-    TestScene scene;
+    auto sky = install_cubemap_sky(renderer(), gl());
     const Camera up = sky_camera();
     const FrameSettings clear = clear_noon_settings();
     if (!aerial::gl::cube_maps_supported(gl())) {  // GL 1.1: an error, the dome stays
         ASSERT_FALSE(sky);
         EXPECT_EQ(sky.error().field, "cube_map") << sky.error().message;
-        const auto image = draw(renderer.value(), scene, up, clear);
+        const auto image = draw(renderer(), scene_, up, clear);
         const std::size_t p = kCentre;
         EXPECT_GT(image[p + 2], 60) << "the dome still draws the sky";
         return;
@@ -359,7 +325,7 @@ TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMu
     ASSERT_TRUE(sky) << sky.error().message;
     const CubemapSkyStats& stats = **sky;
     const auto before = aerial::gl::capture_state(gl());
-    const auto first = draw(renderer.value(), scene, up, clear);
+    const auto first = draw(renderer(), scene_, up, clear);
     const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
     EXPECT_TRUE(changed.empty()) << changed.front();
     EXPECT_TRUE(stats.error.empty()) << stats.error;
@@ -390,10 +356,10 @@ TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMu
     EXPECT_GT(first[p + 2], first[p]) << "blue sky at noon";
 
     // A static view, and a sun turned by 1e-7 rad, recompute nothing and look the same.
-    const auto second = draw(renderer.value(), scene, up, clear);
+    const auto second = draw(renderer(), scene_, up, clear);
     FrameSettings nudged = clear;
     nudged.sun_dir = turned(clear.sun_dir, 1e-7);
-    const auto third = draw(renderer.value(), scene, up, nudged);
+    const auto third = draw(renderer(), scene_, up, nudged);
     EXPECT_EQ(stats.recomputes, 1);
     EXPECT_EQ(stats.uploads, 1);
     EXPECT_EQ(aerial_test::compare_rgb(first, second).max_lsb, 0);
@@ -401,43 +367,40 @@ TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMu
     // A new exposure re-encodes the texels without recomputing them.
     FrameSettings brighter = clear;
     brighter.display.exposure = 30.0f;
-    const auto bright = draw(renderer.value(), scene, up, brighter);
+    const auto bright = draw(renderer(), scene_, up, brighter);
     EXPECT_EQ(stats.recomputes, 1);
     EXPECT_EQ(stats.uploads, 2);
     EXPECT_GT(bright[p + 2], first[p + 2]);
     // A sun turned by 10 deg recomputes.
     FrameSettings moved = clear;
     moved.sun_dir = turned(clear.sun_dir, 10.0 * 3.14159265358979323846 / 180.0);
-    draw(renderer.value(), scene, up, moved);
+    draw(renderer(), scene_, up, moved);
     EXPECT_EQ(stats.recomputes, 2);
     EXPECT_TRUE(stats.error.empty()) << stats.error;
 
     CubemapSkyOptions bad;
     bad.cache.size = 0;
-    auto rejected = install_cubemap_sky(renderer.value(), gl(), bad);
+    auto rejected = install_cubemap_sky(renderer(), gl(), bad);
     ASSERT_FALSE(rejected);
     EXPECT_EQ(rejected.error().field, "cache.size") << rejected.error().message;
 }
 
 TEST_F(SceneRendererTest, BadInputIsAnErrorNamingTheField) {
-    auto renderer = SceneRenderer::create(gl());
-    ASSERT_TRUE(renderer) << renderer.error().message;
-    TestScene scene;
     Camera camera = test_camera();
     camera.fov_y_rad = 0.0;
-    auto r = renderer.value().render(*scene.root, camera, test_settings());
+    auto r = renderer().render(*scene_.root, camera, test_settings());
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().field, "camera.fov_y_rad");
     FrameSettings s = test_settings();
     s.sun_dir = {0, 0, 2};
-    r = renderer.value().render(*scene.root, test_camera(), s);
+    r = renderer().render(*scene_.root, test_camera(), s);
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().field, "sun_dir") << r.error().message;
     auto broken = std::make_shared<MeshData>();
     broken->positions = {0, 0, 0};
     broken->indices = {0, 0, 1};
-    scene.root->add(make_mesh("broken", broken));
-    r = renderer.value().render(*scene.root, test_camera(), test_settings());
+    scene_.root->add(make_mesh("broken", broken));
+    r = renderer().render(*scene_.root, test_camera(), test_settings());
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().field, "world/broken");
 }

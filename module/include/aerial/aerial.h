@@ -15,8 +15,9 @@
  *      `aerial_arb_program_set_frame(program, ctx, &display);` and per mesh
  *      `aerial_arb_program_draw(program, &draw_options, engine_draw_mesh, engine_data);`.
  *
- * Conventions (as the C++ API, aerial/aerial.hpp): metres and radians; a right-handed world
- * whose up axis is a parameter (default +Z); sea level is the plane through the origin
+ * Conventions (as the C++ API, aerial/aerial.hpp): metres and radians; any up axis (a
+ * parameter, default +Z) and either handedness (a Y-up left-handed engine passes up = 0,1,0 and
+ * its own coordinates: the models use only distances, angles and altitudes); sea level is the plane through the origin
  * perpendicular to up; positions are in engine units, scaled by meters_per_unit. F_ex multiplies
  * the surface colour, L_in is added: colour = texel * F_ex + L_in.
  *

@@ -10,7 +10,8 @@
 //
 // Conventions (docs/conventions.md, Physics): metres, any up axis and either handedness, sea
 // level is the plane through the origin perpendicular to `up`, the planet centre is at
-// -planet_radius_m * up. Distances are Euclidean |vertex - eye|. Every output is finite, 0 <= extinction <= 1, in_scattering >= 0.
+// -planet_radius_m * up. Distances are Euclidean |vertex - eye|. Every output is finite, 0 <=
+// extinction <= 1, in_scattering >= 0.
 #pragma once
 
 #include <optional>

@@ -207,6 +207,22 @@ class FixedFunction : public aerial_test::DrawingTest<kSize, kSize> {
     }
 
     bool offers(Path path) const { return aerial::gl::choose_path(gl().caps, path).ok(); }
+
+    /// For each path the context offers: the image render() gives of `scene` with `fog`, then an
+    /// engine set up for it again, handed with the image to `variation(path, engine, expected)`,
+    /// which changes the engine's setup, draws along `path` and compares. Stops at the first
+    /// fatal failure.
+    template <typename Variation>
+    void each_path_against_its_plain_image(const Scene& scene, Fog fog, Variation&& variation) {
+        for (Path path : {Path::secondary_color, Path::combiner, Path::two_pass}) {
+            if (!offers(path)) continue;
+            const auto expected = render(scene, path, fog);
+            Engine engine(gl(), scene);
+            engine.set_up(fog);
+            variation(path, engine, expected);
+            if (HasFatalFailure()) return;
+        }
+    }
 };
 
 TEST_F(FixedFunction, PathsAgreeWithin1LsbOnATexturedMesh) {
@@ -389,34 +405,33 @@ TEST_F(FixedFunction, TextureOnAnotherUnitGivesTheSameImage) {
     // combiner path then uses unit 2.
     if (gl().caps.max_texture_units < 3) GTEST_SKIP() << "fewer than 3 texture units";
     const Scene scene = make_scene("earth", 20.0);
-    for (Path path : {Path::secondary_color, Path::combiner, Path::two_pass}) {
-        if (!offers(path)) continue;
-        const auto expected = render(scene, path, Fog::on);
-        Engine engine(gl(), scene);
-        engine.set_up(Fog::on);
-        gl().Disable(GL_TEXTURE_2D);
-        gl().DisableClientState(GL_TEXTURE_COORD_ARRAY);
-        gl().ActiveTexture(GL_TEXTURE1);
-        gl().BindTexture(GL_TEXTURE_2D, engine.texture());
-        gl().Enable(GL_TEXTURE_2D);
-        gl().ClientActiveTexture(GL_TEXTURE1);
-        gl().EnableClientState(GL_TEXTURE_COORD_ARRAY);
-        gl().TexCoordPointer(2, GL_FLOAT, 0, scene.texcoords.data());
-        const auto before = aerial::gl::capture_state(gl());
-        ApplyOptions options;
-        options.path = path;
-        options.texture_unit = 1;
-        auto stats =
-            aerial::gl::draw_with_colours(gl(), options, engine.colours(), [&] { engine.draw(); });
-        ASSERT_TRUE(stats.ok()) << stats.error().message;
-        EXPECT_TRUE(aerial::gl::state_differences(before, aerial::gl::capture_state(gl())).empty());
-        const auto d = aerial_test::compare_rgb(expected, ctx_->read_rgba8());
-        EXPECT_EQ(d.max_lsb, 0) << aerial::gl::path_name(path) << " on unit 1";
-        gl().Disable(GL_TEXTURE_2D);
-        gl().DisableClientState(GL_TEXTURE_COORD_ARRAY);
-        gl().ActiveTexture(GL_TEXTURE0);
-        gl().ClientActiveTexture(GL_TEXTURE0);
-    }
+    each_path_against_its_plain_image(
+        scene, Fog::on,
+        [&](Path path, const Engine& engine, const std::vector<std::uint8_t>& expected) {
+            gl().Disable(GL_TEXTURE_2D);
+            gl().DisableClientState(GL_TEXTURE_COORD_ARRAY);
+            gl().ActiveTexture(GL_TEXTURE1);
+            gl().BindTexture(GL_TEXTURE_2D, engine.texture());
+            gl().Enable(GL_TEXTURE_2D);
+            gl().ClientActiveTexture(GL_TEXTURE1);
+            gl().EnableClientState(GL_TEXTURE_COORD_ARRAY);
+            gl().TexCoordPointer(2, GL_FLOAT, 0, scene.texcoords.data());
+            const auto before = aerial::gl::capture_state(gl());
+            ApplyOptions options;
+            options.path = path;
+            options.texture_unit = 1;
+            auto stats = aerial::gl::draw_with_colours(gl(), options, engine.colours(),
+                                                       [&] { engine.draw(); });
+            ASSERT_TRUE(stats.ok()) << stats.error().message;
+            EXPECT_TRUE(
+                aerial::gl::state_differences(before, aerial::gl::capture_state(gl())).empty());
+            const auto d = aerial_test::compare_rgb(expected, ctx_->read_rgba8());
+            EXPECT_EQ(d.max_lsb, 0) << aerial::gl::path_name(path) << " on unit 1";
+            gl().Disable(GL_TEXTURE_2D);
+            gl().DisableClientState(GL_TEXTURE_COORD_ARRAY);
+            gl().ActiveTexture(GL_TEXTURE0);
+            gl().ClientActiveTexture(GL_TEXTURE0);
+        });
 }
 
 TEST_F(FixedFunction, SecondPassWithTheEnginesFogColourIsVisiblyWrong) {
@@ -622,35 +637,34 @@ TEST_F(FixedFunction, WorksWithTheEnginesVertexBufferBound) {
     auto data = reinterpret_cast<BufferData>(ctx_->loader()(ctx_->loader_user(), "glBufferData"));
     ASSERT_TRUE(gen && del && data);
     const Scene scene = make_scene("earth", 20.0);
-    for (Path path : {Path::secondary_color, Path::combiner, Path::two_pass}) {
-        if (!offers(path)) continue;
-        const auto expected = render(scene, path, Fog::off);
-        Engine engine(gl(), scene);
-        engine.set_up(Fog::off);
-        GLuint buffer = 0;
-        gen(1, &buffer);
-        gl().BindBuffer(GL_ARRAY_BUFFER, buffer);
-        data(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(scene.screen.size() * sizeof(float)),
-             scene.screen.data(), GL_STATIC_DRAW);
-        gl().VertexPointer(3, GL_FLOAT, 0, nullptr);  // offset 0 in the buffer
-        const auto before = aerial::gl::capture_state(gl());
-        EXPECT_EQ(*before.find("GL_ARRAY_BUFFER_BINDING"), std::to_string(buffer));
-        ApplyOptions options;
-        options.path = path;
-        auto stats =
-            aerial::gl::draw_with_colours(gl(), options, engine.colours(), [&] { engine.draw(); });
-        ASSERT_TRUE(stats.ok()) << stats.error().message;
-        const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
-        std::string list;
-        for (const std::string& line : changed) list += "\n  " + line;
-        EXPECT_TRUE(changed.empty()) << aerial::gl::path_name(path) << " changed:" << list;
-        EXPECT_EQ(gl().GetError(), static_cast<GLenum>(GL_NO_ERROR));
-        const auto d = aerial_test::compare_rgb(expected, ctx_->read_rgba8());
-        EXPECT_EQ(d.max_lsb, 0) << aerial::gl::path_name(path)
-                                << ": the image changed with the positions in a buffer";
-        gl().BindBuffer(GL_ARRAY_BUFFER, 0);
-        del(1, &buffer);
-    }
+    each_path_against_its_plain_image(
+        scene, Fog::off,
+        [&](Path path, const Engine& engine, const std::vector<std::uint8_t>& expected) {
+            GLuint buffer = 0;
+            gen(1, &buffer);
+            gl().BindBuffer(GL_ARRAY_BUFFER, buffer);
+            data(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(scene.screen.size() * sizeof(float)),
+                 scene.screen.data(), GL_STATIC_DRAW);
+            gl().VertexPointer(3, GL_FLOAT, 0, nullptr);  // offset 0 in the buffer
+            const auto before = aerial::gl::capture_state(gl());
+            EXPECT_EQ(*before.find("GL_ARRAY_BUFFER_BINDING"), std::to_string(buffer));
+            ApplyOptions options;
+            options.path = path;
+            auto stats = aerial::gl::draw_with_colours(gl(), options, engine.colours(),
+                                                       [&] { engine.draw(); });
+            ASSERT_TRUE(stats.ok()) << stats.error().message;
+            const auto changed =
+                aerial::gl::state_differences(before, aerial::gl::capture_state(gl()));
+            std::string list;
+            for (const std::string& line : changed) list += "\n  " + line;
+            EXPECT_TRUE(changed.empty()) << aerial::gl::path_name(path) << " changed:" << list;
+            EXPECT_EQ(gl().GetError(), static_cast<GLenum>(GL_NO_ERROR));
+            const auto d = aerial_test::compare_rgb(expected, ctx_->read_rgba8());
+            EXPECT_EQ(d.max_lsb, 0) << aerial::gl::path_name(path)
+                                    << ": the image changed with the positions in a buffer";
+            gl().BindBuffer(GL_ARRAY_BUFFER, 0);
+            del(1, &buffer);
+        });
 }
 
 // A driver that reports a value GL rejects when given back (zink: GL_MATRIX_MODE 0 on a fresh

@@ -26,6 +26,18 @@ constexpr double kDegree = kPi / 180.0;
 
 glm::dvec3 to_glm(const Mesh::Point& p) { return {p[0], p[1], p[2]}; }
 
+// Calls fn(f, p) for every live face f, with p its three corners in the face's order.
+template <class Fn>
+void for_each_live_face(const Mesh& mesh, Fn&& fn) {
+    for (auto f : mesh.faces()) {
+        if (mesh.status(f).deleted()) continue;
+        glm::dvec3 p[3];
+        int k = 0;
+        for (auto v : mesh.fv_range(f)) p[k++] = to_glm(mesh.point(v));
+        fn(f, p);
+    }
+}
+
 // The dome scene of the tests: eye 2 m above sea level, dome of 80 km, only L_in shown, exposure
 // putting the sky 90 degrees from the sun at mid-grey.
 struct DomeScene {
@@ -67,19 +79,12 @@ AdaptiveMesh refined_dome(const DomeScene& scene, const AdaptiveSettings& settin
 float max_face_error(const Mesh& mesh, const aerial::Frame<float>& frame,
                      const aerial::mesh::ColourOptions& colour) {
     float worst = 0.0f;
-    for (auto f : mesh.faces()) {
-        if (mesh.status(f).deleted()) continue;
-        glm::dvec3 p[3];
+    for_each_live_face(mesh, [&](Mesh::FaceHandle, const glm::dvec3* p) {
         glm::vec3 c[3];
-        int k = 0;
-        for (auto v : mesh.fv_range(f)) {
-            p[k] = to_glm(mesh.point(v));
-            c[k] = aerial::mesh::display_colour(frame, colour, p[k]);
-            ++k;
-        }
+        for (int i = 0; i < 3; ++i) c[i] = aerial::mesh::display_colour(frame, colour, p[i]);
         worst = std::max(
             worst, aerial::mesh::colour_error(frame, colour, p[0], p[1], p[2], c[0], c[1], c[2]));
-    }
+    });
     return worst;
 }
 
@@ -106,15 +111,11 @@ void expect_conforming(const Mesh& mesh, OnBorder on_border) {
 // No face turned over: each face's normal points away from `outward_of` the face.
 template <class Outward>
 void expect_not_flipped(const Mesh& mesh, Outward outward) {
-    for (auto f : mesh.faces()) {
-        if (mesh.status(f).deleted()) continue;
-        glm::dvec3 p[3];
-        int k = 0;
-        for (auto v : mesh.fv_range(f)) p[k++] = to_glm(mesh.point(v));
+    for_each_live_face(mesh, [&](Mesh::FaceHandle f, const glm::dvec3* p) {
         const glm::dvec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
         EXPECT_GT(glm::dot(n, outward((p[0] + p[1] + p[2]) / 3.0)), 0.0)
             << "face " << f.idx() << " is flipped";
-    }
+    });
 }
 
 std::vector<glm::dvec3> positions(const Mesh& mesh) {
@@ -716,17 +717,13 @@ TEST(ColourError, OnDomeSphereTakesTheExactColourWhereTheViewRayMeetsTheDome) {
 // The smallest angle (degrees) over the live faces.
 double smallest_angle_deg(const Mesh& mesh) {
     double smallest = 180.0;
-    for (auto f : mesh.faces()) {
-        if (mesh.status(f).deleted()) continue;
-        glm::dvec3 p[3];
-        int k = 0;
-        for (auto v : mesh.fv_range(f)) p[k++] = to_glm(mesh.point(v));
+    for_each_live_face(mesh, [&](Mesh::FaceHandle, const glm::dvec3* p) {
         for (int i = 0; i < 3; ++i) {
             const glm::dvec3 a = p[(i + 1) % 3] - p[i], b = p[(i + 2) % 3] - p[i];
             smallest = std::min(
                 smallest, std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)) / kDegree);
         }
-    }
+    });
     return smallest;
 }
 

@@ -395,7 +395,10 @@ TEST(ArbProgram, LimitChecksNameTheExceededLimit) {
         const auto r = aerial::generate_arb_program(o);
         ASSERT_FALSE(r.ok()) << c.field;
         EXPECT_EQ(r.error().field, c.field);
-        EXPECT_EQ(r.error().message.rfind(c.field, 0), 0u) << r.error().message;
+        EXPECT_EQ(r.error().message.rfind(
+                      std::string("aerial::generate_arb_program(): ") + c.field + ": expected ", 0),
+                  0u)
+            << r.error().message;
         EXPECT_NE(r.error().message.find(c.gl_name), std::string::npos) << r.error().message;
     }
     // The spec minimums themselves: 128 instructions fit, 129 do not; 124 with position
@@ -405,7 +408,9 @@ TEST(ArbProgram, LimitChecksNameTheExceededLimit) {
     EXPECT_FALSE(aerial::check_arb_limits(r, {}, false).has_value());
     r.instructions = 129;
     ASSERT_TRUE(aerial::check_arb_limits(r, {}, false).has_value());
-    EXPECT_NE(aerial::check_arb_limits(r, {}, false)->message.find("128"), std::string::npos);
+    EXPECT_EQ(aerial::check_arb_limits(r, {}, false)->message,
+              "aerial::check_arb_limits(): instructions: expected at most 128 "
+              "(MAX_PROGRAM_INSTRUCTIONS_ARB), got 129 in the program");
     r.instructions = 124;
     EXPECT_FALSE(aerial::check_arb_limits(r, {}, true).has_value());
     r.instructions = 125;
@@ -434,8 +439,10 @@ TEST(ArbProgram, RejectsOptionsItCannotGenerate) {
         const auto r = aerial::generate_arb_program(o);
         ASSERT_FALSE(r.ok()) << field;
         EXPECT_EQ(r.error().field, field);
-        EXPECT_EQ(r.error().message.rfind(field, 0), 0u) << r.error().message;
-        EXPECT_NE(r.error().message.find("aerial::generate_arb_program()"), std::string::npos);
+        EXPECT_EQ(
+            r.error().message.rfind("aerial::generate_arb_program(): " + field + ": expected ", 0),
+            0u)
+            << r.error().message;
     };
     ArbProgramOptions o;
     o.model = Model::reference;
@@ -453,6 +460,30 @@ TEST(ArbProgram, RejectsOptionsItCannotGenerate) {
     o = {};
     o.parameter_base = 90;  // the last six indices
     EXPECT_TRUE(aerial::generate_arb_program(o).ok());
+}
+
+// The one message style for the ARB program generator, pinned whole.
+TEST(ArbProgram, MessagesAreFunctionFieldExpectedGot) {
+    ArbProgramOptions o;
+    o.model = Model::reference;
+    EXPECT_EQ(aerial::generate_arb_program(o).error().message,
+              "aerial::generate_arb_program(): model: expected hoffman-preetham or height (the "
+              "models with an ARB program), got reference");
+    o = {};
+    o.parameter_base = 91;
+    EXPECT_EQ(aerial::generate_arb_program(o).error().message,
+              "aerial::generate_arb_program(): parameter_base: expected at most 90 (the program "
+              "reads 6 of the 96 program parameters, MAX_PROGRAM_PARAMETERS_ARB), got 91");
+    const Frame<float> f = frame_for(Atmosphere{}, {0, 0, 2}, {0, 0, 1});
+    Display dark;
+    dark.exposure = 0.0f;
+    EXPECT_EQ(aerial::arb_program_parameters(f, dark).error().message,
+              "aerial::arb_program_parameters(): display.exposure: expected a finite value > 0, "
+              "got 0");
+    EXPECT_EQ(
+        aerial::validation::parse_arb_program("!!ARBvp1.0\nTEMP t, t;\nEND\n").error().message,
+        "aerial::validation::parse_arb_program(): line 2: column 9: 't' is already "
+        "declared");
 }
 
 // ---- Parameters ------------------------------------------------------------------------------
@@ -478,7 +509,9 @@ TEST(ArbProgramParameters, RejectWhatTheProgramCannotShow) {
     const auto e = aerial::arb_program_parameters(f, exponential);
     ASSERT_FALSE(e.ok());
     EXPECT_EQ(e.error().field, "display.tone");
-    EXPECT_EQ(e.error().message.rfind("display.tone", 0), 0u);
+    EXPECT_EQ(e.error().message,
+              "aerial::arb_program_parameters(): display.tone: expected clamp (the ARB program "
+              "applies the exposure and GL clamps), got exponential");
 }
 
 TEST(ArbProgramParameters, LayoutMatchesWhatTheProgramReads) {
@@ -1028,7 +1061,10 @@ TEST(ArbInterpreter, ParseErrorsGiveTheLine) {
         const auto r = aerial::validation::parse_arb_program(c.text);
         ASSERT_FALSE(r.ok()) << c.text;
         EXPECT_EQ(r.error().field, c.field) << r.error().message;
-        EXPECT_EQ(r.error().message.rfind(c.field, 0), 0u) << r.error().message;
+        EXPECT_EQ(r.error().message.rfind(
+                      "aerial::validation::parse_arb_program(): " + c.field + ": column ", 0),
+                  0u)
+            << r.error().message;
         EXPECT_NE(r.error().message.find(c.says), std::string::npos) << r.error().message;
     }
 }
@@ -1780,7 +1816,9 @@ TEST(ArbHeightFidelity, AutomaticTakesTheHighestLevelTheLimitsAcceptAndFallsBack
     const auto unknown = aerial::parse_arb_height_fidelity("fullest");
     ASSERT_FALSE(unknown.ok());
     EXPECT_EQ(unknown.error().field, "height_fidelity");
-    EXPECT_NE(unknown.error().message.find("'fullest'"), std::string::npos);
+    EXPECT_EQ(unknown.error().message,
+              "aerial::parse_arb_height_fidelity(): height_fidelity: expected one of automatic, "
+              "spec-minimum, exact-optical-depth, full, got 'fullest'");
 }
 
 TEST(ArbHeightFidelity, EachLevelGetsItsOwnParameters) {

@@ -392,7 +392,10 @@ TEST_F(ArbVertexProgramGl, RejectedProgramReportsThePositionAndTheDriversMessage
     ASSERT_FALSE(program.ok());
     EXPECT_EQ(program.error().field, "program");
     const std::string& m = program.error().message;
-    EXPECT_EQ(m.rfind("program: ", 0), 0u) << m;
+    EXPECT_EQ(
+        m.rfind("aerial::gl::ArbVertexProgram::create(): program: rejected by the driver at ", 0),
+        0u)
+        << m;
     EXPECT_NE(m.find("GL_PROGRAM_ERROR_POSITION_ARB"), std::string::npos) << m;
     // The position and the driver's string as GL still holds them after the failed load.
     GLint position = -1;
@@ -439,6 +442,9 @@ TEST_F(ArbVertexProgramGl, WrongParameterCountIsAnError) {
     auto e = program->set_parameters(Params(3));
     ASSERT_TRUE(e.has_value());
     EXPECT_EQ(e->field, "parameters");
+    EXPECT_EQ(e->message, "aerial::gl::ArbVertexProgram::set_parameters(): parameters: expected " +
+                              std::to_string(aerial::kArbParameterCount) +
+                              " vectors (aerial::arb_program_parameters), got 3");
     Params nan(aerial::kArbParameterCount);
     nan[2][1] = std::nanf("");
     e = program->set_parameters(nan);
@@ -459,7 +465,13 @@ TEST_F(ArbVertexProgramGl, ContextWithoutTheExtensionGivesAClearError) {
     auto program = ArbVertexProgram::create(api, *generated);
     ASSERT_FALSE(program.ok());
     EXPECT_EQ(program.error().field, "GL_ARB_vertex_program");
-    EXPECT_EQ(program.error().message.rfind("GL_ARB_vertex_program: ", 0), 0u);
+    EXPECT_EQ(program.error().kind, aerial::ErrorKind::not_supported);
+    EXPECT_EQ(program.error().message.rfind(
+                  "aerial::gl::ArbVertexProgram::create(): GL_ARB_vertex_program: the context does "
+                  "not offer it (GL ",
+                  0),
+              0u)
+        << program.error().message;
     if (std::getenv("MESA_EXTENSION_OVERRIDE") != nullptr) {
         EXPECT_FALSE(gl().caps.vertex_program) << "the override should have removed it";
     }

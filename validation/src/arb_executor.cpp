@@ -63,7 +63,7 @@ Vec4 splat(float x) { return {x, x, x, x}; }
 }  // namespace
 
 Result<ArbCpuProgram> parse_arb_program(std::string_view text) {
-    auto parsed = detail::parse_arb_text(text);
+    auto parsed = detail::parse_arb_text("validation::parse_arb_program", text);
     if (!parsed) return parsed.error();
     ArbCpuProgram program;
     program.data = std::move(parsed->data);

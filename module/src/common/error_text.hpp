@@ -27,6 +27,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -60,11 +61,13 @@ std::string number(T value) {
     }
 }
 
-/// A vector (glm::vec3, glm::dvec2, ...) as "(x, y, z)", each coordinate a number().
+/// A vector (glm::dvec3, std::array<float, 4>, ...) as "(x, y, z)", each coordinate a number().
 template <class Vector>
 std::string vector(const Vector& v) {
+    const auto* coordinate = &v[0];  // contiguous in glm's vectors and in std::array
     std::string text = "(";
-    for (int i = 0; i < int(v.length()); ++i) text += (i ? ", " : "") + number(v[i]);
+    for (std::size_t i = 0; i < sizeof v / sizeof v[0]; ++i)
+        text += (i ? ", " : "") + number(coordinate[i]);
     return text + ")";
 }
 

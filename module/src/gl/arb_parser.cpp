@@ -14,6 +14,8 @@
 #include <string>
 #include <system_error>
 
+#include "../common/error_text.hpp"
+
 namespace aerial::detail {
 namespace {
 
@@ -69,7 +71,7 @@ bool same_binding(const ParamBinding& a, const ParamBinding& b) {
 
 class Parser {
   public:
-    explicit Parser(std::string_view text) : text_(text) {}
+    Parser(std::string_view function, std::string_view text) : function_(function), text_(text) {}
 
     Result<ParsedArbProgram> parse();
 
@@ -139,6 +141,7 @@ class Parser {
     std::optional<Error> parse_source(Source& src, bool scalar);
     std::optional<Error> parse_swz_source(Source& src);
 
+    std::string_view function_;  ///< the public function the errors are attributed to
     std::string_view text_;
     std::vector<Token> tokens_;
     std::size_t pos_ = 0;
@@ -157,9 +160,8 @@ Error Parser::error_at(std::size_t offset, const std::string& what) const {
             line_start = i + 1;
         }
     }
-    const std::string field = "line " + std::to_string(line);
-    return Error{field,
-                 field + ", column " + std::to_string(offset - line_start + 1) + ": " + what};
+    return detail::error(function_, "line " + std::to_string(line),
+                         "column " + std::to_string(offset - line_start + 1) + ": " + what);
 }
 
 std::optional<Error> Parser::tokenize() {
@@ -761,6 +763,8 @@ Result<ParsedArbProgram> Parser::parse() {
 
 }  // namespace
 
-Result<ParsedArbProgram> parse_arb_text(std::string_view text) { return Parser(text).parse(); }
+Result<ParsedArbProgram> parse_arb_text(std::string_view function, std::string_view text) {
+    return Parser(function, text).parse();
+}
 
 }  // namespace aerial::detail

@@ -125,8 +125,9 @@ struct ParsedArbProgram {
     bool position_invariant = false;
 };
 
-/// Parses program text (the subset aerial::validation::parse_arb_program documents). Errors:
-/// field "line N", message "line N, column C: what is wrong".
-Result<ParsedArbProgram> parse_arb_text(std::string_view text);
+/// Parses program text (the subset aerial::validation::parse_arb_program documents) for the
+/// public function `function` ("validation::parse_arb_program"). Errors: field "line N", message
+/// "aerial::FUNCTION(): line N: column C: what is wrong".
+Result<ParsedArbProgram> parse_arb_text(std::string_view function, std::string_view text);
 
 }  // namespace aerial::detail

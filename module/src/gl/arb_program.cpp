@@ -5,7 +5,9 @@
 #include <charconv>
 #include <cmath>
 
+#include "../common/error_text.hpp"
 #include "aerial/arb_program.hpp"
+#include "aerial/sun.hpp"
 #include "arb_parser.hpp"
 #include "arb_program_internal.hpp"
 
@@ -56,11 +58,11 @@ Result<std::vector<std::array<float, 4>>> to_float_parameters(
         for (std::size_t j = 0; j < 4; ++j) {
             const float v = static_cast<float>(p[i][j]);
             if (!std::isfinite(v)) {
-                return Error{"frame", "frame: aerial::arb_program_parameters(): parameter " +
-                                          std::to_string(i) + " component " + std::to_string(j) +
-                                          " is " + std::to_string(p[i][j]) +
-                                          ", beyond float range (eye or meters_per_unit too "
-                                          "large?)"};
+                return detail::invalid(
+                    "arb_program_parameters", "frame",
+                    "parameters within float range (eye or meters_per_unit too large?)",
+                    "parameter " + detail::number(i) + " component " + detail::number(j) + " = " +
+                        detail::number(p[i][j]));
             }
             out[i][j] = v;
         }
@@ -74,35 +76,33 @@ namespace {
 
 using detail::arb::height_program_text;
 
+using detail::invalid;
+using detail::number;
+
 std::optional<Error> validate_options(const ArbProgramOptions& o, const char* function) {
-    const std::string fn = std::string("aerial::") + function + "(): ";
     if (o.model != Model::hoffman_preetham && o.model != Model::height) {
-        return Error{"model", "model: " + fn +
-                                  "only hoffman-preetham and height have an ARB program, got " +
-                                  std::string(model_name(o.model))};
+        return invalid(function, "model",
+                       "hoffman-preetham or height (the models with an ARB program)",
+                       std::string(model_name(o.model)));
     }
     ArbProgramOptions counted = o;
     if (o.model == Model::height && o.height_fidelity == ArbHeightFidelity::automatic) {
         counted.height_fidelity = ArbHeightFidelity::spec_minimum;  // the smallest
     }
     const int count = arb_parameter_count(counted);
-    if (o.parameter_base < 0) {
-        return Error{"parameter_base", "parameter_base: " + fn + "expected >= 0, got " +
-                                           std::to_string(o.parameter_base)};
-    }
+    if (o.parameter_base < 0)
+        return invalid(function, "parameter_base", ">= 0", number(o.parameter_base));
     if (o.parameter_base + count > o.limits.max_parameters) {
-        return Error{"parameter_base",
-                     "parameter_base: " + fn + "the program reads indices " +
-                         std::to_string(o.parameter_base) + " to " +
-                         std::to_string(o.parameter_base + count - 1) + ", beyond the " +
-                         std::to_string(o.limits.max_parameters) +
-                         " program parameters (MAX_PROGRAM_PARAMETERS_ARB); expected at most " +
-                         std::to_string(o.limits.max_parameters - count)};
+        return invalid(function, "parameter_base",
+                       "at most " + number(o.limits.max_parameters - count) +
+                           " (the program reads " + number(count) + " of the " +
+                           number(o.limits.max_parameters) +
+                           " program parameters, MAX_PROGRAM_PARAMETERS_ARB)",
+                       number(o.parameter_base));
     }
     if (o.texcoord_units < 0 || o.texcoord_units > kArbMaxTexcoordUnits) {
-        return Error{"texcoord_units", "texcoord_units: " + fn + "expected 0 to " +
-                                           std::to_string(kArbMaxTexcoordUnits) + ", got " +
-                                           std::to_string(o.texcoord_units)};
+        return invalid(function, "texcoord_units", "0 to " + number(kArbMaxTexcoordUnits),
+                       number(o.texcoord_units));
     }
     return std::nullopt;
 }
@@ -128,9 +128,9 @@ Result<ArbHeightFidelity> parse_arb_height_fidelity(std::string_view name) {
                                 ArbHeightFidelity::exact_optical_depth, ArbHeightFidelity::full}) {
         if (name == arb_height_fidelity_name(f)) return f;
     }
-    return Error{"height_fidelity", "height_fidelity: '" + std::string(name) +
-                                        "' is unknown; known: automatic, spec-minimum, "
-                                        "exact-optical-depth, full"};
+    return invalid("parse_arb_height_fidelity", "height_fidelity",
+                   "one of automatic, spec-minimum, exact-optical-depth, full",
+                   detail::quoted(name));
 }
 
 ArbHeightFidelity resolve_arb_height_fidelity(const ArbProgramOptions& options) {
@@ -140,7 +140,8 @@ ArbHeightFidelity resolve_arb_height_fidelity(const ArbProgramOptions& options) 
         o.model = Model::height;
         o.height_fidelity = f;
         if (o.parameter_base + arb_parameter_count(o) > o.limits.max_parameters) continue;
-        const auto parsed = detail::parse_arb_text(height_program_text(o, f));
+        const auto parsed =
+            detail::parse_arb_text("generate_arb_program", height_program_text(o, f));
         if (parsed && !check_arb_limits(parsed->resources, o.limits, o.position_invariant)) {
             return f;
         }
@@ -160,8 +161,11 @@ int arb_parameter_count(const ArbProgramOptions& options) {
     return arb_parameter_count(options.model);
 }
 
-std::optional<Error> check_arb_limits(const ArbResources& r, const ArbLimits& limits,
-                                      bool position_invariant) {
+namespace {
+
+/// check_arb_limits for `function`.
+std::optional<Error> check_limits(const char* function, const ArbResources& r,
+                                  const ArbLimits& limits, bool position_invariant) {
     const int max_instructions = limits.max_instructions - (position_invariant ? 4 : 0);
     const struct {
         const char* field;
@@ -176,16 +180,21 @@ std::optional<Error> check_arb_limits(const ArbResources& r, const ArbLimits& li
     };
     for (const auto& c : checks) {
         if (c.used > c.limit) {
-            std::string message = std::string(c.field) + ": the program uses " +
-                                  std::to_string(c.used) + ", more than the limit " +
-                                  std::to_string(c.limit) + " (" + c.gl_name;
+            std::string limit = "at most " + number(c.limit) + " (" + c.gl_name;
             if (position_invariant && c.field == std::string("instructions")) {
-                message += " minus 4 for ARB_position_invariant";
+                limit += " minus 4 for ARB_position_invariant";
             }
-            return Error{c.field, message + ")"};
+            return invalid(function, c.field, limit + ")", number(c.used) + " in the program");
         }
     }
     return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<Error> check_arb_limits(const ArbResources& r, const ArbLimits& limits,
+                                      bool position_invariant) {
+    return check_limits("check_arb_limits", r, limits, position_invariant);
 }
 
 Result<ArbProgram> generate_arb_program(const ArbProgramOptions& options) {
@@ -199,16 +208,17 @@ Result<ArbProgram> generate_arb_program(const ArbProgramOptions& options) {
     } else {
         program.text = detail::arb::hoffman_preetham_program_text(options);
     }
-    auto parsed = detail::parse_arb_text(program.text);
+    auto parsed = detail::parse_arb_text("generate_arb_program", program.text);
     if (!parsed) {
-        return Error{"text",
-                     "text: aerial::generate_arb_program(): the generated program does not "
-                     "parse (a bug): " +
-                         parsed.error().message};
+        return detail::error(
+            "generate_arb_program", "text",
+            "the generated program does not parse (a bug): " + parsed.error().field + ": " +
+                std::string(detail::text_of(parsed.error())));
     }
     program.resources = parsed->resources;
     program.instruction_count = program.resources.instructions;
-    if (auto e = check_arb_limits(program.resources, options.limits, options.position_invariant)) {
+    if (auto e = check_limits("generate_arb_program", program.resources, options.limits,
+                              options.position_invariant)) {
         return *e;
     }
     return program;
@@ -217,24 +227,22 @@ Result<ArbProgram> generate_arb_program(const ArbProgramOptions& options) {
 Result<std::vector<std::array<float, 4>>> arb_program_parameters(const Frame<float>& frame,
                                                                  const Display& display,
                                                                  const ArbProgramOptions& options) {
-    if (auto e = validate_options(options, "arb_program_parameters")) return *e;
+    constexpr const char* kFunction = "arb_program_parameters";
+    if (auto e = validate_options(options, kFunction)) return *e;
     if (frame.model != options.model) {
-        return Error{"frame.model",
-                     "frame.model: aerial::arb_program_parameters(): the ARB program computes " +
-                         std::string(model_name(options.model)) + " (options.model), got a frame " +
-                         "prepared for " + std::string(model_name(frame.model))};
+        return invalid(
+            kFunction, "frame.model",
+            "a frame prepared for " + std::string(model_name(options.model)) + " (options.model)",
+            "one prepared for " + std::string(model_name(frame.model)));
     }
     if (!std::isfinite(display.exposure) || display.exposure <= 0.0f) {
-        return Error{"display.exposure",
-                     "display.exposure: aerial::arb_program_parameters(): expected a finite value "
-                     "> 0, got " +
-                         std::to_string(display.exposure)};
+        return invalid(kFunction, "display.exposure", "a finite value > 0",
+                       number(display.exposure));
     }
     if (display.tone != ToneCurve::clamp) {
-        return Error{"display.tone",
-                     "display.tone: aerial::arb_program_parameters(): the ARB program applies the "
-                     "exposure and GL clamps (ToneCurve::clamp); ToneCurve::exponential is not "
-                     "available"};
+        return invalid(kFunction, "display.tone",
+                       "clamp (the ARB program applies the exposure and GL clamps)",
+                       std::string(tone_curve_name(display.tone)));
     }
 
     if (options.model == Model::height) {

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <utility>
 
+#include "../common/error_text.hpp"
 #include "aerial/gl.hpp"
 #include "aerial/gl_api.hpp"
 #include "state_saver.hpp"
@@ -84,17 +85,19 @@ ArbLimits native_arb_limits(const Api& api) {
 }
 
 Result<ArbVertexProgram> ArbVertexProgram::create(const Api& api, const ArbProgram& program) {
-    if (auto e = no_current_context(api)) return *e;
+    constexpr const char* kFunction = "gl::ArbVertexProgram::create";
+    if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
     if (!api.caps.vertex_program) {
-        return Error{"GL_ARB_vertex_program",
-                     "GL_ARB_vertex_program: the context does not offer it (GL " +
-                         api.caps.version + ", " + api.caps.renderer +
-                         "); use the fixed-function paths (draw_with_colours)"};
+        return aerial::detail::unsupported(
+            kFunction, "GL_ARB_vertex_program",
+            "the context does not offer it (GL " + api.caps.version + ", " + api.caps.renderer +
+                "); use the fixed-function paths (draw_with_colours)");
     }
     const ArbLimits native = native_arb_limits(api);
     if (auto e = check_arb_limits(program.resources, native, program.options.position_invariant)) {
-        e->message += " (the driver's GL_MAX_PROGRAM_NATIVE_* limit, " + api.caps.renderer + ")";
-        return *e;
+        Error limit = aerial::detail::from(kFunction, *e);
+        limit.message += " (the driver's GL_MAX_PROGRAM_NATIVE_* limit, " + api.caps.renderer + ")";
+        return limit;
     }
     // The parameter indices the program reads must exist in program.local / program.env.
     const GLenum index_limit = program.options.parameter_space == ParameterSpace::local
@@ -103,16 +106,18 @@ Result<ArbVertexProgram> ArbVertexProgram::create(const Api& api, const ArbProgr
     const GLint max_index = program_integer(api, index_limit);
     const int last = parameters_end(program.text, program.options.parameter_space);
     if (last > max_index) {
-        return Error{
-            "parameter_base",
-            "parameter_base: the program reads indices " +
-                std::to_string(program.options.parameter_base) + " .. " + std::to_string(last - 1) +
-                " but the driver has " + std::to_string(max_index) + " program." +
-                (program.options.parameter_space == ParameterSpace::local ? "local" : "env") +
-                " parameters"};
+        const char* space =
+            program.options.parameter_space == ParameterSpace::local ? "local" : "env";
+        return aerial::detail::invalid(
+            kFunction, "parameter_base",
+            "indices below the driver's " + aerial::detail::number(max_index) + " program." +
+                space + " parameters",
+            "a program reading " + aerial::detail::number(program.options.parameter_base) + " .. " +
+                aerial::detail::number(last - 1));
     }
     if (program.text.size() > static_cast<std::size_t>(INT32_MAX)) {
-        return Error{"program", "program: the text is too long for glProgramStringARB"};
+        return aerial::detail::error(kFunction, "program",
+                                     "the text is too long for glProgramStringARB");
     }
 
     GLuint id = 0;
@@ -139,17 +144,18 @@ Result<ArbVertexProgram> ArbVertexProgram::create(const Api& api, const ArbProgr
                     ++column;
                 }
             }
-            error = Error{"program",
-                          "program: rejected by the driver at "
-                          "GL_PROGRAM_ERROR_POSITION_ARB " +
-                              std::to_string(position) + " (line " + std::to_string(line) +
-                              ", column " + std::to_string(column) +
-                              "): " + (driver_text.empty() ? "(no error string)" : driver_text)};
+            error = aerial::detail::error(
+                kFunction, "program",
+                "rejected by the driver at GL_PROGRAM_ERROR_POSITION_ARB " +
+                    std::to_string(position) + " (line " + std::to_string(line) + ", column " +
+                    std::to_string(column) +
+                    "): " + (driver_text.empty() ? "(no error string)" : driver_text));
         } else if (program_integer(api, GL_PROGRAM_UNDER_NATIVE_LIMITS_ARB) == 0) {
-            error = Error{"program",
-                          "program: loaded, but GL_PROGRAM_UNDER_NATIVE_LIMITS_ARB is false on " +
-                              api.caps.renderer + " (it would run in software or not at all)" +
-                              (driver_text.empty() ? "" : ": " + driver_text)};
+            error = aerial::detail::error(
+                kFunction, "program",
+                "loaded, but GL_PROGRAM_UNDER_NATIVE_LIMITS_ARB is false on " + api.caps.renderer +
+                    " (it would run in software or not at all)" +
+                    (driver_text.empty() ? "" : ": " + driver_text));
         }
     }
     if (error) {
@@ -187,20 +193,23 @@ ArbVertexProgram::~ArbVertexProgram() {
 
 std::optional<Error> ArbVertexProgram::set_parameters(
     const std::vector<std::array<float, 4>>& parameters) const {
+    constexpr const char* kFunction = "gl::ArbVertexProgram::set_parameters";
     // What the program reads from parameter_base on (kArbParameterCount for hoffman-preetham).
     const int expected =
         std::max(0, parameters_end(program_.text, program_.options.parameter_space) -
                         program_.options.parameter_base);
     if (parameters.size() != static_cast<std::size_t>(expected)) {
-        return Error{"parameters", "parameters: expected " + std::to_string(expected) +
-                                       " vectors (aerial::arb_program_parameters), got " +
-                                       std::to_string(parameters.size())};
+        return aerial::detail::invalid(
+            kFunction, "parameters",
+            aerial::detail::number(expected) + " vectors (aerial::arb_program_parameters)",
+            aerial::detail::number(parameters.size()));
     }
     for (std::size_t i = 0; i < parameters.size(); ++i) {
         for (float v : parameters[i]) {
             if (!std::isfinite(v)) {
-                return Error{"parameters[" + std::to_string(i) + "]",
-                             "parameters[" + std::to_string(i) + "]: expected finite values"};
+                return aerial::detail::invalid(kFunction, "parameters[" + std::to_string(i) + "]",
+                                               "finite values",
+                                               aerial::detail::vector(parameters[i]));
             }
         }
     }
@@ -222,13 +231,16 @@ std::optional<Error> ArbVertexProgram::set_parameters(
 
 Result<ApplyStats> ArbVertexProgram::draw(const std::function<void()>& draw,
                                           const ApplyOptions& options) const {
-    if (!draw) return Error{"draw", "draw: the draw callback is empty"};
-    if (id_ == 0) return Error{"program", "program: this ArbVertexProgram was moved from"};
-    if (auto e = no_current_context(*api_)) return *e;
+    constexpr const char* kFunction = "gl::ArbVertexProgram::draw";
+    if (!draw) return aerial::detail::invalid(kFunction, "draw", "a draw callback", "an empty one");
+    if (id_ == 0)
+        return aerial::detail::error(kFunction, "program", "this ArbVertexProgram was moved from");
+    if (auto e = no_current_context(*api_)) return aerial::detail::from(kFunction, *e);
     if (options.texture_unit < 0 || options.texture_unit >= api_->caps.max_texture_units) {
-        return Error{"texture_unit", "texture_unit: expected 0 .. " +
-                                         std::to_string(api_->caps.max_texture_units - 1) +
-                                         ", got " + std::to_string(options.texture_unit)};
+        return aerial::detail::invalid(
+            kFunction, "texture_unit",
+            "0 .. " + aerial::detail::number(api_->caps.max_texture_units - 1),
+            aerial::detail::number(options.texture_unit));
     }
     StateSaver s(*api_);
     if (api_->caps.fragment_program) s.enable(GL_FRAGMENT_PROGRAM_ARB, false);

@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "../common/error_text.hpp"
 #include "aerial/gl_api.hpp"
 #include "state_saver.hpp"
 #include "texture_owner.hpp"
@@ -42,28 +43,38 @@ GLint edge_clamp(const Caps& caps) {
                : GL_CLAMP;
 }
 
-std::optional<Error> check_faces(const Api& api,
+using aerial::detail::invalid;
+using aerial::detail::number;
+
+std::optional<Error> check_faces(const char* function, const Api& api,
                                  const std::array<std::vector<std::uint8_t>, 6>& faces, int size) {
     GLint max_size = 0;
     api.GetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &max_size);
     if (size < 1 || size > max_size) {
-        return Error{"size", "size must be in 1 .. " + std::to_string(max_size) +
-                                 " (GL_MAX_CUBE_MAP_TEXTURE_SIZE), got " + std::to_string(size)};
+        return invalid(function, "size",
+                       "1 .. " + number(max_size) + " (GL_MAX_CUBE_MAP_TEXTURE_SIZE)",
+                       number(size));
     }
     const std::size_t expected = std::size_t(size) * std::size_t(size) * 4;
     for (std::size_t f = 0; f < 6; ++f) {
         if (faces[f].size() != expected) {
-            return Error{"faces", "faces: face " + std::to_string(f) + " holds " +
-                                      std::to_string(faces[f].size()) + " bytes, expected " +
-                                      std::to_string(expected) + " (size * size * 4)"};
+            return invalid(function, "faces", number(expected) + " bytes a face (size * size * 4)",
+                           number(faces[f].size()) + " in face " + number(f));
         }
     }
     return std::nullopt;
 }
 
-Error no_cube_maps(const Api& api) {
-    return Error{"cube_map", "cube_map: the sky box needs GL 1.3 or GL_ARB_texture_cube_map; " +
-                                 api.caps.version + " (" + api.caps.renderer + ") has neither"};
+Error no_cube_maps(const char* function, const Api& api) {
+    return aerial::detail::unsupported(function, "cube_map",
+                                       "the sky box needs GL 1.3 or GL_ARB_texture_cube_map; " +
+                                           api.caps.version + " (" + api.caps.renderer +
+                                           ") has neither");
+}
+
+Error not_perspective(const char* function) {
+    return invalid(function, "projection", "a perspective projection with far >= 4 * near > 0",
+                   "another matrix");
 }
 
 /// Perspective projection's near and far planes; false when it is not one.
@@ -117,20 +128,22 @@ bool cube_maps_supported(const Api& api) {
 
 Result<SkyCubemapTexture> SkyCubemapTexture::create(
     const Api& api, const std::array<std::vector<std::uint8_t>, 6>& faces, int size) {
-    if (auto e = no_current_context(api)) return *e;
-    if (!cube_maps_supported(api)) return no_cube_maps(api);
-    if (auto e = check_faces(api, faces, size)) return *e;
+    constexpr const char* kFunction = "gl::SkyCubemapTexture::create";
+    if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
+    if (!cube_maps_supported(api)) return no_cube_maps(kFunction, api);
+    if (auto e = check_faces(kFunction, api, faces, size)) return *e;
     GLuint id = 0;
     api.GenTextures(1, &id);
     SkyCubemapTexture texture(api, id);
-    if (auto e = texture.update(faces, size)) return *e;
+    if (auto e = texture.update(faces, size)) return aerial::detail::from(kFunction, *e);
     return texture;
 }
 
 std::optional<Error> SkyCubemapTexture::update(
     const std::array<std::vector<std::uint8_t>, 6>& faces, int size) {
-    if (auto e = no_current_context(*api_)) return e;
-    if (auto e = check_faces(*api_, faces, size)) return e;
+    constexpr const char* kFunction = "gl::SkyCubemapTexture::update";
+    if (auto e = no_current_context(*api_)) return aerial::detail::from(kFunction, *e);
+    if (auto e = check_faces(kFunction, *api_, faces, size)) return e;
     StateSaver s(*api_);
     begin_upload(s, *api_, GL_TEXTURE_CUBE_MAP, id_);
     for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) {
@@ -160,26 +173,28 @@ SkyCubemapTexture::~SkyCubemapTexture() { detail::release_texture(api_, id_); }
 // ---- SunSpriteTexture ------------------------------------------------------------------------
 
 Result<SunSpriteTexture> SunSpriteTexture::create(const Api& api, const SunSprite& sprite) {
-    if (auto e = no_current_context(api)) return *e;
+    constexpr const char* kFunction = "gl::SunSpriteTexture::create";
+    if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
     GLuint id = 0;
     api.GenTextures(1, &id);
     SunSpriteTexture texture(api, id);
-    if (auto e = texture.update(sprite)) return *e;
+    if (auto e = texture.update(sprite)) return aerial::detail::from(kFunction, *e);
     return texture;
 }
 
 std::optional<Error> SunSpriteTexture::update(const SunSprite& sprite) {
-    if (auto e = no_current_context(*api_)) return e;
+    constexpr const char* kFunction = "gl::SunSpriteTexture::update";
+    if (auto e = no_current_context(*api_)) return aerial::detail::from(kFunction, *e);
     GLint max_size = 0;
     api_->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
     if (sprite.size < 1 || sprite.size > max_size ||
         sprite.rgba.size() != std::size_t(sprite.size) * std::size_t(sprite.size) * 4 ||
         !(sprite.half_width_rad > 0 && sprite.half_width_rad < 0.8)) {
-        return Error{"sprite", "sprite: expected size in 1 .. " + std::to_string(max_size) +
-                                   ", size * size * 4 bytes and a half-width in (0, 0.8) rad; "
-                                   "got size " +
-                                   std::to_string(sprite.size) + " with " +
-                                   std::to_string(sprite.rgba.size()) + " bytes"};
+        return invalid(kFunction, "sprite",
+                       "size in 1 .. " + number(max_size) +
+                           ", size * size * 4 bytes and a half-width in (0, 0.8) rad",
+                       "size " + number(sprite.size) + " with " + number(sprite.rgba.size()) +
+                           " bytes and a half-width of " + number(sprite.half_width_rad));
     }
     StateSaver s(*api_);
     begin_upload(s, *api_, GL_TEXTURE_2D, id_);
@@ -216,13 +231,11 @@ SkyBoxView sky_box_view_from_current_matrices(const Api& api) {
 
 std::optional<Error> draw_sky_box(const Api& api, const SkyCubemapTexture& texture,
                                   const SkyBoxView& view) {
-    if (auto e = no_current_context(api)) return e;
-    if (!cube_maps_supported(api)) return no_cube_maps(api);
+    constexpr const char* kFunction = "gl::draw_sky_box";
+    if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
+    if (!cube_maps_supported(api)) return no_cube_maps(kFunction, api);
     double near_plane = 0, far_plane = 0;
-    if (!near_far(view.projection, near_plane, far_plane)) {
-        return Error{"projection",
-                     "projection: expected a perspective projection with far >= 4 * near > 0"};
-    }
+    if (!near_far(view.projection, near_plane, far_plane)) return not_perspective(kFunction);
     // The cube's corners must stay inside the far plane; its faces in front of the near plane
     // for any view direction within 64 deg of the axis (far >= 4 near).
     const auto h = static_cast<GLfloat>(0.99 * far_plane / std::sqrt(3.0));
@@ -250,16 +263,13 @@ std::optional<Error> draw_sky_box(const Api& api, const SkyCubemapTexture& textu
 
 std::optional<Error> draw_sun_sprite(const Api& api, const SunSpriteTexture& texture,
                                      const SkyBoxView& view, const glm::dvec3& sun_dir) {
-    if (auto e = no_current_context(api)) return e;
+    constexpr const char* kFunction = "gl::draw_sun_sprite";
+    if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
     double near_plane = 0, far_plane = 0;
-    if (!near_far(view.projection, near_plane, far_plane)) {
-        return Error{"projection",
-                     "projection: expected a perspective projection with far >= 4 * near > 0"};
-    }
+    if (!near_far(view.projection, near_plane, far_plane)) return not_perspective(kFunction);
     const double length = glm::length(sun_dir);
-    if (!std::isfinite(length) || std::abs(length - 1.0) > 1e-3) {
-        return Error{"sun_dir", "sun_dir must be a unit vector"};
-    }
+    if (!std::isfinite(length) || std::abs(length - 1.0) > 1e-3)
+        return invalid(kFunction, "sun_dir", "a unit vector", aerial::detail::vector(sun_dir));
     const glm::dvec3 sun = sun_dir / length;
     const glm::dvec3 helper = std::abs(sun.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
     const glm::dvec3 u = glm::normalize(glm::cross(helper, sun));

@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "../common/error_text.hpp"
 #include "../common/names.hpp"
 #include "aerial/gl.hpp"
 #include "aerial/gl_api.hpp"
@@ -31,12 +32,17 @@ std::string context_text(const Caps& caps) {
            std::to_string(caps.version_minor) + " (" + caps.renderer + ")";
 }
 
+constexpr const char* kChoosePath = "gl::choose_path";
+constexpr const char* kCombinerCreate = "gl::CombinerTexture::create";
+constexpr const char* kDraw = "gl::draw_with_colours";
+
 // "<extension>: the <path> path needs <version> or <extension>; the context has ... without it".
 Error path_needs(const Caps& caps, const std::string& extension, const char* path,
                  const char* version) {
-    return not_supported(extension, extension + ": the " + path + " path needs " + version +
-                                        " or " + extension + "; " + context_text(caps) +
-                                        " without it");
+    return aerial::detail::unsupported(kChoosePath, extension,
+                                       "the " + std::string(path) + " path needs " + version +
+                                           " or " + extension + "; " + context_text(caps) +
+                                           " without it");
 }
 
 // Why `path` cannot run on `caps`, or nullopt when it can.
@@ -49,11 +55,12 @@ std::optional<Error> missing_for(const Caps& caps, Path path) {
             return std::nullopt;
         case Path::combiner:
             if (!caps.multitexture || caps.max_texture_units < 2) {
-                return not_supported("GL_ARB_multitexture",
-                                     "GL_ARB_multitexture: the combiner path needs GL 1.3 or "
-                                     "GL_ARB_multitexture with 2 texture units; " +
-                                         context_text(caps) + " with " +
-                                         std::to_string(caps.max_texture_units) + " unit(s)");
+                return aerial::detail::unsupported(
+                    kChoosePath, "GL_ARB_multitexture",
+                    "the combiner path needs GL 1.3 or GL_ARB_multitexture with 2 texture "
+                    "units; " +
+                        context_text(caps) + " with " +
+                        aerial::detail::number(caps.max_texture_units) + " unit(s)");
             }
             if (!caps.texture_env_combine) {
                 return path_needs(caps, "GL_ARB_texture_env_combine", "combiner", "GL 1.3");
@@ -78,10 +85,12 @@ Result<Path> choose_path(const Caps& caps, Path requested, bool fixed_function_l
         return Path::two_pass;
     }
     if (requested == Path::secondary_color && fixed_function_lighting) {
-        return Error{"fixed_function_lighting",
-                     "fixed_function_lighting: the secondary-color path cannot add L_in while GL "
-                     "lighting is on (lighting replaces the secondary colour); use the combiner "
-                     "or two-pass path, or bake lighting with aerial::shade_into's lit_rgba8"};
+        return aerial::detail::error(
+            kChoosePath, "fixed_function_lighting",
+            "the secondary-color path cannot add L_in while GL lighting is on "
+            "(lighting replaces the secondary colour); use the combiner or "
+            "two-pass path, or bake lighting with aerial::shade_into's "
+            "lit_rgba8");
     }
     if (auto missing = missing_for(caps, requested)) return *missing;
     return requested;
@@ -90,17 +99,17 @@ Result<Path> choose_path(const Caps& caps, Path requested, bool fixed_function_l
 // ---- CombinerTexture ---------------------------------------------------------------------------
 
 Result<CombinerTexture> CombinerTexture::create(const Api& api, int size) {
-    if (auto e = no_current_context(api)) return *e;
+    if (auto e = no_current_context(api)) return aerial::detail::from(kCombinerCreate, *e);
     if (!api.caps.texture_3d || api.TexImage3D == nullptr) {
-        return not_supported("combiner",
-                             "combiner: the identity texture needs GL 1.2 or GL_EXT_texture3D; " +
-                                 context_text(api.caps) + " without it");
+        return aerial::detail::unsupported(
+            kCombinerCreate, "combiner",
+            "the identity texture needs GL 1.2 or GL_EXT_texture3D; " + context_text(api.caps) +
+                " without it");
     }
     if (size < 2 || size > 18 || 255 % (size - 1) != 0) {
-        return Error{"size",
-                     "size: expected 2, 4, 6, 16 or 18 texels a side (255 / (size - 1) "
-                     "whole), got " +
-                         std::to_string(size)};
+        return aerial::detail::invalid(kCombinerCreate, "size",
+                                       "2, 4, 6, 16 or 18 texels a side (255 / (size - 1) whole)",
+                                       aerial::detail::number(size));
     }
     // Texel (i, j, k) = (i, j, k) × 255 / (size - 1), exact; RGBA rows of 4 size bytes, so any
     // UNPACK_ALIGNMENT up to 8 reads them right; the other unpack state is set to its defaults
@@ -195,8 +204,9 @@ namespace {
 
 std::optional<Error> check_stride(const char* field, std::size_t stride) {
     if (stride != 0 && (stride < 4 || stride > static_cast<std::size_t>(INT_MAX))) {
-        return Error{field, std::string(field) + ": expected 0 (packed) or 4 .. " +
-                                std::to_string(INT_MAX) + " bytes, got " + std::to_string(stride)};
+        return aerial::detail::invalid(
+            kDraw, field, "0 (packed) or 4 .. " + aerial::detail::number(INT_MAX) + " bytes",
+            aerial::detail::number(stride));
     }
     return std::nullopt;
 }
@@ -222,15 +232,15 @@ void common_state(const Api& api, StateSaver& s, const ApplyOptions& options) {
 Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options,
                                      const VertexColours& colours,
                                      const std::function<void()>& draw) {
-    if (auto e = no_current_context(api)) return *e;
+    if (auto e = no_current_context(api)) return aerial::detail::from(kDraw, *e);
     if (colours.primary == nullptr) {
-        return Error{"colours.primary", "colours.primary: the F_ex array is null"};
+        return aerial::detail::error(kDraw, "colours.primary", "the F_ex array is null");
     }
     if (colours.secondary == nullptr) {
-        return Error{"colours.secondary", "colours.secondary: the L_in array is null"};
+        return aerial::detail::error(kDraw, "colours.secondary", "the L_in array is null");
     }
     if (colours.vertex_count == 0) {
-        return Error{"colours.vertex_count", "colours.vertex_count: expected > 0, got 0"};
+        return aerial::detail::invalid(kDraw, "colours.vertex_count", "> 0", "0");
     }
     if (auto e = check_stride("colours.primary_stride_bytes", colours.primary_stride_bytes)) {
         return *e;
@@ -238,24 +248,26 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
     if (auto e = check_stride("colours.secondary_stride_bytes", colours.secondary_stride_bytes)) {
         return *e;
     }
-    if (!draw) return Error{"draw", "draw: the draw callback is empty"};
+    if (!draw) return aerial::detail::error(kDraw, "draw", "the draw callback is empty");
     auto chosen = choose_path(api.caps, options.path, options.fixed_function_lighting);
-    if (!chosen) return chosen.error();
+    if (!chosen) return aerial::detail::from(kDraw, chosen.error());
     const Path path = *chosen;
     const int units_needed = path == Path::combiner ? 2 : 1;
     if (options.texture_unit < 0 ||
         options.texture_unit + units_needed > api.caps.max_texture_units) {
-        return Error{"texture_unit",
-                     "texture_unit: expected 0 .. " +
-                         std::to_string(api.caps.max_texture_units - units_needed) + " (the " +
-                         path_name(path) + " path uses " + std::to_string(units_needed) +
-                         " unit(s) of the context's " + std::to_string(api.caps.max_texture_units) +
-                         "), got " + std::to_string(options.texture_unit)};
+        return aerial::detail::invalid(
+            kDraw, "texture_unit",
+            "0 .. " + aerial::detail::number(api.caps.max_texture_units - units_needed) + " (the " +
+                path_name(path) + " path uses " + aerial::detail::number(units_needed) +
+                " unit(s) of the context's " + aerial::detail::number(api.caps.max_texture_units) +
+                ")",
+            aerial::detail::number(options.texture_unit));
     }
     std::optional<CombinerTexture> temporary;
     CombinerTexture* combiner = options.combiner;
     if (path == Path::combiner && combiner != nullptr && combiner->id() == 0) {
-        return Error{"combiner", "combiner: the CombinerTexture was moved from (texture name 0)"};
+        return aerial::detail::error(kDraw, "combiner",
+                                     "the CombinerTexture was moved from (texture name 0)");
     }
     if (path == Path::combiner && combiner == nullptr) {
         auto created = CombinerTexture::create(api);

@@ -1,6 +1,8 @@
 // Run-time resolution of the GL entry points (aerial/gl_api.hpp).
 #include "aerial/gl_api.hpp"
 
+#include "../common/error_text.hpp"
+
 #include <cstdio>
 #include <cstring>
 
@@ -50,6 +52,8 @@ std::string read_extensions(const Api& api) {
     return e ? std::string(reinterpret_cast<const char*>(e)) : std::string();
 }
 
+constexpr const char* kLoad = "gl::load_api";
+
 // GL_CONTEXT_PROFILE_MASK (GL 3.2) and GL_CONTEXT_FLAGS (GL 3.0), from glext.h.
 constexpr GLenum kContextProfileMask = 0x9126;
 constexpr GLint kContextCoreProfileBit = 0x1;
@@ -77,15 +81,15 @@ std::string missing_fixed_function(const Api& api, const Caps& caps) {
 
 Result<Api> load_api(LoadFunction load, void* user) {
     if (load == nullptr) {
-        return Error{"load", "load: the GetProcAddress function is null"};
+        return aerial::detail::error(kLoad, "load", "the GetProcAddress function is null");
     }
     Api api;
-#define AERIAL_GL_REQUIRED(type, member, name, alternative)                                    \
-    api.member = reinterpret_cast<type>(resolve(load, user, name, alternative));               \
-    if (api.member == nullptr) {                                                               \
-        return Error{name, std::string(name) +                                                 \
-                               ": not found by the loader (is a GL context current, and does " \
-                               "the loader resolve GL 1.1 functions?)"};                       \
+#define AERIAL_GL_REQUIRED(type, member, name, alternative)                                   \
+    api.member = reinterpret_cast<type>(resolve(load, user, name, alternative));              \
+    if (api.member == nullptr) {                                                              \
+        return aerial::detail::error(kLoad, name,                                             \
+                                     "not found by the loader (is a GL context current, and " \
+                                     "does the loader resolve GL 1.1 functions?)");           \
     }
     AERIAL_GL_REQUIRED_FUNCTIONS(AERIAL_GL_REQUIRED)
 #undef AERIAL_GL_REQUIRED
@@ -96,9 +100,9 @@ Result<Api> load_api(LoadFunction load, void* user) {
 
     const GLubyte* version = api.GetString(GL_VERSION);
     if (version == nullptr) {
-        return Error{"glGetString",
-                     "glGetString: GL_VERSION is NULL (no current context, or the loader resolves "
-                     "to libGL while the context is OSMesa's)"};
+        return aerial::detail::error(kLoad, "glGetString",
+                                     "GL_VERSION is NULL (no current context, or the loader "
+                                     "resolves to libGL while the context is OSMesa's)");
     }
     Caps& caps = api.caps;
     caps.version = reinterpret_cast<const char*>(version);
@@ -109,10 +113,11 @@ Result<Api> load_api(LoadFunction load, void* user) {
     }
     const std::string missing = missing_fixed_function(api, caps);
     if (!missing.empty()) {
-        return not_supported("profile", "profile: the context (GL " + caps.version + ", " +
-                                            caps.renderer + ") is a " + missing +
-                                            " context: no fixed-function pipeline; the module "
-                                            "needs a compatibility profile");
+        return aerial::detail::unsupported(kLoad, "profile",
+                                           "the context (GL " + caps.version + ", " +
+                                               caps.renderer + ") is a " + missing +
+                                               " context: no fixed-function pipeline; the "
+                                               "module needs a compatibility profile");
     }
     caps.extensions = read_extensions(api);
 

@@ -1,6 +1,8 @@
 // Save-as-you-change GL state (aerial/gl_state_saver.hpp) and the texture-unit helpers.
 #include "state_saver.hpp"
 
+#include "../common/error_text.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -10,9 +12,11 @@ namespace aerial::gl {
 
 std::optional<Error> no_current_context(const Api& api) {
     if (api.GetString != nullptr && api.GetString(GL_VERSION) != nullptr) return std::nullopt;
-    return Error{"context",
-                 "context: no GL context is current on this thread (glGetString(GL_VERSION) is "
-                 "NULL); make the engine's context current before calling the module"};
+    // Each public caller re-attributes it to itself (aerial::detail::from).
+    return aerial::detail::error("gl::no_current_context", "context",
+                                 "no GL context is current on this thread "
+                                 "(glGetString(GL_VERSION) is NULL); make the engine's context "
+                                 "current before calling the module");
 }
 
 std::vector<GLenum> detail::texture_targets(const Caps& caps) {

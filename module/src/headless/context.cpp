@@ -1,4 +1,5 @@
 // Off-screen contexts (aerial/headless.hpp): OSMesa and EGL surfaceless, both opened with dlopen.
+#include "../common/error_text.hpp"
 #include "../common/names.hpp"
 #include "aerial/headless.hpp"
 
@@ -29,6 +30,7 @@ std::optional<Platform> parse_platform(std::string_view name) {
 namespace {
 
 constexpr int kMaxSize = 8192;
+constexpr const char* kCreate = "headless::Context::create";
 
 // The Gallium drivers Mesa's OSMesa renders with: its software winsys creates only these, and
 // OSMesaCreateContextAttribs dereferences a null screen for any other GALLIUM_DRIVER (zink, a
@@ -41,10 +43,10 @@ std::optional<Error> osmesa_driver_unsupported() {
     for (const char* known : kOsmesaDrivers) {
         if (std::strcmp(driver, known) == 0) return std::nullopt;
     }
-    return not_supported("GALLIUM_DRIVER",
-                         std::string("GALLIUM_DRIVER: OSMesa renders with llvmpipe or softpipe, "
-                                     "got '") +
-                             driver + "' (use the egl platform for other drivers)");
+    return aerial::detail::unsupported(kCreate, "GALLIUM_DRIVER",
+                                       std::string("OSMesa renders with llvmpipe or softpipe, "
+                                                   "got '") +
+                                           driver + "' (use the egl platform for other drivers)");
 }
 
 /// Keeps the Mesa drivers that eglInitialize loaded (the DRI driver under .../dri/ and the gallium
@@ -160,13 +162,13 @@ struct Context::Impl {
         if (platform == Platform::osmesa) {
             if (!osmesa.MakeCurrent(osmesa_context, osmesa_buffer.data(), GL_UNSIGNED_BYTE, width,
                                     height)) {
-                return not_supported("OSMesaMakeCurrent", "OSMesaMakeCurrent: failed");
+                return aerial::detail::unsupported(kCreate, "OSMesaMakeCurrent", "failed");
             }
             return std::nullopt;
         }
         if (!egl.MakeCurrent(egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_context)) {
-            return not_supported("eglMakeCurrent",
-                                 "eglMakeCurrent: failed (" + egl_error_text(egl.GetError()) + ")");
+            return aerial::detail::unsupported(kCreate, "eglMakeCurrent",
+                                               "failed (" + egl_error_text(egl.GetError()) + ")");
         }
         if (framebuffer != 0) api.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
         return std::nullopt;
@@ -181,15 +183,16 @@ struct Context::Impl {
         osmesa.handle = dlopen("libOSMesa.so.8", kFlags);
         if (!osmesa.handle) osmesa.handle = dlopen("libOSMesa.so", kFlags);
         if (!osmesa.handle) {
-            return not_supported(
-                "libOSMesa", "libOSMesa: cannot open libOSMesa.so.8 (install Debian's libosmesa6)");
+            return aerial::detail::unsupported(
+                kCreate, "libOSMesa", "cannot open libOSMesa.so.8 (install Debian's libosmesa6)");
         }
         if (!load_symbol(osmesa.handle, "OSMesaCreateContextAttribs",
                          osmesa.CreateContextAttribs) ||
             !load_symbol(osmesa.handle, "OSMesaMakeCurrent", osmesa.MakeCurrent) ||
             !load_symbol(osmesa.handle, "OSMesaDestroyContext", osmesa.DestroyContext) ||
             !load_symbol(osmesa.handle, "OSMesaGetProcAddress", osmesa.GetProcAddress)) {
-            return not_supported("libOSMesa", "libOSMesa: missing OSMesa 11.2 entry points");
+            return aerial::detail::unsupported(kCreate, "libOSMesa",
+                                               "missing OSMesa 11.2 entry points");
         }
         const int attributes[] = {OSMESA_FORMAT,
                                   OSMESA_RGBA,
@@ -202,11 +205,11 @@ struct Context::Impl {
                                   0};
         osmesa_context = osmesa.CreateContextAttribs(attributes, nullptr);
         if (!osmesa_context) {
-            return not_supported("OSMesaCreateContextAttribs",
-                                 "OSMesaCreateContextAttribs: no RGBA compatibility context");
+            return aerial::detail::unsupported(kCreate, "OSMesaCreateContextAttribs",
+                                               "no RGBA compatibility context");
         }
         osmesa_buffer.assign(static_cast<std::size_t>(width) * height * 4, 0);
-        if (auto e = make_current()) return e;
+        if (auto e = make_current()) return aerial::detail::from(kCreate, *e);
         auto loaded = gl::load_api(osmesa_loader, &osmesa);
         if (!loaded) return loaded.error();
         api = std::move(loaded.value());
@@ -216,9 +219,9 @@ struct Context::Impl {
     std::optional<Error> create_egl() {
         egl.handle = dlopen("libEGL.so.1", RTLD_NOW | RTLD_LOCAL);
         if (!egl.handle) {
-            return not_supported("libEGL",
-                                 "libEGL: cannot open libEGL.so.1 (install Debian's libegl1 "
-                                 "and libegl-mesa0)");
+            return aerial::detail::unsupported(kCreate, "libEGL",
+                                               "cannot open libEGL.so.1 (install Debian's libegl1 "
+                                               "and libegl-mesa0)");
         }
         if (!load_symbol(egl.handle, "eglGetProcAddress", egl.GetProcAddress) ||
             !load_symbol(egl.handle, "eglQueryString", egl.QueryString) ||
@@ -230,58 +233,60 @@ struct Context::Impl {
             !load_symbol(egl.handle, "eglDestroyContext", egl.DestroyContext) ||
             !load_symbol(egl.handle, "eglMakeCurrent", egl.MakeCurrent) ||
             !load_symbol(egl.handle, "eglGetError", egl.GetError)) {
-            return not_supported("libEGL", "libEGL: missing EGL 1.4 entry points");
+            return aerial::detail::unsupported(kCreate, "libEGL", "missing EGL 1.4 entry points");
         }
         const char* client = egl.QueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
         if (!client || !std::strstr(client, "EGL_MESA_platform_surfaceless")) {
-            return not_supported("EGL_MESA_platform_surfaceless",
-                                 "EGL_MESA_platform_surfaceless: not offered by libEGL (install "
-                                 "Debian's libegl-mesa0)");
+            return aerial::detail::unsupported(kCreate, "EGL_MESA_platform_surfaceless",
+                                               "not offered by libEGL (install "
+                                               "Debian's libegl-mesa0)");
         }
         egl.GetPlatformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
             egl.GetProcAddress("eglGetPlatformDisplayEXT"));
         if (!egl.GetPlatformDisplay) {
-            return not_supported("eglGetPlatformDisplayEXT", "eglGetPlatformDisplayEXT: not found");
+            return aerial::detail::unsupported(kCreate, "eglGetPlatformDisplayEXT", "not found");
         }
         egl_display =
             egl.GetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
         EGLint major = 0, minor = 0;
         if (egl_display == EGL_NO_DISPLAY || !egl.Initialize(egl_display, &major, &minor)) {
             egl_display = EGL_NO_DISPLAY;
-            return not_supported("eglInitialize",
-                                 "eglInitialize: the surfaceless display failed (" +
-                                     egl_error_text(egl.GetError()) + ")");
+            return aerial::detail::unsupported(
+                kCreate, "eglInitialize",
+                "the surfaceless display failed (" + egl_error_text(egl.GetError()) + ")");
         }
         keep_mesa_drivers_loaded();
         const char* display_extensions = egl.QueryString(egl_display, EGL_EXTENSIONS);
         if (!display_extensions ||
             !std::strstr(display_extensions, "EGL_KHR_surfaceless_context")) {
-            return not_supported("EGL_KHR_surfaceless_context",
-                                 "EGL_KHR_surfaceless_context: not offered by the display");
+            return aerial::detail::unsupported(kCreate, "EGL_KHR_surfaceless_context",
+                                               "not offered by the display");
         }
         if (!egl.BindAPI(EGL_OPENGL_API)) {
-            return not_supported("eglBindAPI", "eglBindAPI: desktop OpenGL is not available");
+            return aerial::detail::unsupported(kCreate, "eglBindAPI",
+                                               "desktop OpenGL is not available");
         }
         const EGLint config_attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE,
                                             0, EGL_NONE};
         EGLConfig config = nullptr;
         EGLint count = 0;
         if (!egl.ChooseConfig(egl_display, config_attributes, &config, 1, &count) || count < 1) {
-            return not_supported("eglChooseConfig", "eglChooseConfig: no desktop OpenGL config");
+            return aerial::detail::unsupported(kCreate, "eglChooseConfig",
+                                               "no desktop OpenGL config");
         }
         // No attributes: a compatibility-profile context, which keeps the fixed pipeline.
         egl_context = egl.CreateContext(egl_display, config, EGL_NO_CONTEXT, nullptr);
         if (egl_context == EGL_NO_CONTEXT) {
-            return not_supported("eglCreateContext", "eglCreateContext: failed (" +
-                                                         egl_error_text(egl.GetError()) + ")");
+            return aerial::detail::unsupported(kCreate, "eglCreateContext",
+                                               "failed (" + egl_error_text(egl.GetError()) + ")");
         }
-        if (auto e = make_current()) return e;
+        if (auto e = make_current()) return aerial::detail::from(kCreate, *e);
         auto loaded = gl::load_api(egl_loader, &egl);
         if (!loaded) return loaded.error();
         api = std::move(loaded.value());
         if (!api.caps.framebuffer_object) {
-            return not_supported("framebuffer",
-                                 "framebuffer: the EGL context has no framebuffer objects");
+            return aerial::detail::unsupported(kCreate, "framebuffer",
+                                               "the EGL context has no framebuffer objects");
         }
         api.GenRenderbuffers(2, renderbuffers);
         api.BindRenderbuffer(GL_RENDERBUFFER, renderbuffers[0]);
@@ -300,9 +305,9 @@ struct Context::Impl {
         const GLenum status = api.CheckFramebufferStatus(GL_FRAMEBUFFER);
         if (status != GL_FRAMEBUFFER_COMPLETE) {
             char text[96];
-            std::snprintf(text, sizeof text, "framebuffer: incomplete (status 0x%04X)",
+            std::snprintf(text, sizeof text, "incomplete (status 0x%04X)",
                           static_cast<unsigned>(status));
-            return not_supported("framebuffer", text);
+            return aerial::detail::unsupported(kCreate, "framebuffer", text);
         }
         api.Viewport(0, 0, width, height);
         return std::nullopt;
@@ -325,12 +330,12 @@ Context::~Context() = default;
 
 Result<Context> Context::create(const ContextOptions& options) {
     if (options.width < 1 || options.width > kMaxSize) {
-        return Error{"width",
-                     "width: expected 1 .. 8192 pixels, got " + std::to_string(options.width)};
+        return aerial::detail::invalid(kCreate, "width", "1 .. 8192 pixels",
+                                       aerial::detail::number(options.width));
     }
     if (options.height < 1 || options.height > kMaxSize) {
-        return Error{"height",
-                     "height: expected 1 .. 8192 pixels, got " + std::to_string(options.height)};
+        return aerial::detail::invalid(kCreate, "height", "1 .. 8192 pixels",
+                                       aerial::detail::number(options.height));
     }
     auto impl = std::make_unique<Impl>();
     impl->platform = options.platform;
@@ -342,7 +347,12 @@ Result<Context> Context::create(const ContextOptions& options) {
     return Context(std::move(impl));
 }
 
-std::optional<Error> Context::make_current() { return impl_->make_current(); }
+std::optional<Error> Context::make_current() {
+    if (auto e = impl_->make_current()) {
+        return aerial::detail::from("headless::Context::make_current", *e);
+    }
+    return std::nullopt;
+}
 const gl::Api& Context::api() const { return impl_->api; }
 gl::LoadFunction Context::loader() const {
     return impl_->platform == Platform::osmesa ? osmesa_loader : egl_loader;

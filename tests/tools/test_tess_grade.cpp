@@ -49,8 +49,8 @@ TEST(GlGrade, CoarseDomeShowsLargeErrorsAndAFineOneIsWithinAStep) {
     ASSERT_TRUE(fine.ok()) << fine.error().message;
     // The upper hemisphere covers half of the cube's pixels.
     const double half = 3.0 * 48 * 48;
-    EXPECT_NEAR(double(coarse->pixels), half, 0.05 * half);
-    EXPECT_EQ(coarse->pixels, fine->pixels);
+    EXPECT_NEAR(double(coarse->count), half, 0.05 * half);
+    EXPECT_EQ(coarse->count, fine->count);
     EXPECT_GE(coarse->max_lsb, 8) << "a 13-vertex dome should show the interpolation error";
     EXPECT_GT(coarse->rmse_lsb, 2.0 * fine->rmse_lsb);
     EXPECT_LE(fine->max_lsb, 1) << "rmse " << fine->rmse_lsb;
@@ -69,7 +69,7 @@ TEST(GlGrade, ReportListsExactlyThePixelsOffByTheGivenStepsWithTheirSurfacePoint
     ASSERT_TRUE(graded.ok()) << graded.error().message;
     // over2 counts the pixels off by more than 2 steps: those the report lists.
     ASSERT_GT(graded->over2, 0.0) << "a 13-vertex dome should have pixels off by 3 steps";
-    EXPECT_EQ(double(report.size()), std::round(graded->over2 * double(graded->pixels)));
+    EXPECT_EQ(double(report.size()), std::round(graded->over2 * double(graded->count)));
     for (const auto& pixel : report) {
         int lsb = 0;
         for (int c = 0; c < 3; ++c)

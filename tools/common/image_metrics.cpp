@@ -59,7 +59,7 @@ void LsbHistogram::merge(const LsbHistogram& other) {
 
 LsbDifferences LsbHistogram::differences() const {
     LsbDifferences d;
-    d.pixels = pixels_;
+    d.count = pixels_;
     std::size_t below = 0, over1 = 0, over2 = 0;
     bool p99_found = false;
     for (int v = 0; v < 256; ++v) {

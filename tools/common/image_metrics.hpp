@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 
+#include "aerial/validation/lsb_figures.hpp"
 #include "support/png.hpp"
 
 namespace aerial::tools {
@@ -21,15 +22,8 @@ namespace aerial::tools {
 /// A pixel's difference is the largest of |A - B| over R, G and B. max_lsb and p99_lsb are the
 /// largest and the 99th percentile (nearest rank) of those; rmse_lsb is the root mean square over
 /// every channel of every pixel; over1 and over2 are the fractions of pixels off by more than 1
-/// and 2 steps.
-struct LsbDifferences {
-    int max_lsb = 0;
-    int p99_lsb = 0;
-    double rmse_lsb = 0.0;
-    double over1 = 0.0;
-    double over2 = 0.0;
-    std::size_t pixels = 0;
-};
+/// and 2 steps; `count` is the pixels. (The figures of aerial::validation::dense_error too.)
+using LsbDifferences = validation::LsbFigures<int>;
 
 /// The largest channel difference of two RGB pixels (3 bytes each), in 8-bit steps.
 int pixel_lsb(const std::uint8_t* a, const std::uint8_t* b);

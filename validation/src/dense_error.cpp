@@ -66,11 +66,11 @@ Result<DenseError> dense_error(const aerial::mesh::Mesh& mesh, const Frame<float
             over1 += e > 1.0 ? 1 : 0;
             over2 += e > 2.0 ? 1 : 0;
             histogram[std::size_t(std::min(e * kBinsPerStep, double(histogram.size() - 1)))]++;
-            ++out.samples;
+            ++out.count;
         });
     }
-    if (out.samples > 0) {
-        const double n = double(out.samples);
+    if (out.count > 0) {
+        const double n = double(out.count);
         out.rmse_lsb = std::sqrt(sum_sq / n);
         out.over1 = double(over1) / n;
         out.over2 = double(over2) / n;

@@ -102,6 +102,11 @@ TEST(BadMeshData, NonFinitePositionsAreAnErrorNamingTheVertexAndTheBaseIsUntouch
         const auto error = aerial::mesh::validate_mesh(mesh, "terrain");
         ASSERT_TRUE(error.has_value());
         EXPECT_EQ(error->field, "terrain");
+        EXPECT_EQ(error->message.rfind("aerial::mesh::validate_mesh(): terrain: expected finite "
+                                       "positions, got (0, ",
+                                       0),
+                  0u)
+            << error->message;
         EXPECT_NE(error->message.find("vertex 5"), std::string::npos) << error->message;
         auto made = AdaptiveMesh::create(mesh, aerial::mesh::Surface{}, AdaptiveSettings{});
         ASSERT_FALSE(made);

@@ -174,6 +174,8 @@ TEST(MeshShapes, DomesAreOnTheSphereFacingOutwardAndOpenOnlyAtTheHorizon) {
 
 TEST(MeshShapes, BadSizesAndBadSurfacesAreNamed) {
     EXPECT_EQ(aerial::mesh::geodesic_dome(0).error().field, "frequency");
+    EXPECT_EQ(aerial::mesh::geodesic_dome(0).error().message,
+              "aerial::mesh::geodesic_dome(): frequency: expected 1 .. 2048, got 0");
     EXPECT_EQ(aerial::mesh::latlong_dome(4, 2).error().field, "segments");
     aerial::mesh::DomeOptions dome;
     dome.radius_m = -1;
@@ -183,7 +185,11 @@ TEST(MeshShapes, BadSizesAndBadSurfacesAreNamed) {
     const auto grid = aerial::mesh::terrain_grid(field, 4, 4);
     ASSERT_FALSE(grid.ok());
     EXPECT_EQ(grid.error().field, "height_m");
-    EXPECT_NE(grid.error().message.find("not finite"), std::string::npos) << grid.error().message;
+    EXPECT_EQ(grid.error().message.rfind("aerial::mesh::terrain_grid(): height_m: expected finite "
+                                         "heights, got nan at (",
+                                         0),
+              0u)
+        << grid.error().message;
 }
 
 TEST(ColourError, IsZeroWhereTheColourIsLinearAndGrowsWithTheTriangle) {
@@ -404,15 +410,24 @@ TEST(AdaptiveMesh, BadInputIsAnErrorNamingIt) {
     auto made = AdaptiveMesh::create(nan_mesh, aerial::mesh::Surface{}, AdaptiveSettings{});
     ASSERT_FALSE(made.ok());
     EXPECT_EQ(made.error().field, "base");
-    EXPECT_EQ(made.error().message, "base: vertex 3 has a non-finite position");
+    // The one message style, pinned whole: the function the caller called (create, not the
+    // validate_mesh it calls), the field, expected and got.
+    EXPECT_EQ(made.error().message,
+              "aerial::mesh::AdaptiveMesh::create(): base: expected finite positions, got (nan, 0, "
+              "0) at vertex 3");
     made = AdaptiveMesh::create(Mesh{}, aerial::mesh::Surface{}, AdaptiveSettings{});
     ASSERT_FALSE(made.ok());
-    EXPECT_EQ(made.error().message, "base: has no faces");
+    EXPECT_EQ(made.error().message, "aerial::mesh::AdaptiveMesh::create(): base: has no faces");
     AdaptiveSettings bad;
     bad.merge_ratio = 0.5f;
     made = AdaptiveMesh::create(base.value(), aerial::mesh::Surface{}, bad);
     ASSERT_FALSE(made.ok());
     EXPECT_EQ(made.error().field, "merge_ratio");
+    EXPECT_EQ(made.error().message,
+              "aerial::mesh::AdaptiveMesh::create(): merge_ratio: expected a finite value >= 1, "
+              "got 0.5");
+    EXPECT_EQ(aerial::mesh::validate(bad)->message,
+              "aerial::mesh::validate(): merge_ratio: expected a finite value >= 1, got 0.5");
     bad = AdaptiveSettings{};
     bad.colour.display.exposure = 0.0f;
     EXPECT_EQ(AdaptiveMesh::create(base.value(), aerial::mesh::Surface{}, bad).error().field,
@@ -448,7 +463,7 @@ TEST(Decimate, RemovesVerticesKeepsTheBorderAndStaysUnderTheBound) {
                        [&](const glm::dvec3& c) { return c - scene.dome.centre; });
     Mesh empty;
     EXPECT_EQ(aerial::mesh::decimate(empty, scene.frame, options).error().message,
-              "mesh: has no faces");
+              "aerial::mesh::decimate(): mesh: has no faces");
 }
 
 }  // namespace

@@ -11,62 +11,79 @@
 
 #include <glm/geometric.hpp>
 
+#include "../common/error_text.hpp"
 #include "adaptive_internal.hpp"
 #include "aerial/mesh.hpp"
 #include "mesh_internal.hpp"
 
 namespace aerial::mesh {
 
+namespace {
+
+using aerial::detail::invalid;
+using aerial::detail::number;
+
+}  // namespace
+
 std::optional<Error> validate(const AdaptiveSettings& settings) {
-    if (auto e = validate(settings.colour)) return e;
+    constexpr const char* kFunction = "mesh::validate";
+    if (auto e = validate(settings.colour)) return aerial::detail::from(kFunction, *e);
     if (!(settings.split_lsb > 0.0f) || !std::isfinite(settings.split_lsb))
-        return Error{"split_lsb", "split_lsb: expected a finite value > 0, got " +
-                                      std::to_string(settings.split_lsb)};
-    if (settings.colour.quantized_vertices && !(settings.split_lsb > 0.5f))
-        return Error{"split_lsb",
-                     "split_lsb: expected > 0.5 with colour.quantized_vertices (8-bit "
-                     "vertex colours are off by up to half a step), got " +
-                         std::to_string(settings.split_lsb)};
+        return invalid(kFunction, "split_lsb", "a finite value > 0", number(settings.split_lsb));
+    if (settings.colour.quantized_vertices && !(settings.split_lsb > 0.5f)) {
+        return invalid(kFunction, "split_lsb",
+                       "> 0.5 with colour.quantized_vertices (8-bit vertex colours are off by up "
+                       "to half a step)",
+                       number(settings.split_lsb));
+    }
     if (!(settings.merge_ratio >= 1.0f) || !std::isfinite(settings.merge_ratio))
-        return Error{"merge_ratio", "merge_ratio: expected a finite value >= 1, got " +
-                                        std::to_string(settings.merge_ratio)};
+        return invalid(kFunction, "merge_ratio", "a finite value >= 1",
+                       number(settings.merge_ratio));
     if (settings.max_vertices < 3)
-        return Error{"max_vertices",
-                     "max_vertices: expected >= 3, got " + std::to_string(settings.max_vertices)};
-    if (!(settings.time_slice_ms >= 0.0) || !std::isfinite(settings.time_slice_ms))
-        return Error{"time_slice_ms", "time_slice_ms: expected a finite value >= 0, got " +
-                                          std::to_string(settings.time_slice_ms)};
-    if (!(settings.eye_move_fraction >= 0.0) || !(settings.sun_turn_rad >= 0.0))
-        return Error{"eye_move_fraction", "eye_move_fraction, sun_turn_rad: expected >= 0"};
+        return invalid(kFunction, "max_vertices", ">= 3", number(settings.max_vertices));
+    if (!(settings.time_slice_ms >= 0.0) || !std::isfinite(settings.time_slice_ms)) {
+        return invalid(kFunction, "time_slice_ms", "a finite value >= 0",
+                       number(settings.time_slice_ms));
+    }
+    if (!(settings.eye_move_fraction >= 0.0)) {
+        return invalid(kFunction, "eye_move_fraction", "a value >= 0",
+                       number(settings.eye_move_fraction));
+    }
+    if (!(settings.sun_turn_rad >= 0.0))
+        return invalid(kFunction, "sun_turn_rad", "a value >= 0", number(settings.sun_turn_rad));
     if (settings.morph_updates < 0 || settings.morph_updates > 1000)
-        return Error{"morph_updates", "morph_updates: expected 0 .. 1000, got " +
-                                          std::to_string(settings.morph_updates)};
-    if (!(settings.compact_garbage_ratio >= 0.0f) || !std::isfinite(settings.compact_garbage_ratio))
-        return Error{"compact_garbage_ratio",
-                     "compact_garbage_ratio: expected a finite value >= 0, got " +
-                         std::to_string(settings.compact_garbage_ratio)};
+        return invalid(kFunction, "morph_updates", "0 .. 1000", number(settings.morph_updates));
+    if (!(settings.compact_garbage_ratio >= 0.0f) ||
+        !std::isfinite(settings.compact_garbage_ratio)) {
+        return invalid(kFunction, "compact_garbage_ratio", "a finite value >= 0",
+                       number(settings.compact_garbage_ratio));
+    }
     if (!(settings.colour_edge_min_angle_deg >= 0.0f &&
-          settings.colour_edge_min_angle_deg <= 60.0f))
-        return Error{"colour_edge_min_angle_deg",
-                     "colour_edge_min_angle_deg: expected 0 .. 60, got " +
-                         std::to_string(settings.colour_edge_min_angle_deg)};
-    if (!(settings.relocate_min_angle_deg >= 0.0f && settings.relocate_min_angle_deg <= 60.0f))
-        return Error{"relocate_min_angle_deg", "relocate_min_angle_deg: expected 0 .. 60, got " +
-                                                   std::to_string(settings.relocate_min_angle_deg)};
+          settings.colour_edge_min_angle_deg <= 60.0f)) {
+        return invalid(kFunction, "colour_edge_min_angle_deg", "a value in [0, 60]",
+                       number(settings.colour_edge_min_angle_deg));
+    }
+    if (!(settings.relocate_min_angle_deg >= 0.0f && settings.relocate_min_angle_deg <= 60.0f)) {
+        return invalid(kFunction, "relocate_min_angle_deg", "a value in [0, 60]",
+                       number(settings.relocate_min_angle_deg));
+    }
     return std::nullopt;
 }
 
 Result<AdaptiveMesh> AdaptiveMesh::create(Mesh base, Surface surface, AdaptiveSettings settings) {
-    if (auto e = validate(settings)) return *e;
-    if (auto e = validate_mesh(base, "base")) return *e;
+    constexpr const char* kFunction = "mesh::AdaptiveMesh::create";
+    if (auto e = validate(settings)) return aerial::detail::from(kFunction, *e);
+    if (auto e = validate_mesh(base, "base")) return aerial::detail::from(kFunction, *e);
     if (surface.kind == Surface::Kind::sphere &&
-        (!(surface.radius_m > 0.0) || !std::isfinite(surface.radius_m) || !finite(surface.centre)))
-        return Error{"surface",
-                     "surface: sphere needs a finite centre and a radius > 0, got "
-                     "radius " +
-                         std::to_string(surface.radius_m)};
-    if (surface.kind == Surface::Kind::heightfield && !surface.height_m)
-        return Error{"surface", "surface: heightfield without a height function"};
+        (!(surface.radius_m > 0.0) || !std::isfinite(surface.radius_m) ||
+         !finite(surface.centre))) {
+        return invalid(kFunction, "surface", "a sphere of finite centre and radius > 0",
+                       "centre " + aerial::detail::vector(surface.centre) + ", radius " +
+                           number(surface.radius_m));
+    }
+    if (surface.kind == Surface::Kind::heightfield && !surface.height_m) {
+        return invalid(kFunction, "surface", "a heightfield with a height function", "one without");
+    }
     AdaptiveMesh m;
     m.mesh_ = std::move(base);
     m.mesh_.garbage_collection();

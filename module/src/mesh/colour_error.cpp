@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "../common/error_text.hpp"
 #include "aerial/mesh.hpp"
 #include "mesh_internal.hpp"
 
@@ -41,16 +42,23 @@ double angular_size(const Frame<float>& frame, const glm::dvec3 (&p)[3]) {
 }
 
 std::optional<Error> validate(const ColourOptions& options) {
-    if (!(options.display.exposure > 0.0f) || !std::isfinite(options.display.exposure))
-        return Error{"exposure", "exposure: expected a finite value > 0, got " +
-                                     std::to_string(options.display.exposure)};
-    for (int c = 0; c < 3; ++c)
-        if (!(options.texel[c] >= 0.0f && options.texel[c] <= 1.0f))
-            return Error{"texel", "texel[" + std::to_string(c) + "]: expected 0 .. 1, got " +
-                                      std::to_string(options.texel[c])};
-    if (options.max_samples_per_edge < 2 || options.max_samples_per_edge > 32)
-        return Error{"max_samples_per_edge", "max_samples_per_edge: expected 2 .. 32, got " +
-                                                 std::to_string(options.max_samples_per_edge)};
+    using aerial::detail::invalid;
+    using aerial::detail::number;
+    constexpr const char* kFunction = "mesh::validate";
+    if (!(options.display.exposure > 0.0f) || !std::isfinite(options.display.exposure)) {
+        return invalid(kFunction, "exposure", "a finite value > 0",
+                       number(options.display.exposure));
+    }
+    for (int c = 0; c < 3; ++c) {
+        if (!(options.texel[c] >= 0.0f && options.texel[c] <= 1.0f)) {
+            return invalid(kFunction, "texel", "values in [0, 1]",
+                           aerial::detail::vector(options.texel));
+        }
+    }
+    if (options.max_samples_per_edge < 2 || options.max_samples_per_edge > 32) {
+        return invalid(kFunction, "max_samples_per_edge", "2 .. 32",
+                       number(options.max_samples_per_edge));
+    }
     return std::nullopt;
 }
 

@@ -9,6 +9,7 @@
 #include <OpenMesh/Tools/Decimater/ModBaseT.hh>
 #include <glm/geometric.hpp>
 
+#include "../common/error_text.hpp"
 #include "aerial/mesh.hpp"
 #include "mesh_internal.hpp"
 
@@ -75,13 +76,13 @@ class ModColourErrorT : public OpenMesh::Decimater::ModBaseT<MeshT> {
 }  // namespace
 
 Result<Mesh> decimate(const Mesh& mesh, const Frame<float>& frame, const DecimateOptions& options) {
-    if (auto e = validate(options.colour)) return *e;
-    if (auto e = validate_mesh(mesh)) return *e;
-    if (!(options.max_lsb > 0.0f) || !std::isfinite(options.max_lsb))
-        return Error{"max_lsb",
-                     "max_lsb: aerial::mesh::decimate(): expected a finite value > "
-                     "0, got " +
-                         std::to_string(options.max_lsb)};
+    constexpr const char* kFunction = "mesh::decimate";
+    if (auto e = validate(options.colour)) return aerial::detail::from(kFunction, *e);
+    if (auto e = validate_mesh(mesh)) return aerial::detail::from(kFunction, *e);
+    if (!(options.max_lsb > 0.0f) || !std::isfinite(options.max_lsb)) {
+        return aerial::detail::invalid(kFunction, "max_lsb", "a finite value > 0",
+                                       aerial::detail::number(options.max_lsb));
+    }
     Mesh out = mesh;
     out.garbage_collection();
     OpenMesh::Decimater::DecimaterT<Mesh> decimater(out);
@@ -89,7 +90,7 @@ Result<Mesh> decimate(const Mesh& mesh, const Frame<float>& frame, const Decimat
     decimater.add(handle);
     decimater.module(handle).set_parameters(&frame, &options);
     if (!decimater.initialize())
-        return Error{"mesh", "mesh: aerial::mesh::decimate(): the decimater did not initialise"};
+        return aerial::detail::error(kFunction, "mesh", "the decimater did not initialise");
     if (options.min_vertices > 0)
         decimater.decimate_to(options.min_vertices);
     else

@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "../common/error_text.hpp"
 #include "aerial/mesh.hpp"
 #include "mesh_internal.hpp"
 
@@ -16,15 +17,19 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+using aerial::detail::invalid;
+using aerial::detail::number;
+using aerial::detail::vector;
+
 std::optional<Error> validate_dome(const DomeOptions& dome, const char* function) {
-    const std::string f = function;
-    if (!finite(dome.centre)) return Error{"centre", "centre: " + f + ": not finite"};
-    if (!finite(dome.up) || std::abs(glm::length(dome.up) - 1.0) > 1e-3)
-        return Error{"up", "up: " + f + ": expected a unit vector, got length " +
-                               std::to_string(glm::length(dome.up))};
+    if (!finite(dome.centre))
+        return invalid(function, "centre", "finite coordinates", vector(dome.centre));
+    if (!finite(dome.up) || std::abs(glm::length(dome.up) - 1.0) > 1e-3) {
+        return invalid(function, "up", "a unit vector",
+                       vector(dome.up) + " (length " + number(glm::length(dome.up)) + ")");
+    }
     if (!(dome.radius_m > 0.0) || !std::isfinite(dome.radius_m))
-        return Error{"radius_m",
-                     "radius_m: " + f + ": expected > 0, got " + std::to_string(dome.radius_m)};
+        return invalid(function, "radius_m", "a finite value > 0", number(dome.radius_m));
     return std::nullopt;
 }
 
@@ -36,16 +41,15 @@ void horizon_frame(const glm::dvec3& up, glm::dvec3& east, glm::dvec3& north) {
 }
 
 Error range_error(const char* field, const char* function, int value, int lo, int hi) {
-    return Error{field, std::string(field) + ": " + function + ": expected " + std::to_string(lo) +
-                            " .. " + std::to_string(hi) + ", got " + std::to_string(value)};
+    return invalid(function, field, number(lo) + " .. " + number(hi), number(value));
 }
 
 }  // namespace
 
 Result<Mesh> geodesic_dome(int frequency, const DomeOptions& dome) {
-    if (auto e = validate_dome(dome, "aerial::mesh::geodesic_dome()")) return *e;
+    if (auto e = validate_dome(dome, "mesh::geodesic_dome")) return *e;
     if (frequency < 1 || frequency > 2048)
-        return range_error("frequency", "aerial::mesh::geodesic_dome()", frequency, 1, 2048);
+        return range_error("frequency", "mesh::geodesic_dome", frequency, 1, 2048);
     glm::dvec3 east, north;
     horizon_frame(dome.up, east, north);
     const glm::dvec3 corner[4] = {east, north, -east, -north};
@@ -84,11 +88,11 @@ Result<Mesh> geodesic_dome(int frequency, const DomeOptions& dome) {
 }
 
 Result<Mesh> latlong_dome(int rings, int segments, const DomeOptions& dome) {
-    if (auto e = validate_dome(dome, "aerial::mesh::latlong_dome()")) return *e;
+    if (auto e = validate_dome(dome, "mesh::latlong_dome")) return *e;
     if (rings < 1 || rings > 4096)
-        return range_error("rings", "aerial::mesh::latlong_dome()", rings, 1, 4096);
+        return range_error("rings", "mesh::latlong_dome", rings, 1, 4096);
     if (segments < 3 || segments > 16384)
-        return range_error("segments", "aerial::mesh::latlong_dome()", segments, 3, 16384);
+        return range_error("segments", "mesh::latlong_dome", segments, 3, 16384);
     glm::dvec3 east, north;
     horizon_frame(dome.up, east, north);
     Mesh mesh;
@@ -150,12 +154,13 @@ namespace {
 /// The grid of terrain_grid with the point of grid coordinates (s, t) in [0, 1]^2 at place(s, t).
 Result<Mesh> grid_mesh(const Heightfield& field, int cells_x, int cells_y, const char* f,
                        const std::function<glm::dvec2(double, double)>& place) {
-    if (!field.height_m)
-        return Error{"height_m", std::string("height_m: ") + f + ": empty function"};
+    if (!field.height_m) return invalid(f, "height_m", "a height function", "an empty one");
     if (!(field.size_x_m > 0.0) || !(field.size_y_m > 0.0) || !std::isfinite(field.size_x_m) ||
-        !std::isfinite(field.size_y_m) || !std::isfinite(field.x0) || !std::isfinite(field.y0))
-        return Error{"size_m",
-                     std::string("size_m: ") + f + ": expected a finite origin and sizes > 0"};
+        !std::isfinite(field.size_y_m) || !std::isfinite(field.x0) || !std::isfinite(field.y0)) {
+        return invalid(f, "size_m", "a finite origin and sizes > 0",
+                       "origin " + vector(glm::dvec2(field.x0, field.y0)) + ", sizes " +
+                           vector(glm::dvec2(field.size_x_m, field.size_y_m)));
+    }
     if (cells_x < 1 || cells_x > 4096) return range_error("cells_x", f, cells_x, 1, 4096);
     if (cells_y < 1 || cells_y > 4096) return range_error("cells_y", f, cells_y, 1, 4096);
     Mesh mesh;
@@ -164,10 +169,9 @@ Result<Mesh> grid_mesh(const Heightfield& field, int cells_x, int cells_y, const
         for (int i = 0; i <= cells_x; ++i) {
             const glm::dvec2 xy = place(double(i) / cells_x, double(j) / cells_y);
             const double z = field.height_m(xy.x, xy.y);
-            if (!std::isfinite(z))
-                return Error{"height_m", std::string("height_m: ") + f + ": not finite at (" +
-                                             std::to_string(xy.x) + ", " + std::to_string(xy.y) +
-                                             ")"};
+            if (!std::isfinite(z)) {
+                return invalid(f, "height_m", "finite heights", number(z) + " at " + vector(xy));
+            }
             v.push_back(mesh.add_vertex(Mesh::Point(xy.x, xy.y, z)));
         }
     }
@@ -184,20 +188,18 @@ Result<Mesh> grid_mesh(const Heightfield& field, int cells_x, int cells_y, const
 }  // namespace
 
 Result<Mesh> terrain_grid(const Heightfield& field, int cells_x, int cells_y) {
-    return grid_mesh(
-        field, cells_x, cells_y, "aerial::mesh::terrain_grid()", [&](double s, double t) {
-            return glm::dvec2(field.x0 + field.size_x_m * s, field.y0 + field.size_y_m * t);
-        });
+    return grid_mesh(field, cells_x, cells_y, "mesh::terrain_grid", [&](double s, double t) {
+        return glm::dvec2(field.x0 + field.size_x_m * s, field.y0 + field.size_y_m * t);
+    });
 }
 
 Result<Mesh> terrain_distance_lod(const Heightfield& field, int cells, const glm::dvec2& eye_xy,
                                   double exponent) {
-    const char* f = "aerial::mesh::terrain_distance_lod()";
+    const char* f = "mesh::terrain_distance_lod";
     if (!(exponent >= 1.0 && exponent <= 8.0))
-        return Error{"exponent", std::string("exponent: ") + f + ": expected 1 .. 8, got " +
-                                     std::to_string(exponent)};
+        return invalid(f, "exponent", "a value in [1, 8]", number(exponent));
     if (!std::isfinite(eye_xy.x) || !std::isfinite(eye_xy.y))
-        return Error{"eye_xy", std::string("eye_xy: ") + f + ": not finite"};
+        return invalid(f, "eye_xy", "finite coordinates", vector(eye_xy));
     // The eye in grid coordinates, and each side's signed coordinate in [-1, 1].
     const glm::dvec2 e{std::clamp((eye_xy.x - field.x0) / field.size_x_m, 0.0, 1.0),
                        std::clamp((eye_xy.y - field.y0) / field.size_y_m, 0.0, 1.0)};
@@ -258,18 +260,21 @@ std::size_t live_faces(const Mesh& mesh) {
 }
 
 std::optional<Error> validate_mesh(const Mesh& mesh, const char* what) {
-    const std::string w = what;
-    if (live_faces(mesh) == 0) return Error{w, w + ": has no faces"};
+    constexpr const char* kFunction = "mesh::validate_mesh";
+    if (live_faces(mesh) == 0) return aerial::detail::error(kFunction, what, "has no faces");
     for (auto v : mesh.vertices()) {
         if (mesh.status(v).deleted()) continue;
-        if (!finite(to_glm(mesh.point(v))))
-            return Error{w,
-                         w + ": vertex " + std::to_string(v.idx()) + " has a non-finite position"};
+        if (!finite(to_glm(mesh.point(v)))) {
+            return invalid(kFunction, what, "finite positions",
+                           vector(to_glm(mesh.point(v))) + " at vertex " + number(v.idx()));
+        }
     }
     for (auto f : mesh.faces()) {
         if (mesh.status(f).deleted()) continue;
-        if (mesh.valence(f) != 3)
-            return Error{w, w + ": face " + std::to_string(f.idx()) + " is not a triangle"};
+        if (mesh.valence(f) != 3) {
+            return invalid(kFunction, what, "triangles",
+                           "face " + number(f.idx()) + " of " + number(mesh.valence(f)) + " sides");
+        }
     }
     return std::nullopt;
 }

@@ -9,6 +9,10 @@
 #include <string>
 #include <vector>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include "aerial/mesh.hpp"
 
 namespace sample {
@@ -47,6 +51,16 @@ aerial::Result<std::vector<std::uint8_t>> fresh_render(const aerial::headless::C
     return context.read_rgba8();
 }
 
+/// memory_use() after handing the allocator's free pages back to the system (glibc's
+/// malloc_trim): VmRSS then counts what the process holds, not the pages llvmpipe's binning of
+/// the last frame and the last fresh render left free in the heap.
+MemoryUse held_memory_use() {
+#if defined(__GLIBC__)
+    malloc_trim(0);
+#endif
+    return memory_use();
+}
+
 }  // namespace
 
 MemoryUse memory_use() {
@@ -57,20 +71,23 @@ MemoryUse memory_use() {
 }
 
 std::string SoakReport::summary() const {
-    char line[768];
+    char line[896];
     std::snprintf(
         line, sizeof line,
         "soak: %d frames rss_kib@%d=%zu hwm_kib@%d=%zu rss_kib@%d=%zu hwm_kib@%d=%zu "
+        "rss_floor_kib@%d..%d=%zu rss_floor_kib@%d..%d=%zu "
         "growth_kib=%lld margin_kib=%zu memory=%s comparisons=%d worst_lsb=%d "
         "(frame %d) tolerance_lsb=%d frames=%s tess_max_vertices=%zu tess_budget=%zu "
         "tess_budget_frames=%d tess_max_slots=%zu tess_compactions=%d tessellation=%s "
         "mean_ms=%.2f",
         frames, baseline_frame, rss_baseline_kib, baseline_frame, hwm_baseline_kib, frames,
-        rss_end_kib, frames, hwm_end_kib, (long long)rss_end_kib - (long long)rss_baseline_kib,
-        rss_margin_kib, memory_flat() ? "flat" : "GROWING", comparisons, worst_lsb, worst_frame,
-        tolerance_lsb, frames_match() ? "match" : "DIFFER", tessellation_max_vertices,
-        tessellation_budget, tessellation_budget_frames, tessellation_max_slots,
-        tessellation_compactions, tessellation_within_budget() ? "within" : "OVER", mean_ms);
+        rss_end_kib, frames, hwm_end_kib, baseline_frame - floor_frames + 1, baseline_frame,
+        rss_floor_baseline_kib, frames - floor_frames + 1, frames, rss_floor_end_kib,
+        (long long)rss_floor_end_kib - (long long)rss_floor_baseline_kib, rss_margin_kib,
+        memory_flat() ? "flat" : "GROWING", comparisons, worst_lsb, worst_frame, tolerance_lsb,
+        frames_match() ? "match" : "DIFFER", tessellation_max_vertices, tessellation_budget,
+        tessellation_budget_frames, tessellation_max_slots, tessellation_compactions,
+        tessellation_within_budget() ? "within" : "OVER", mean_ms);
     return line;
 }
 
@@ -101,6 +118,12 @@ aerial::Result<SoakReport> run_soak(const World& world, GameConfig config,
     // first frame, with that frame's exposure).
     std::optional<aerial::mesh::AdaptiveMesh> dome;
     const int period = 2 * std::max(1, options.leg_frames);
+    // The floors: the lowest RSS over one round trip (the same views) ending at the baseline frame
+    // and ending at the last frame.
+    report.floor_frames = std::min(period, report.baseline_frame);
+    const auto lowest = [](std::size_t& floor, std::size_t rss) {
+        if (floor == 0 || rss < floor) floor = rss;
+    };
     double total_ms = 0.0;
     for (int i = 0; i < options.frames; ++i) {
         const int phase = i % period;
@@ -162,13 +185,21 @@ aerial::Result<SoakReport> run_soak(const World& world, GameConfig config,
                 if (lsb == report.worst_lsb) report.worst_frame = i;
             }
         }
-        if (i + 1 == report.baseline_frame) {
-            const MemoryUse m = memory_use();
-            report.rss_baseline_kib = m.rss_kib;
-            report.hwm_baseline_kib = m.hwm_kib;
+        const int done = i + 1;
+        const bool in_baseline_trip =
+            done > report.baseline_frame - report.floor_frames && done <= report.baseline_frame;
+        const bool in_last_trip = done > options.frames - report.floor_frames;
+        if (in_baseline_trip || in_last_trip) {
+            const MemoryUse m = held_memory_use();
+            if (in_baseline_trip) lowest(report.rss_floor_baseline_kib, m.rss_kib);
+            if (in_last_trip) lowest(report.rss_floor_end_kib, m.rss_kib);
+            if (done == report.baseline_frame) {
+                report.rss_baseline_kib = m.rss_kib;
+                report.hwm_baseline_kib = m.hwm_kib;
+            }
         }
     }
-    const MemoryUse m = memory_use();
+    const MemoryUse m = held_memory_use();
     report.rss_end_kib = m.rss_kib;
     report.hwm_end_kib = m.hwm_kib;
     report.mean_ms = total_ms / options.frames;

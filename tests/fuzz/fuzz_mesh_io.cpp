@@ -100,7 +100,10 @@ void through_scene_reader(const std::string& bytes, const char* format) {
     auto data = aerial::scene::load_mesh_file(file);
     std::remove(file.c_str());
     if (!data) {
-        check(data.error().message.rfind(file, 0) == 0, "a load_mesh_file error without the path");
+        check(data.error().field == file &&
+                  data.error().message.rfind("aerial::scene::load_mesh_file(): " + file + ": ",
+                                             0) == 0,
+              "a load_mesh_file error without the function and the path");
         return;
     }
     check(!aerial::scene::validate(*data), "load_mesh_file returned an invalid mesh");

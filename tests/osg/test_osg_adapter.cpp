@@ -221,7 +221,10 @@ TEST(OsgAdapter, ErrorsNameTheField) {
         auto cb = ScatteringCallback::create(s, nullptr);
         ASSERT_FALSE(cb.ok()) << "expected an error naming " << field;
         EXPECT_EQ(cb.error().field, field);
-        EXPECT_EQ(cb.error().message.rfind(field, 0), 0u) << cb.error().message;
+        EXPECT_EQ(cb.error().message.rfind(
+                      "aerial::osg_adapter::ScatteringCallback::create(): " + field + ": ", 0),
+                  0u)
+            << cb.error().message;
     };
     Settings s = test_settings(Backend::arb);
     s.model = aerial::Model::reference;
@@ -242,6 +245,9 @@ TEST(OsgAdapter, ErrorsNameTheField) {
     s.atmosphere.mie_g = 1.5;
     expect_field(s, "atmosphere.mie_g");
     EXPECT_EQ(aerial::osg_adapter::parse_backend("d3d").error().field, "backend");
+    EXPECT_EQ(aerial::osg_adapter::validate(s)->message,
+              "aerial::osg_adapter::validate(): atmosphere.mie_g: expected |g| < 1 (g > 0 scatters "
+              "forwards), got 1.5");
 
     // Update-time errors: vertices that are not Vec3Array, the arb program below a transform.
     auto cb = ScatteringCallback::create(test_settings(Backend::cpu), nullptr);

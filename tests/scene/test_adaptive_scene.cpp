@@ -167,8 +167,11 @@ TEST_F(AdaptiveSceneTest, AnAdaptiveNodeUnderATransformIsAnErrorNamingIt) {
     ASSERT_TRUE(renderer);
     auto result = renderer.value().render(*root, low_camera(), hazy_settings());
     ASSERT_FALSE(result);
-    EXPECT_NE(result.error().message.find("hills"), std::string::npos) << result.error().message;
-    EXPECT_NE(result.error().message.find("identity"), std::string::npos) << result.error().message;
+    EXPECT_EQ(result.error().field, "hills");
+    EXPECT_EQ(result.error().message,
+              "aerial::scene::SceneRenderer::render(): hills: expected the identity as the world "
+              "transform (an adaptive node is refined in world coordinates), got another "
+              "transform");
 }
 
 TEST(AdaptiveSceneGraph, ValidateNamesAnAdaptiveNodeOfTheWrongKindOrABadRepeat) {

@@ -383,6 +383,8 @@ TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMu
     auto rejected = install_cubemap_sky(renderer(), gl(), bad);
     ASSERT_FALSE(rejected);
     EXPECT_EQ(rejected.error().field, "cache.size") << rejected.error().message;
+    EXPECT_EQ(rejected.error().message,
+              "aerial::scene::install_cubemap_sky(): cache.size: expected >= 1 texels, got 0");
 }
 
 TEST_F(SceneRendererTest, BadInputIsAnErrorNamingTheField) {
@@ -391,11 +393,25 @@ TEST_F(SceneRendererTest, BadInputIsAnErrorNamingTheField) {
     auto r = renderer().render(*scene_.root, camera, test_settings());
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().field, "camera.fov_y_rad");
+    // The one message style, pinned whole: render() reports the checks it calls as its own.
+    EXPECT_EQ(r.error().message,
+              "aerial::scene::SceneRenderer::render(): camera.fov_y_rad: expected a value in (0, "
+              "pi), got 0");
     FrameSettings s = test_settings();
     s.sun_dir = {0, 0, 2};
     r = renderer().render(*scene_.root, test_camera(), s);
     ASSERT_FALSE(r);
     EXPECT_EQ(r.error().field, "sun_dir") << r.error().message;
+    EXPECT_EQ(r.error().message,
+              "aerial::scene::SceneRenderer::render(): sun_dir: expected a unit vector, got (0, 0, "
+              "2) (length 2)");
+    s = test_settings();
+    s.display.exposure = -1.0f;
+    r = renderer().render(*scene_.root, test_camera(), s);
+    ASSERT_FALSE(r);
+    EXPECT_EQ(r.error().message,
+              "aerial::scene::SceneRenderer::render(): display.exposure: expected a finite value > "
+              "0, got -1");
     auto broken = std::make_shared<MeshData>();
     broken->positions = {0, 0, 0};
     broken->indices = {0, 0, 1};

@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "common/error_text.hpp"
 #include "mesh/mesh_internal.hpp"
 
 namespace aerial::validation {
@@ -23,17 +24,17 @@ using mesh::visit_grid;
 Result<DenseError> dense_error(const aerial::mesh::Mesh& mesh, const Frame<float>& frame,
                                const aerial::mesh::ColourOptions& options, double spacing_rad,
                                int max_per_edge) {
-    if (auto e = validate(options)) return *e;
-    if (auto e = validate_mesh(mesh)) return *e;
-    if (!(spacing_rad > 0.0) || !std::isfinite(spacing_rad))
-        return Error{"spacing_rad",
-                     "spacing_rad: aerial::validation::dense_error(): expected > 0, got " +
-                         std::to_string(spacing_rad)};
-    if (max_per_edge < 2 || max_per_edge > 4096)
-        return Error{"max_per_edge",
-                     "max_per_edge: aerial::validation::dense_error(): expected 2 .. "
-                     "4096, got " +
-                         std::to_string(max_per_edge)};
+    constexpr const char* kFunction = "validation::dense_error";
+    if (auto e = validate(options)) return aerial::detail::from(kFunction, *e);
+    if (auto e = validate_mesh(mesh)) return aerial::detail::from(kFunction, *e);
+    if (!(spacing_rad > 0.0) || !std::isfinite(spacing_rad)) {
+        return aerial::detail::invalid(kFunction, "spacing_rad", "a finite value > 0",
+                                       aerial::detail::number(spacing_rad));
+    }
+    if (max_per_edge < 2 || max_per_edge > 4096) {
+        return aerial::detail::invalid(kFunction, "max_per_edge", "2 .. 4096",
+                                       aerial::detail::number(max_per_edge));
+    }
     std::vector<glm::vec3> colour(mesh.n_vertices());
     for (auto v : mesh.vertices())
         if (!mesh.status(v).deleted())

@@ -12,6 +12,7 @@
 #include "aerial/gl_api.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/scene_renderer.hpp"
+#include "common/error_text.hpp"
 #include "common/names.hpp"
 
 namespace aerial::validation {
@@ -39,8 +40,20 @@ scene::Backend scene_backend(RenderBackend backend) {
     return scene::Backend::none;
 }
 
-std::string where(RenderBackend backend) {
-    return std::string("--backend ") + render_backend_name(backend) + ": ";
+constexpr const char* kRender = "validation::render_scene_file";
+
+/// An error of a call render_scene_file made, as its own, naming the backend.
+Error render_error(RenderBackend backend, const Error& e) {
+    Error error = detail::from(kRender, e);
+    error.message += std::string(" (--backend ") + render_backend_name(backend) + ")";
+    return error;
+}
+
+/// An error of `function` about the result of a call it made: under `field`, the call's field
+/// and text ("--backend: model: expected ..."), then `context`.
+Error under(const char* function, std::string field, const Error& e, const std::string& context) {
+    return detail::error(function, std::move(field),
+                         e.field + ": " + std::string(detail::text_of(e)) + context);
 }
 
 /// "MODEL:INSTRUCTIONS" or "height:FIDELITY:INSTRUCTIONS" of the renderer's program for `model`.
@@ -84,19 +97,21 @@ Result<RenderBackend> parse_render_backend(std::string_view name, std::string_vi
 
 std::optional<Error> check_backend(const scene::SceneFile& file, const RenderOptions& options,
                                    bool path_given) {
+    constexpr const char* kFunction = "validation::check_backend";
     if (path_given && options.backend != RenderBackend::cpu) {
-        return Error{"--path", std::string("--path: only with --backend cpu, got --backend ") +
-                                   render_backend_name(options.backend)};
+        return detail::invalid(kFunction, "--path", "--backend cpu with it",
+                               std::string("--backend ") + render_backend_name(options.backend));
     }
     if (options.backend != RenderBackend::arb) return std::nullopt;
     ArbProgramOptions arb;
     arb.model = file.model;
     auto program = generate_arb_program(arb);
-    if (!program) return Error{"--backend", where(options.backend) + program.error().message};
+    const std::string arb_backend = " (--backend arb)";
+    if (!program) return under(kFunction, "--backend", program.error(), arb_backend);
     auto frame = prepare_frame<float>(file.atmosphere, file.view(), file.model);
-    if (!frame) return Error{"scene", "scene: " + frame.error().message};
+    if (!frame) return under(kFunction, "scene", frame.error(), "");
     auto parameters = arb_program_parameters(*frame, file.display, arb);
-    if (!parameters) return Error{"--backend", where(options.backend) + parameters.error().message};
+    if (!parameters) return under(kFunction, "--backend", parameters.error(), arb_backend);
     return std::nullopt;
 }
 
@@ -146,7 +161,7 @@ std::optional<Error> shade_per_pixel(const headless::Context& context, const Fra
     BatchSettings settings;
     settings.display = display;
     auto stats = shade_into(frame, Positions::aos(positions.data(), pixels.size()), out, settings);
-    if (!stats) return stats.error();
+    if (!stats) return detail::from("validation::shade_per_pixel", stats.error());
     for (std::size_t i = 0; i < pixels.size(); ++i) {
         std::uint8_t* px = &rgba[4 * pixels[i]];
         for (std::size_t c = 0; c < 3; ++c) {
@@ -191,9 +206,9 @@ Result<RenderedImage> render_scene_file(const headless::Context& context,
     renderer_options.backend = scene_backend(backend);
     renderer_options.path = backend == RenderBackend::arb ? gl::Path::automatic : options.path;
     auto renderer = scene::SceneRenderer::create(api, renderer_options);
-    if (!renderer) return Error{renderer.error().field, where(backend) + renderer.error().message};
+    if (!renderer) return render_error(backend, renderer.error());
     const auto frame = prepare_frame<float>(file.atmosphere, file.view(), file.model);
-    if (!frame) return Error{frame.error().field, "scene: " + frame.error().message};
+    if (!frame) return detail::from(kRender, frame.error());
     const auto root = scene::scene_graph(file);
     const scene::Camera camera = file.camera_for(w, h);
 
@@ -209,7 +224,7 @@ Result<RenderedImage> render_scene_file(const headless::Context& context,
         std::optional<FogState> fog;
         if (backend == RenderBackend::fog) fog.emplace(api, fog_parameters(*frame, file.display));
         auto report = renderer.value().render(*root, camera, file.frame_settings());
-        if (!report) return Error{report.error().field, where(backend) + report.error().message};
+        if (!report) return render_error(backend, report.error());
         image.path_used = report->path;
     }
     image.program = program_text(*renderer, file.model);
@@ -219,14 +234,15 @@ Result<RenderedImage> render_scene_file(const headless::Context& context,
         if (auto e =
                 shade_per_pixel(context, *frame, file.display, scene::projection_matrix(camera),
                                 scene::view_matrix(camera), image.rgba)) {
-            return Error{e->field, where(backend) + e->message};
+            return render_error(backend, *e);
         }
     }
     image.milliseconds =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const GLenum error = api.GetError();
     if (error != GL_NO_ERROR) {
-        return Error{"GL", where(backend) + "GL error " + gl::gl_error_name(error)};
+        return render_error(backend,
+                            detail::error(kRender, "GL", "GL error " + gl::gl_error_name(error)));
     }
     return image;
 }

@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "aerial/phase.hpp"
+#include "common/error_text.hpp"
 #include "core/sky_internal.hpp"
 
 namespace aerial::validation {
@@ -20,16 +21,17 @@ using glm::dvec3;
 
 Result<SkyProbe> make_sky_probe(const Atmosphere& atmosphere, const View& view, int elevation_steps,
                                 int azimuth_steps, ToneCurve curve) {
+    constexpr const char* kFunction = "validation::make_sky_probe";
     if (elevation_steps < 1) {
-        return Error{"elevation_steps",
-                     "elevation_steps must be >= 1, got " + std::to_string(elevation_steps)};
+        return aerial::detail::invalid(kFunction, "elevation_steps", ">= 1",
+                                       aerial::detail::number(elevation_steps));
     }
     if (azimuth_steps < 1) {
-        return Error{"azimuth_steps",
-                     "azimuth_steps must be >= 1, got " + std::to_string(azimuth_steps)};
+        return aerial::detail::invalid(kFunction, "azimuth_steps", ">= 1",
+                                       aerial::detail::number(azimuth_steps));
     }
     auto sky = prepare_sky(atmosphere, view, SkyMethod::reference);
-    if (!sky) return sky.error();
+    if (!sky) return aerial::detail::from(kFunction, sky.error());
     const dvec3 up = sky->view.up;
     const dvec3 helper = std::abs(up.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
     const dvec3 east = glm::normalize(helper - up * glm::dot(helper, up));
@@ -39,7 +41,7 @@ Result<SkyProbe> make_sky_probe(const Atmosphere& atmosphere, const View& view, 
     const double sun_elevation = elevation_of(*sky, sky->view.sun_dir);
     const dvec3 e_sun = sun_irradiance_at_altitude(atmosphere, sky->eye_altitude_m, sun_elevation);
     auto ambient = sky_ambient(atmosphere, sky->eye_altitude_m, sun_elevation);
-    if (!ambient) return ambient.error();
+    if (!ambient) return aerial::detail::from(kFunction, ambient.error());
     p.exposure = auto_exposure(e_sun, sun_elevation, *ambient, atmosphere.sun_irradiance);
     for (int r = 0; r <= elevation_steps; ++r) {
         // The top row stops short of the zenith (where every azimuth is the same direction).

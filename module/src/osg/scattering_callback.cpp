@@ -17,8 +17,10 @@
 #include <osg/VertexProgram>
 #include <osg/io_utils>
 
+#include "../common/error_text.hpp"
 #include "../common/names.hpp"
 #include "aerial/osg.hpp"
+#include "aerial/sun.hpp"
 
 #ifndef GL_COLOR_SUM
 #define GL_COLOR_SUM 0x8458  // GL 1.4 / EXT_secondary_color: adds the secondary colour
@@ -69,35 +71,43 @@ Result<Backend> parse_backend(std::string_view name) {
     return aerial::detail::parse_in("osg_adapter::parse_backend", kBackendNames, "backend", name);
 }
 
+namespace {
+
+using aerial::detail::from;
+using aerial::detail::invalid;
+using aerial::detail::number;
+constexpr const char* kUpdateNow = "osg_adapter::ScatteringCallback::update_now";
+
+}  // namespace
+
 std::optional<Error> validate(const Settings& s) {
-    if (auto e = validate(s.atmosphere)) {
-        return Error{"atmosphere." + e->field, "atmosphere." + e->message};
-    }
+    constexpr const char* kFunction = "osg_adapter::validate";
+    if (auto e = validate(s.atmosphere)) return from(kFunction, *e, "atmosphere.");
     View view;
     view.eye = glm::dvec3(0.0);
     view.sun_dir = s.sun_dir;
     view.up = s.up;
     view.meters_per_unit = s.meters_per_unit;
-    if (auto e = validate(view)) return e;
+    if (auto e = validate(view)) return from(kFunction, *e);
     if (!(s.display.exposure > 0.0f) || !std::isfinite(s.display.exposure)) {
-        return Error{"display.exposure", "display.exposure: expected a finite value > 0, got " +
-                                             std::to_string(s.display.exposure)};
+        return invalid(kFunction, "display.exposure", "a finite value > 0",
+                       number(s.display.exposure));
     }
     if (s.texture_units < 0 || s.texture_units > kArbMaxTexcoordUnits) {
-        return Error{"texture_units", "texture_units: expected 0 to " +
-                                          std::to_string(kArbMaxTexcoordUnits) + ", got " +
-                                          std::to_string(s.texture_units)};
+        return invalid(kFunction, "texture_units", "0 to " + number(kArbMaxTexcoordUnits),
+                       number(s.texture_units));
     }
     if (s.backend == Backend::arb) {
         if (s.model == Model::reference) {
-            return Error{"model",
-                         "model: the arb backend has programs for hoffman-preetham and height, "
-                         "not reference"};
+            return invalid(kFunction, "model",
+                           "hoffman-preetham or height (the models the arb backend has "
+                           "programs for)",
+                           "reference");
         }
         if (s.display.tone != ToneCurve::clamp) {
-            return Error{"display.tone",
-                         "display.tone: the arb backend takes the clamp curve only (GL clamps "
-                         "the secondary colour), got exponential"};
+            return invalid(kFunction, "display.tone",
+                           "clamp with the arb backend (GL clamps the secondary colour)",
+                           std::string(tone_curve_name(s.display.tone)));
         }
     }
     return std::nullopt;
@@ -107,14 +117,15 @@ Result<::osg::ref_ptr<ScatteringCallback>> ScatteringCallback::create(const Sett
                                                                       ::osg::Camera* camera) {
     ::osg::ref_ptr<ScatteringCallback> cb = new ScatteringCallback();
     if (auto e = cb->set_settings(settings)) {
-        return *e;  // the message starts with the field, as every aerial error
+        return from("osg_adapter::ScatteringCallback::create", *e);
     }
     cb->camera_ = camera;
     return cb;
 }
 
 std::optional<Error> ScatteringCallback::set_settings(const Settings& settings) {
-    if (auto e = validate(settings)) return e;
+    constexpr const char* kFunction = "osg_adapter::ScatteringCallback::set_settings";
+    if (auto e = validate(settings)) return from(kFunction, *e);
     ArbProgram program;
     if (settings.backend == Backend::arb) {
         ArbProgramOptions options;
@@ -123,7 +134,7 @@ std::optional<Error> ScatteringCallback::set_settings(const Settings& settings) 
         options.texcoord_units = settings.texture_units;
         options.limits = settings.arb_limits;
         auto generated = generate_arb_program(options);
-        if (!generated) return generated.error();
+        if (!generated) return from(kFunction, generated.error());
         program = std::move(generated.value());
     }
     settings_ = settings;
@@ -133,10 +144,13 @@ std::optional<Error> ScatteringCallback::set_settings(const Settings& settings) 
 }
 
 void ScatteringCallback::operator()(::osg::Node* node, ::osg::NodeVisitor* nv) {
+    // OSG calls this; its errors are kept for last_error().
+    constexpr const char* kOperator = "osg_adapter::ScatteringCallback::operator()";
     if (node && nv && nv->getVisitorType() == ::osg::NodeVisitor::UPDATE_VISITOR) {
         ::osg::ref_ptr<::osg::Camera> camera;
         if (!camera_.lock(camera)) {
-            error_ = Error{"camera", "camera: no camera to read the eye from (set_camera)"};
+            error_ = aerial::detail::error(kOperator, "camera",
+                                           "no camera to read the eye from (set_camera)");
         } else {
             const ::osg::Vec3d eye = camera->getInverseViewMatrix().getTrans();
             // The update visitor's path runs from the root to `node`: drop `node` itself, whose
@@ -145,6 +159,7 @@ void ScatteringCallback::operator()(::osg::Node* node, ::osg::NodeVisitor* nv) {
             if (!parents.empty() && parents.back() == node) parents.pop_back();
             error_ = update(*node, ::osg::computeLocalToWorld(parents, true),
                             glm::dvec3(eye.x(), eye.y(), eye.z()));
+            if (error_) error_ = from(kOperator, *error_);
         }
         if (error_ && !warned_) {
             OSG_WARN << "aerial::osg_adapter: " << error_->message << std::endl;
@@ -176,7 +191,7 @@ std::optional<Error> ScatteringCallback::update(::osg::Node& node,
     view.up = settings_.up;
     view.meters_per_unit = settings_.meters_per_unit;
     auto frame = prepare_frame<float>(settings_.atmosphere, view, settings_.model);
-    if (!frame) return frame.error();  // names "eye" when the camera is not finite
+    if (!frame) return from(kUpdateNow, frame.error());  // "eye" when the camera is not finite
     prepare_state(node);
     CollectGeometry collect(parent_to_world);
     node.accept(collect);
@@ -186,18 +201,19 @@ std::optional<Error> ScatteringCallback::update(::osg::Node& node,
         const ::osg::Matrixd& to_world = collect.entries[i].to_world;
         auto* vertices = dynamic_cast<::osg::Vec3Array*>(g.getVertexArray());
         if (!vertices) {
-            return Error{"vertices", "vertices: " + geometry_name(g, i) +
-                                         " has no osg::Vec3Array vertex array (3 floats a "
-                                         "vertex are needed)"};
+            return invalid(kUpdateNow, "vertices",
+                           "an osg::Vec3Array vertex array (3 floats a vertex)",
+                           geometry_name(g, i) + " without one");
         }
         const std::size_t n = vertices->size();
         report_.vertices += n;
         if (settings_.backend == Backend::arb) {
             if (!to_world.isIdentity()) {
-                return Error{"transform", "transform: " + geometry_name(g, i) +
-                                              " is below a transform; the arb program reads "
-                                              "world positions (use the cpu backend, or put the "
-                                              "vertices in world coordinates)"};
+                return invalid(kUpdateNow, "transform",
+                               "world coordinates with the arb backend (the program reads world "
+                               "positions; use the cpu backend, or put the vertices in world "
+                               "coordinates)",
+                               geometry_name(g, i) + " below a transform");
             }
             continue;
         }
@@ -240,7 +256,7 @@ std::optional<Error> ScatteringCallback::update(::osg::Node& node,
         batch.kernel = settings_.kernel;
         batch.threads = settings_.threads;
         auto stats = shade_into(*frame, Positions::aos(xyz, n), out, batch);
-        if (!stats) return stats.error();
+        if (!stats) return from(kUpdateNow, stats.error());
         report_.invalid_vertices += stats->invalid_vertices;
         for (std::size_t v = 0; v < n; ++v) {
             (*secondary)[v].set(secondary_[4 * v], secondary_[4 * v + 1], secondary_[4 * v + 2]);
@@ -250,7 +266,7 @@ std::optional<Error> ScatteringCallback::update(::osg::Node& node,
     }
     if (settings_.backend == Backend::arb) {
         auto parameters = arb_program_parameters(*frame, settings_.display, program_.options);
-        if (!parameters) return parameters.error();
+        if (!parameters) return from(kUpdateNow, parameters.error());
         const GLuint base = GLuint(program_.options.parameter_base);
         for (std::size_t i = 0; i < parameters->size(); ++i) {
             const auto& p = (*parameters)[i];

@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "../common/error_text.hpp"
 #include "adaptive_node.hpp"
 
 namespace aerial::scene {
@@ -85,9 +86,11 @@ namespace detail {
 std::optional<Error> refine_adaptive_node(NodeState& st, const Node& node, const glm::dmat4& world,
                                           const Frame<float>& frame) {
     if (world != glm::dmat4(1.0)) {
-        return Error{node.name, node.name +
-                                    ": an adaptive node is refined in world coordinates: its "
-                                    "world transform must be the identity"};
+        return aerial::detail::invalid(
+            kRender, node.name,
+            "the identity as the world transform (an adaptive node is refined in world "
+            "coordinates)",
+            "another transform");
     }
     const mesh::UpdateStats stats = node.adaptive->update(frame);
     const bool changed = stats.splits > 0 || stats.merges > 0 || stats.relocated > 0 ||

@@ -5,6 +5,7 @@
 #include <optional>
 #include <utility>
 
+#include "../common/error_text.hpp"
 #include "aerial/gl_api.hpp"
 #include "aerial/scene_sky.hpp"
 #include "aerial/sky_gl.hpp"
@@ -156,18 +157,20 @@ void draw_sun(CubemapSky& sky, const SkyDrawContext& c) {
 
 Result<std::shared_ptr<const CubemapSkyStats>> install_cubemap_sky(
     SceneRenderer& renderer, const gl::Api& api, const CubemapSkyOptions& options) {
+    constexpr const char* kFunction = "scene::install_cubemap_sky";
     if (!gl::cube_maps_supported(api)) {
-        return Error{"cube_map",
-                     "cube_map: the context has no cube map textures (GL 1.3, "
-                     "ARB_texture_cube_map or EXT_texture_cube_map); keep the per-vertex dome"};
+        return aerial::detail::unsupported(
+            kFunction, "cube_map",
+            "the context has no cube map textures (GL 1.3, ARB_texture_cube_map or "
+            "EXT_texture_cube_map); keep the per-vertex dome");
     }
     if (options.cache.size < 1) {
-        return Error{"cache.size",
-                     "cache.size: expected >= 1 texels, got " + std::to_string(options.cache.size)};
+        return aerial::detail::invalid(kFunction, "cache.size", ">= 1 texels",
+                                       aerial::detail::number(options.cache.size));
     }
     if (options.sprite.size < 8) {
-        return Error{"sprite.size", "sprite.size: expected >= 8 texels, got " +
-                                        std::to_string(options.sprite.size)};
+        return aerial::detail::invalid(kFunction, "sprite.size", ">= 8 texels",
+                                       aerial::detail::number(options.sprite.size));
     }
     auto sky = std::make_shared<CubemapSky>(options);
     renderer.set_sky_drawer([sky](const SkyDrawContext& c) { draw_sky(*sky, c); });

@@ -9,6 +9,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "../common/error_text.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/sun.hpp"
 
@@ -159,21 +160,27 @@ PreparedShadingKey key_for(FrameInputs& f, Model m, const glm::vec3& albedo, boo
 
 Result<FrameInputs> prepare_frame_inputs(const Node& root, const Camera& camera,
                                          const FrameSettings& settings, Backend backend) {
-    if (auto e = validate(root)) return Error{e->field, "scene: " + e->message};
-    if (auto e = validate(camera)) return *e;
+    using aerial::detail::from;
+    using aerial::detail::invalid;
+    using aerial::detail::number;
+    if (auto e = validate(root)) return from(kRender, *e);
+    if (auto e = validate(camera)) return from(kRender, *e);
     if (!(settings.error_target_lsb >= 0.0)) {
-        return Error{"error_target_lsb", "error_target_lsb: expected a value >= 0"};
+        return invalid(kRender, "error_target_lsb", "a value >= 0",
+                       number(settings.error_target_lsb));
     }
     if (backend == Backend::arb && settings.model == Model::reference) {
-        return Error{"model",
-                     "model: the arb backend has programs for hoffman-preetham and "
-                     "height, not reference"};
+        return invalid(kRender, "model",
+                       "hoffman-preetham or height (the models the arb backend has programs for)",
+                       "reference");
     }
     if (backend == Backend::arb && settings.display.tone != ToneCurve::clamp) {
-        return Error{"display.tone", "display.tone: the arb backend has only the clamp tone curve"};
+        return invalid(kRender, "display.tone", "clamp (the only tone curve of the arb backend)",
+                       std::string(tone_curve_name(settings.display.tone)));
     }
     if (!(settings.display.exposure > 0.0f) || !std::isfinite(settings.display.exposure)) {
-        return Error{"display.exposure", "display.exposure: expected a finite value > 0"};
+        return invalid(kRender, "display.exposure", "a finite value > 0",
+                       number(settings.display.exposure));
     }
     FrameInputs f;
     f.settings = &settings;
@@ -183,11 +190,11 @@ Result<FrameInputs> prepare_frame_inputs(const Node& root, const Camera& camera,
     f.view.up = settings.up;
     f.view.meters_per_unit = settings.meters_per_unit;
     auto hp = prepare_frame<float>(settings.atmosphere, f.view, Model::hoffman_preetham);
-    if (!hp) return Error{hp.error().field, "settings: " + hp.error().message};
+    if (!hp) return from(kRender, hp.error());
     auto quality = prepare_frame<float>(settings.atmosphere, f.view, settings.model);
-    if (!quality) return Error{quality.error().field, "settings: " + quality.error().message};
+    if (!quality) return from(kRender, quality.error());
     auto bound = prepare_frame<double>(settings.atmosphere, f.view, settings.model);
-    if (!bound) return bound.error();
+    if (!bound) return from(kRender, bound.error());
     f.hoffman_preetham = std::move(hp).value();
     f.model = std::move(quality).value();
     f.bound = std::move(bound).value();

@@ -67,8 +67,11 @@ struct FrameInputs {
     }
 };
 
+/// The public function the errors of a frame are attributed to.
+inline constexpr const char* kRender = "scene::SceneRenderer::render";
+
 /// Checks the frame's scene, camera and settings against the backend and prepares its frames;
-/// the errors are render()'s.
+/// the errors are render()'s (kRender).
 Result<FrameInputs> prepare_frame_inputs(const Node& root, const Camera& camera,
                                          const FrameSettings& settings, Backend backend);
 

@@ -15,6 +15,7 @@
 #include <OpenMesh/Core/IO/importer/ImporterT.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
+#include "../common/error_text.hpp"
 #include "aerial/scene.hpp"
 #include "off_reader.hpp"
 
@@ -197,14 +198,16 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
 }  // namespace
 
 Result<MeshData> load_mesh_file(const std::string& path) {
+    constexpr const char* kFunction = "scene::load_mesh_file";
+    const auto bad = [&](const std::string& text) {
+        return aerial::detail::error(kFunction, path, text);
+    };
     const std::string ext = lower_extension(path);
     if (ext != "obj" && ext != "off" && ext != "ply") {
-        return Error{path,
-                     path + ": unknown mesh format '." + ext + "' (expected .obj, .off or .ply)"};
+        return aerial::detail::invalid(kFunction, path, "a .obj, .off or .ply file",
+                                       "unknown mesh format '." + ext + "'");
     }
-    if (!std::ifstream(path).good()) {
-        return Error{path, path + ": cannot open the file (missing or unreadable)"};
-    }
+    if (!std::ifstream(path).good()) return bad("cannot open the file (missing or unreadable)");
     FileMesh mesh;
     mesh.request_vertex_normals();
     mesh.request_vertex_texcoords2D();
@@ -213,7 +216,7 @@ Result<MeshData> load_mesh_file(const std::string& path) {
     options += OpenMesh::IO::Options::VertexNormal;
     options += OpenMesh::IO::Options::VertexTexCoord;
     if (auto lie = check_before_openmesh(path, ext)) {
-        return Error{path, path + ": not a valid ." + ext + " file: " + *lie};
+        return bad("not a valid ." + ext + " file: " + *lie);
     }
     // OpenMesh reports problems on its own error stream; the Result says what failed.
     struct QuietOpenMesh {
@@ -228,7 +231,7 @@ Result<MeshData> load_mesh_file(const std::string& path) {
             OpenMesh::IO::ImporterT<FileMesh> importer(mesh);
             detail::OffContents contents;
             if (auto problem = detail::read_off(file, importer, contents)) {
-                return Error{path, path + ": not a valid .off file: " + *problem};
+                return bad("not a valid .off file: " + *problem);
             }
             options = OpenMesh::IO::Options();
             if (contents.normals) options += OpenMesh::IO::Options::VertexNormal;
@@ -238,12 +241,12 @@ Result<MeshData> load_mesh_file(const std::string& path) {
             read = OpenMesh::IO::read_mesh(mesh, path, options);
         }
     } catch (const std::bad_alloc&) {
-        return Error{path, path + ": out of memory while reading it"};
+        return bad("out of memory while reading it");
     } catch (const std::exception& e) {
-        return Error{path, path + ": OpenMesh failed reading it: " + e.what()};
+        return bad(std::string("OpenMesh failed reading it: ") + e.what());
     }
-    if (!read) return Error{path, path + ": OpenMesh could not read it as ." + ext};
-    if (mesh.n_faces() == 0) return Error{path, path + ": the file has no faces"};
+    if (!read) return bad("OpenMesh could not read it as ." + ext);
+    if (mesh.n_faces() == 0) return bad("the file has no faces");
     if (!options.check(OpenMesh::IO::Options::VertexNormal)) {
         mesh.update_face_normals();
         mesh.update_vertex_normals();
@@ -273,7 +276,10 @@ Result<MeshData> load_mesh_file(const std::string& path) {
     for (const auto fh : mesh.faces()) {
         for (const auto vh : mesh.fv_range(fh)) out.indices.push_back(std::uint32_t(vh.idx()));
     }
-    if (auto e = validate(out)) return Error{path, path + ": " + e->message};
+    if (auto e = validate(out)) {
+        return bad("the mesh read is not valid: " + e->field + ": " +
+                   std::string(aerial::detail::text_of(*e)));
+    }
     return out;
 }
 

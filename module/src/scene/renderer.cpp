@@ -14,6 +14,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "../common/error_text.hpp"
 #include "../common/names.hpp"
 #include "adaptive_node.hpp"
 #include "aerial/arb_program.hpp"
@@ -199,28 +200,31 @@ std::optional<Error> validate(const Camera& camera) {
     const auto finite3 = [](const glm::dvec3& v) {
         return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
     };
-    if (!finite3(camera.eye)) return Error{"camera.eye", "camera.eye: not finite"};
+    using aerial::detail::invalid;
+    using aerial::detail::number;
+    using aerial::detail::vector;
+    constexpr const char* kFunction = "scene::validate";
+    if (!finite3(camera.eye))
+        return invalid(kFunction, "camera.eye", "finite coordinates", vector(camera.eye));
     if (!finite3(camera.target) || camera.target == camera.eye) {
-        return Error{"camera.target", "camera.target: must be finite and differ from camera.eye"};
+        return invalid(kFunction, "camera.target", "a finite point other than camera.eye",
+                       vector(camera.target));
     }
     const glm::dvec3 forward = camera.target - camera.eye;
     if (!finite3(camera.up) || glm::length(glm::cross(forward, camera.up)) <=
                                    1e-9 * glm::length(forward) * glm::length(camera.up)) {
-        return Error{"camera.up", "camera.up: must be finite and not parallel to the view"};
+        return invalid(kFunction, "camera.up", "a finite vector not parallel to the view",
+                       vector(camera.up));
     }
-    if (!(camera.fov_y_rad > 0.0 && camera.fov_y_rad < 3.14159)) {
-        return Error{"camera.fov_y_rad", "camera.fov_y_rad: expected a value in (0, pi), got " +
-                                             std::to_string(camera.fov_y_rad)};
-    }
-    if (!(camera.aspect > 0.0) || !std::isfinite(camera.aspect)) {
-        return Error{"camera.aspect", "camera.aspect: expected a finite value > 0"};
-    }
+    if (!(camera.fov_y_rad > 0.0 && camera.fov_y_rad < 3.14159))
+        return invalid(kFunction, "camera.fov_y_rad", "a value in (0, pi)",
+                       number(camera.fov_y_rad));
+    if (!(camera.aspect > 0.0) || !std::isfinite(camera.aspect))
+        return invalid(kFunction, "camera.aspect", "a finite value > 0", number(camera.aspect));
     if (!(camera.near_units > 0.0) || !(camera.far_units > camera.near_units) ||
         !std::isfinite(camera.far_units)) {
-        return Error{"camera.near_units",
-                     "camera.near_units: expected 0 < near_units < far_units (finite), got " +
-                         std::to_string(camera.near_units) + " and " +
-                         std::to_string(camera.far_units)};
+        return invalid(kFunction, "camera.near_units", "0 < near_units < far_units (finite)",
+                       number(camera.near_units) + " and " + number(camera.far_units));
     }
     return std::nullopt;
 }
@@ -258,30 +262,34 @@ void SceneRenderer::clear_caches() {
 }
 
 Result<SceneRenderer> SceneRenderer::create(const gl::Api& api, const RendererOptions& options) {
-    if (auto e = gl::no_current_context(api)) return *e;
+    constexpr const char* kFunction = "scene::SceneRenderer::create";
+    using aerial::detail::from;
+    if (auto e = gl::no_current_context(api)) return from(kFunction, *e);
     auto impl = std::make_unique<Impl>();
     impl->api = &api;
     impl->options = options;
-    const std::string where = std::string("backend ") + backend_name(options.backend) + ": ";
     if (options.backend != Backend::arb) {
         auto path = gl::choose_path(api.caps, options.path);
-        if (!path) return Error{path.error().field, where + path.error().message};
+        if (!path) return from(kFunction, path.error());
         impl->path = *path;
         if (*path == gl::Path::combiner) {
             auto combiner = gl::CombinerTexture::create(api);
-            if (!combiner) return Error{combiner.error().field, where + combiner.error().message};
+            if (!combiner) return from(kFunction, combiner.error());
             impl->combiner.emplace(std::move(combiner.value()));
         }
     } else {
         if (options.path != gl::Path::automatic) {
-            return Error{"path", where + "path: only the cpu backend takes a fixed-function path"};
+            return aerial::detail::invalid(kFunction, "path",
+                                           "automatic with the arb backend (only the cpu backend "
+                                           "takes a fixed-function path)",
+                                           gl::path_name(options.path));
         }
         auto path = gl::choose_path(api.caps, gl::Path::automatic);
-        if (!path) return Error{path.error().field, where + path.error().message};
+        if (!path) return from(kFunction, path.error());
         impl->path = *path;  // for nodes drawn without the program (skipped by the policy)
         if (*path == gl::Path::combiner) {
             auto combiner = gl::CombinerTexture::create(api);
-            if (!combiner) return Error{combiner.error().field, where + combiner.error().message};
+            if (!combiner) return from(kFunction, combiner.error());
             impl->combiner.emplace(std::move(combiner.value()));
         }
         for (Model model : {Model::hoffman_preetham, Model::height}) {
@@ -289,9 +297,9 @@ Result<SceneRenderer> SceneRenderer::create(const gl::Api& api, const RendererOp
             arb.model = model;
             arb.limits = gl::native_arb_limits(api);  // the most accurate height program it takes
             auto text = generate_arb_program(arb);
-            if (!text) return Error{text.error().field, where + text.error().message};
+            if (!text) return from(kFunction, text.error());
             auto program = gl::ArbVertexProgram::create(api, *text);
-            if (!program) return Error{program.error().field, where + program.error().message};
+            if (!program) return from(kFunction, program.error());
             (model == Model::height ? impl->program_height : impl->program_hp)
                 .emplace(std::move(program.value()));
             (model == Model::height ? impl->arb_height : impl->arb_hp) = std::move(text.value());
@@ -362,8 +370,11 @@ class FrameGlState {
     int units_ = 1;
 };
 
+/// An error of drawing `node`: render()'s, naming the node.
 Error node_error(const Node& node, const Error& e) {
-    return Error{e.field, node.name + ": " + e.message};
+    Error error = aerial::detail::from(detail::kRender, e);
+    error.message += " (in node '" + node.name + "')";
+    return error;
 }
 
 }  // namespace
@@ -520,7 +531,7 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
     const auto start = std::chrono::steady_clock::now();
     Impl& im = *impl_;
     const gl::Api& api = *im.api;
-    if (auto e = gl::no_current_context(api)) return *e;
+    if (auto e = gl::no_current_context(api)) return aerial::detail::from(detail::kRender, *e);
     auto inputs = detail::prepare_frame_inputs(root, camera, settings, im.options.backend);
     if (!inputs) return inputs.error();
     detail::FrameInputs& frame = inputs.value();

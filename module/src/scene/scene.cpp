@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <glm/vec2.hpp>
+
+#include "../common/error_text.hpp"
 #include "../common/names.hpp"
 
 namespace aerial::scene {
@@ -10,7 +13,20 @@ namespace {
 
 bool is_power_of_two(int v) { return v > 0 && (v & (v - 1)) == 0; }
 
-std::string count_text(std::size_t n) { return std::to_string(n); }
+using aerial::detail::invalid;
+using aerial::detail::number;
+constexpr const char* kValidate = "scene::validate";
+
+/// An error of a node (field: its path) in scene::validate.
+Error bad_node(const std::string& path, const std::string& text) {
+    return aerial::detail::error(kValidate, path, text);
+}
+
+/// The error of a node's mesh or texture (validate(MeshData), validate(Texture)) under the node.
+Error bad_part(const std::string& path, const char* part, const Error& e) {
+    return bad_node(
+        path, std::string(part) + " " + e.field + ": " + std::string(aerial::detail::text_of(e)));
+}
 
 /// Lattice value in [0, 1) at integer point (ix, iy): a 32-bit integer hash (murmur3 finaliser).
 double lattice_value(std::int64_t ix, std::int64_t iy, std::uint32_t seed) {
@@ -40,34 +56,38 @@ std::optional<Error> validate_node(const Node& node, const std::string& path) {
     for (int c = 0; c < 4; ++c) {
         for (int r = 0; r < 4; ++r) {
             if (!std::isfinite(node.transform[c][r])) {
-                return Error{path, path + ": transform is not finite"};
+                return invalid(kValidate, path, "a finite transform",
+                               "a non-finite value in column " + number(c) + ", row " + number(r));
             }
         }
     }
     if (node.adaptive) {
         if (node.kind != NodeKind::mesh && node.kind != NodeKind::terrain) {
-            return Error{path, path + ": only mesh and terrain nodes can hold an adaptive mesh"};
+            return invalid(kValidate, path,
+                           "a mesh or terrain node (the kinds that can hold an adaptive mesh)",
+                           std::string("a ") + node_kind_name(node.kind) + " node");
         }
         if (!(node.texture_repeat >= 0.0) || !std::isfinite(node.texture_repeat)) {
-            return Error{path, path + ": texture_repeat: expected a finite value >= 0"};
+            return bad_node(path, "texture_repeat: expected a finite value >= 0, got " +
+                                      number(node.texture_repeat));
         }
     } else if (node.kind == NodeKind::mesh || node.kind == NodeKind::terrain) {
         if (!node.mesh)
-            return Error{path, path + ": " + node_kind_name(node.kind) + " without a mesh"};
-        if (auto e = validate(*node.mesh)) return Error{path, path + ": mesh " + e->message};
-        if (node.kind == NodeKind::terrain && node.mesh->normals.empty()) {
-            return Error{path, path + ": terrain mesh without normals (lighting needs them)"};
-        }
+            return bad_node(path, std::string(node_kind_name(node.kind)) + " without a mesh");
+        if (auto e = validate(*node.mesh)) return bad_part(path, "mesh", *e);
+        if (node.kind == NodeKind::terrain && node.mesh->normals.empty())
+            return bad_node(path, "terrain mesh without normals (lighting needs them)");
     }
     if (node.texture) {
-        if (auto e = validate(*node.texture)) return Error{path, path + ": texture " + e->message};
+        if (auto e = validate(*node.texture)) return bad_part(path, "texture", *e);
     }
     if (!(node.albedo.r >= 0.0f && node.albedo.g >= 0.0f && node.albedo.b >= 0.0f) ||
         !std::isfinite(node.albedo.r + node.albedo.g + node.albedo.b)) {
-        return Error{path, path + ": albedo must be finite and >= 0"};
+        return bad_node(path, "albedo: expected finite values >= 0, got " +
+                                  aerial::detail::vector(node.albedo));
     }
     for (const auto& child : node.children) {
-        if (!child) return Error{path, path + ": null child"};
+        if (!child) return bad_node(path, "a null child");
         if (auto e = validate_node(*child, path + "/" + child->name)) return e;
     }
     return std::nullopt;
@@ -93,19 +113,14 @@ std::unique_ptr<Node> make_node(NodeKind kind, std::string name) {
 }  // namespace
 
 std::optional<Error> validate(const Texture& texture) {
-    if (!is_power_of_two(texture.width) || texture.width > 4096) {
-        return Error{"width", "width: expected a power of two in 1..4096, got " +
-                                  std::to_string(texture.width)};
-    }
-    if (!is_power_of_two(texture.height) || texture.height > 4096) {
-        return Error{"height", "height: expected a power of two in 1..4096, got " +
-                                   std::to_string(texture.height)};
-    }
+    if (!is_power_of_two(texture.width) || texture.width > 4096)
+        return invalid(kValidate, "width", "a power of two in 1 .. 4096", number(texture.width));
+    if (!is_power_of_two(texture.height) || texture.height > 4096)
+        return invalid(kValidate, "height", "a power of two in 1 .. 4096", number(texture.height));
     const std::size_t expected = std::size_t(texture.width) * std::size_t(texture.height) * 3;
     if (texture.rgb.size() != expected) {
-        return Error{"rgb", "rgb: expected " + count_text(expected) +
-                                " bytes (width x height x 3), got " +
-                                count_text(texture.rgb.size())};
+        return invalid(kValidate, "rgb", number(expected) + " bytes (width x height x 3)",
+                       number(texture.rgb.size()));
     }
     return std::nullopt;
 }
@@ -141,33 +156,32 @@ std::vector<std::vector<std::uint8_t>> mipmap_levels(const Texture& t) {
 
 std::optional<Error> validate(const MeshData& mesh) {
     if (mesh.positions.size() % 3 != 0) {
-        return Error{"positions", "positions: expected 3 floats a vertex, got " +
-                                      count_text(mesh.positions.size()) + " floats"};
+        return invalid(kValidate, "positions", "3 floats a vertex",
+                       number(mesh.positions.size()) + " floats");
     }
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
         if (!std::isfinite(mesh.positions[i])) {
-            return Error{"positions", "positions: value " + count_text(i) + " is not finite"};
+            return invalid(kValidate, "positions", "finite values",
+                           number(mesh.positions[i]) + " at value " + number(i));
         }
     }
     const std::size_t n = mesh.vertex_count();
     if (!mesh.normals.empty() && mesh.normals.size() != 3 * n) {
-        return Error{"normals", "normals: expected " + count_text(3 * n) +
-                                    " floats (3 a vertex), got " + count_text(mesh.normals.size())};
+        return invalid(kValidate, "normals", number(3 * n) + " floats (3 a vertex)",
+                       number(mesh.normals.size()));
     }
     if (!mesh.texcoords.empty() && mesh.texcoords.size() != 2 * n) {
-        return Error{"texcoords", "texcoords: expected " + count_text(2 * n) +
-                                      " floats (2 a vertex), got " +
-                                      count_text(mesh.texcoords.size())};
+        return invalid(kValidate, "texcoords", number(2 * n) + " floats (2 a vertex)",
+                       number(mesh.texcoords.size()));
     }
     if (mesh.indices.size() % 3 != 0) {
-        return Error{"indices",
-                     "indices: expected 3 a triangle, got " + count_text(mesh.indices.size())};
+        return invalid(kValidate, "indices", "3 a triangle",
+                       number(mesh.indices.size()) + " indices");
     }
     for (std::size_t i = 0; i < mesh.indices.size(); ++i) {
         if (mesh.indices[i] >= n) {
-            return Error{"indices", "indices: index " + count_text(i) + " is " +
-                                        std::to_string(mesh.indices[i]) + ", expected < " +
-                                        count_text(n) + " (the vertex count)"};
+            return invalid(kValidate, "indices", "values < " + number(n) + " (the vertex count)",
+                           number(mesh.indices[i]) + " at index " + number(i));
         }
     }
     return std::nullopt;
@@ -175,20 +189,22 @@ std::optional<Error> validate(const MeshData& mesh) {
 
 Result<MeshData> heightfield_mesh(const HeightfieldSpec& spec,
                                   const std::function<double(double, double)>& height) {
-    if (!(spec.size > 0.0) || !std::isfinite(spec.size)) {
-        return Error{"size", "size: expected a finite value > 0"};
-    }
+    constexpr const char* kFunction = "scene::heightfield_mesh";
+    if (!(spec.size > 0.0) || !std::isfinite(spec.size))
+        return invalid(kFunction, "size", "a finite value > 0", number(spec.size));
     if (spec.resolution < 2 || spec.resolution > 4097) {
-        return Error{"resolution", "resolution: expected 2..4097 vertices a side, got " +
-                                       std::to_string(spec.resolution)};
+        return invalid(kFunction, "resolution", "2 .. 4097 vertices a side",
+                       number(spec.resolution));
     }
     if (!(spec.texture_repeat > 0.0) || !std::isfinite(spec.texture_repeat)) {
-        return Error{"texture_repeat", "texture_repeat: expected a finite value > 0"};
+        return invalid(kFunction, "texture_repeat", "a finite value > 0",
+                       number(spec.texture_repeat));
     }
     if (!std::isfinite(spec.origin_x) || !std::isfinite(spec.origin_y)) {
-        return Error{"origin", "origin: expected finite coordinates"};
+        return invalid(kFunction, "origin", "finite coordinates",
+                       aerial::detail::vector(glm::dvec2(spec.origin_x, spec.origin_y)));
     }
-    if (!height) return Error{"height", "height: no height function"};
+    if (!height) return invalid(kFunction, "height", "a height function", "an empty one");
     const int n = spec.resolution;
     const double step = spec.size / double(n - 1);
     MeshData mesh;
@@ -204,8 +220,8 @@ Result<MeshData> heightfield_mesh(const HeightfieldSpec& spec,
             const double dx = (height(x + h, y) - height(x - h, y)) / (2.0 * h);
             const double dy = (height(x, y + h) - height(x, y - h)) / (2.0 * h);
             if (!std::isfinite(z) || !std::isfinite(dx) || !std::isfinite(dy)) {
-                return Error{"height", "height: not finite at (" + std::to_string(x) + ", " +
-                                           std::to_string(y) + ")"};
+                return invalid(kFunction, "height", "finite heights and slopes",
+                               "a non-finite one at " + aerial::detail::vector(glm::dvec2(x, y)));
             }
             const double norm = std::sqrt(dx * dx + dy * dy + 1.0);
             mesh.positions.insert(mesh.positions.end(), {float(x), float(y), float(z)});

@@ -5,9 +5,11 @@
 
 #include <glm/geometric.hpp>
 
+#include "../common/error_text.hpp"
 #include "aerial/gl_api.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/scene_renderer.hpp"
+#include "frame_plan.hpp"
 #include "sky_dome.hpp"
 
 namespace aerial::scene {
@@ -20,7 +22,7 @@ SkyMethod dome_method(Model model) {
 Result<bool> SkyDome::update_mesh(const glm::dvec3& up) {
     if (!directions_.empty() && mesh_up_ == up) return false;
     auto mesh = make_sky_dome_mesh(rings_, segments_, up);
-    if (!mesh) return mesh.error();
+    if (!mesh) return aerial::detail::from(kRender, mesh.error());
     mesh_ = std::move(mesh).value();
     mesh_up_ = up;
     directions_ = mesh_.directions;
@@ -46,7 +48,7 @@ Result<bool> SkyDome::update_fit(const Atmosphere& atmosphere, double eye_altitu
         return false;
     }
     auto fit = fit_virtual_dome(atmosphere, eye_altitude_m);
-    if (!fit) return fit.error();
+    if (!fit) return aerial::detail::from(kRender, fit.error());
     fit_ = std::move(fit).value();
     fit_atmosphere_ = atmosphere;
     fit_altitude_m_ = eye_altitude_m;
@@ -58,7 +60,8 @@ Result<bool> SkyDome::update_fit(const Atmosphere& atmosphere, double eye_altitu
 Result<SkyContext> SkyDome::prepare(const FrameSettings& settings, const glm::dvec3& eye) {
     const double up_length = glm::length(settings.up);
     if (!(up_length > 0.0) || !std::isfinite(up_length)) {
-        return Error{"up", "up must be a finite non-zero vector"};
+        return aerial::detail::invalid(kRender, "up", "a finite non-zero vector",
+                                       aerial::detail::vector(settings.up));
     }
     const glm::dvec3 up = settings.up / up_length;
     if (auto mesh = update_mesh(up); !mesh) return mesh.error();
@@ -76,7 +79,9 @@ Result<SkyContext> SkyDome::prepare(const FrameSettings& settings, const glm::dv
         if (auto fit = update_fit(settings.atmosphere, altitude); !fit) return fit.error();
         options.dome = &fit_;
     }
-    return prepare_sky(settings.atmosphere, view, method, options);
+    auto sky = prepare_sky(settings.atmosphere, view, method, options);
+    if (!sky) return aerial::detail::from(kRender, sky.error());
+    return sky;
 }
 
 const std::vector<std::uint8_t>& SkyDome::shade(const SkyContext& sky, const Display& display) {

@@ -77,9 +77,10 @@ typedef enum aerial_status {
 /* A fixed text for each status ("invalid atmosphere", ...); "unknown status" for other values. */
 const char* aerial_status_string(aerial_status status);
 
-/* The message of the last call on this thread: "" after a success, else one line that starts
- * with the function's name and gives the field, the expected and the actual value. Valid until
- * the next call on this thread. */
+/* The message of the last call on this thread: "" after a success, else one line
+ * "FUNCTION(): FIELD: expected ..., got ..." (the library's one style, with the C function's
+ * name: "aerial_validate_atmosphere(): mie_g: expected |g| < 1 (g > 0 scatters forwards), got
+ * 1.5"). Valid until the next call on this thread. */
 const char* aerial_last_error_message(void);
 /* The offending field of the last call on this thread ("" when none). */
 const char* aerial_last_error_field(void);

@@ -15,15 +15,22 @@
 //         -> {"mie_g", "aerial::validate(): mie_g: expected |g| < 1, got 1.5"}
 //     return detail::error("scene::load_mesh_file", path, "cannot open the file");
 //         -> {path, "aerial::scene::load_mesh_file(): PATH: cannot open the file"}
-//     return detail::unsupported("gl::load_gl_api", "profile", "the context is core-profile");
+//     return detail::unsupported("gl::load_api", "profile", "the context is core-profile");
 //         -> the same, of kind ErrorKind::not_supported
-//     if (auto e = validate(atmosphere)) return detail::from("prepare_batch", *e);
-//         -> validate()'s field and TEXT, attributed to prepare_batch
+//     if (auto e = validate(atmosphere)) return detail::from("prepare_frame", *e);
+//         -> validate()'s field, TEXT and kind, attributed to prepare_frame
 //     if (!a) return detail::from("scene::scene_file_from_json", a.error(), "atmosphere.");
 //         -> field "atmosphere.mie_g": "aerial::scene::scene_file_from_json(): atmosphere.mie_g:
 //         ..."
 //     if (!scene) return detail::from_file("scene::load_scene_file", path, scene.error());
 //         -> "aerial::scene::load_scene_file(): camera.eye[0]: expected ..., got ... (in PATH)"
+//
+// Converting an old site: `Error{"f", "f: must be > 0, got " + std::to_string(x)}` becomes
+// `detail::invalid(FUNCTION, "f", "a value > 0", detail::number(x))`; `not_supported("f", "f:
+// TEXT")` becomes `detail::unsupported(FUNCTION, "f", "TEXT")`; `return e;` of a called public
+// function becomes `return detail::from(FUNCTION, *e);`. Inside a namespace that has its own
+// `detail` (aerial::gl, aerial::scene) write `aerial::detail::`. Keep Error::field as it was:
+// callers and the C interface read it. Tests pin whole messages (EXPECT_EQ on .message).
 #pragma once
 
 #include <cmath>

@@ -34,7 +34,8 @@ struct ArbCpuProgram {
     bool position_invariant = false;
 };
 
-/// Parses program text. Errors: field "line N", message "line N, column C: what is wrong".
+/// Parses program text. Errors: field "line N", message
+/// "aerial::validation::parse_arb_program(): line N: column C: what is wrong".
 Result<ArbCpuProgram> parse_arb_program(std::string_view text);
 
 /// The GL state a program reads. Parameters the vectors do not hold read as NaN (GL would give

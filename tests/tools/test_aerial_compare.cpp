@@ -105,8 +105,8 @@ TEST_F(AerialCompare, ABoundExceededExitsOneNamingIt) {
     b.rgb[3 * 17 + 0] = 103;
     b.rgb[3 * 42 + 2] = 99;
     const std::string pa = png("a.png", a), pb = png("b.png", b);
-    RunResult r = run({pa, pb, "--max-lsb", "3", "--p99-lsb", "1", "--max-over1", "0.01",
-                       "--max-over2", "0.01"});
+    RunResult r = run(
+        {pa, pb, "--max-lsb", "3", "--p99-lsb", "1", "--max-over1", "0.01", "--max-over2", "0.01"});
     EXPECT_EQ(r.exit_code, 0) << "every bound met exactly: " << r.err;
     EXPECT_TRUE(r.err.empty()) << r.err;
     r = run({pa, pb, "--max-lsb", "2", "--max-over1", "0.001"});

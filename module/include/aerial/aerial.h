@@ -17,9 +17,9 @@
  *
  * Conventions (as the C++ API, aerial/aerial.hpp): metres and radians; any up axis (a
  * parameter, default +Z) and either handedness (a Y-up left-handed engine passes up = 0,1,0 and
- * its own coordinates: the models use only distances, angles and altitudes); sea level is the plane through the origin
- * perpendicular to up; positions are in engine units, scaled by meters_per_unit. F_ex multiplies
- * the surface colour, L_in is added: colour = texel * F_ex + L_in.
+ * its own coordinates: the models use only distances, angles and altitudes); sea level is the plane
+ * through the origin perpendicular to up; positions are in engine units, scaled by meters_per_unit.
+ * F_ex multiplies the surface colour, L_in is added: colour = texel * F_ex + L_in.
  *
  * Errors: every function that can fail returns an aerial_status (AERIAL_OK is 0). The message of
  * the last call on this thread is aerial_last_error_message() (empty after a success), and the

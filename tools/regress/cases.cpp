@@ -59,23 +59,6 @@ CaseResult judged(const Case& c, const tools::LsbDifferences& d, const std::stri
     return r;
 }
 
-/// Why this context cannot run the backend and path, or empty.
-std::optional<Error> capability(const gl::Caps& caps, const std::string& backend,
-                                const std::string& path) {
-    if (backend == "arb" && !caps.vertex_program) {
-        return not_supported("GL_ARB_vertex_program", "GL_ARB_vertex_program: not offered by " +
-                                                          caps.renderer + " (GL " + caps.version +
-                                                          ")");
-    }
-    if (!path.empty()) {
-        const auto p = gl::parse_path(path);
-        if (!p) return Error{"path", "path: unknown '" + path + "'"};
-        auto chosen = gl::choose_path(caps, *p);
-        if (!chosen) return chosen.error();
-    }
-    return std::nullopt;
-}
-
 struct Bench {
     headless::Context context;
     scene::SceneFile file;
@@ -91,7 +74,6 @@ Result<Bench> open_bench(const Suite& suite, const Case& c, const CaseSettings& 
 
 Result<tools::Rgb8Image> render(const Bench& bench, const std::string& backend,
                                 const std::string& path) {
-    if (auto e = capability(bench.context.api().caps, backend, path)) return *e;
     validation::RenderOptions options;
     const auto b = validation::parse_render_backend(backend);
     if (!b) return b.error();
@@ -150,7 +132,6 @@ CaseResult run_state(const Suite& suite, const Case& c, const CaseSettings& sett
     auto bench = open_bench(suite, c, settings);
     if (!bench) return from_error(bench.error());
     const gl::Api& api = bench->context.api();
-    if (auto e = capability(api.caps, c.backend, c.path)) return from_error(*e);
     scene::RendererOptions options;
     options.backend = c.backend == "arb" ? scene::Backend::arb : scene::Backend::cpu;
     if (!c.path.empty()) options.path = *gl::parse_path(c.path);
@@ -186,8 +167,7 @@ struct VertexCodes {
     std::vector<std::uint8_t> extinction, in_scattering;  // RGBA8 per vertex
 };
 
-Result<VertexCodes> cpu_codes(const scene::SceneFile& file) {
-    const scene::MeshData mesh = scene::scene_geometry(file);
+Result<VertexCodes> cpu_codes(const scene::SceneFile& file, const scene::MeshData& mesh) {
     const auto frame = prepare_frame<float>(file.atmosphere, file.view(), file.model);
     if (!frame) return frame.error();
     VertexCodes codes;
@@ -226,11 +206,11 @@ tools::Rgb8Image codes_image(const VertexCodes& codes) {
 CaseResult run_cpu_model(const Suite& suite, const Case& c) {
     const auto file = scene::load_scene_file(suite.scene_path(c.scene));
     if (!file) return from_error(file.error());
-    const auto codes = cpu_codes(*file);
+    const scene::MeshData mesh = scene::scene_geometry(*file);
+    const auto codes = cpu_codes(*file, mesh);
     if (!codes) return from_error(codes.error());
     const auto frame = prepare_frame<double>(file->atmosphere, file->view(), file->model);
     if (!frame) return from_error(frame.error());
-    const scene::MeshData mesh = scene::scene_geometry(*file);
     tools::LsbHistogram histogram;
     for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
         const glm::dvec3 p(mesh.positions[3 * i], mesh.positions[3 * i + 1],
@@ -289,7 +269,7 @@ CaseResult run_golden(const Suite& suite, const Case& c, const CaseSettings& set
 CaseResult run_cpu_golden(const Suite& suite, const Case& c, const CaseSettings& settings) {
     const auto file = scene::load_scene_file(suite.scene_path(c.scene));
     if (!file) return from_error(file.error());
-    const auto codes = cpu_codes(*file);
+    const auto codes = cpu_codes(*file, scene::scene_geometry(*file));
     if (!codes) return from_error(codes.error());
     const fs::path stored = fs::path(suite.directory) / "cpu" / (c.scene + ".png");
     CaseResult r =

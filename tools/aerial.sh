@@ -36,6 +36,7 @@ TEST_PACKAGES=(
     libgtest-dev
     liblcms2-dev
     libopenscenegraph-dev
+    libirrlicht-dev
     xvfb
     xauth
     python3-matplotlib

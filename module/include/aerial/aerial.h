@@ -68,7 +68,10 @@ typedef enum aerial_status {
     AERIAL_ERROR_ARB_PROGRAM = 13,       /* no program for the model, a limit exceeded, or the
                                             driver rejected the text (with its error position) */
     AERIAL_ERROR_OUT_OF_MEMORY = 14,
-    AERIAL_ERROR_INTERNAL = 15, /* a bug: the message says where */
+    AERIAL_ERROR_INTERNAL = 15,     /* a bug: the message says where */
+    AERIAL_ERROR_ENGINE_STATE = 16, /* the engine's draw callback changed state aerial had set
+                                       (e.g. re-pointed the colour array): the colours drawn were
+                                       not aerial's; the message names the state */
     /* Not a status: makes every int a valid aerial_status, so that a value from a newer library
        (or any int) passed to aerial_status_string() is defined behaviour in C++ too. */
     AERIAL_STATUS_MAX_ENUM = 0x7FFFFFFF
@@ -189,14 +192,28 @@ aerial_status aerial_scatter(const aerial_context* context, const float vertex[3
 
 /* Vertex positions (engine units). Interleaved: `x` points at the first record's x, y and z
  * follow it, `y` and `z` are NULL, records are stride_bytes apart (0: 12, tightly packed).
- * Separate arrays: x, y and z all set, stride_bytes between consecutive floats (0: 4). */
+ * Separate arrays: x, y and z all set, stride_bytes between consecutive floats (0: 4).
+ * Model space: with model_matrix set, the positions are in the node's own frame and the world
+ * position is model_matrix x (x, y, z, 1), so a node under a transform needs no world copy. */
 typedef struct aerial_positions {
     const float* x;
     const float* y;
     const float* z;
     size_t count;
     size_t stride_bytes;
+    /* 16 floats, column-major (glLoadMatrixf's layout), affine (bottom row 0, 0, 0, 1), mapping
+     * the positions to the world; NULL (default): the positions are world positions. */
+    const float* model_matrix;
 } aerial_positions;
+
+/* How a colour output is laid out in memory (every *_rgba8 output of a call). */
+typedef enum aerial_colour_format {
+    AERIAL_COLOUR_RGBA8 = 0, /* bytes R, G, B, A (glColorPointer(4, GL_UNSIGNED_BYTE, ...)) */
+    AERIAL_COLOUR_BGRA8 = 1, /* bytes B, G, R, A (GL_BGRA, EXT_vertex_array_bgra) */
+    /* one native-endian 32-bit word A << 24 | R << 16 | G << 8 | B: Direct3D's D3DCOLOR and
+       Irrlicht's video::SColor (B, G, R, A bytes on a little-endian machine) */
+    AERIAL_COLOUR_ARGB32 = 2
+} aerial_colour_format;
 
 /* Where results go; NULL arrays are skipped, at least one must be set. Strides are in bytes, 0
  * means tightly packed (4 for RGBA8, 12 for float RGB). RGBA8 codes are
@@ -215,6 +232,10 @@ typedef struct aerial_outputs {
     size_t in_scattering_rgb_stride;
     float* sun_irradiance_rgb;
     size_t sun_irradiance_rgb_stride;
+    /* The layout of the three *_rgba8 outputs; default AERIAL_COLOUR_RGBA8. With a stride the
+     * codes go straight into the colour field of an interleaved engine vertex (point the output
+     * at the first vertex's colour field, stride = sizeof(vertex)). */
+    aerial_colour_format colour_format;
 } aerial_outputs;
 
 typedef enum aerial_tone {
@@ -259,10 +280,128 @@ typedef struct aerial_batch_stats {
 /* Shades every position into the outputs with the context's current frame (the same bits as
  * aerial::shade_into). settings NULL means defaults; stats may be NULL. Errors
  * (AERIAL_ERROR_INVALID_BATCH, nothing written): a NULL array with count > 0, a stride smaller
- * than its element, lit_rgba8 without lighting normals, exposure < 0 or not finite, no output. */
+ * than its element, lit_rgba8 without lighting normals, exposure < 0 or not finite, no output,
+ * a model matrix that is not finite and affine, a colour format out of range. */
 aerial_status aerial_shade(const aerial_context* context, const aerial_positions* positions,
                            const aerial_outputs* outputs, const aerial_batch_settings* settings,
                            aerial_batch_stats* stats);
+
+/* ---- Exposure ----------------------------------------------------------------------------- */
+
+/* aerial::ExposureOptions: the exposure maps a grey card lit by the sun (through the atmosphere)
+ * and the sky to `key`, so that noon, dusk and every preset read alike. */
+typedef struct aerial_exposure_options {
+    double albedo;   /* reflectance of the grey card, (0, 1]; default (0) 0.18 */
+    double key;      /* exposed radiance of the card before the tone curve, > 0; default 0.5 */
+    double min_gain; /* limits, as multiples of the exposure of a card lit by E_sun0 at the */
+    double max_gain; /* zenith and no sky, 0 < min <= max; defaults 0.5 and 64 */
+    /* non-zero: the card stands at card_altitude_m (m above sea level); default (0): at the
+     * eye's altitude */
+    int use_card_altitude;
+    double card_altitude_m;
+} aerial_exposure_options;
+
+/* The exposure for the context's atmosphere and current view (aerial::auto_exposure with the
+ * sun irradiance and the skylight at the card's altitude, the sun's elevation above its
+ * horizon): pass it as aerial_display.exposure. Costs about 128 sky rays (well under a
+ * millisecond); call it when the sun or the atmosphere moved. options NULL means defaults. */
+aerial_status aerial_auto_exposure(const aerial_context* context,
+                                   const aerial_exposure_options* options, float* exposure);
+
+/* ---- Sky: the dome, the cubemap and the sun sprite ---------------------------------------- */
+
+/* How the sky radiance along a direction is computed (aerial::SkyMethod), cheapest first. */
+typedef enum aerial_sky_method {
+    /* what aerial::scene's built-in sky uses for the context's model: DOME_HP for
+       HOFFMAN_PREETHAM, DOME_HEIGHT for HEIGHT (and REFERENCE); the cubemap takes
+       HEIGHT_CHAINED (aerial::scene's cubemap sky) */
+    AERIAL_SKY_AUTOMATIC = 0,
+    AERIAL_SKY_DOME_HP = 1,        /* the 2002 dome, a fitted radius per elevation */
+    AERIAL_SKY_DOME_HP_SINGLE = 2, /* the same, one radius */
+    AERIAL_SKY_DOME_HEIGHT = 3,    /* the height model to the top of the atmosphere */
+    AERIAL_SKY_HEIGHT_CHAINED = 4, /* the height model over `segments` pieces of the ray */
+    AERIAL_SKY_REFERENCE = 5       /* numerical; about a millisecond a direction */
+} aerial_sky_method;
+
+typedef struct aerial_sky_options {
+    aerial_sky_method method; /* default AERIAL_SKY_AUTOMATIC */
+    int segments;             /* HEIGHT_CHAINED: pieces of the ray, >= 1; default (0) 12 */
+} aerial_sky_options;
+
+/* The sky of a context's atmosphere and view. Holds the per-frame state, the fitted dome of the
+ * 2002 method (kept while the atmosphere holds and the eye's altitude moves less than 25 m) and
+ * the cubemap's cache. One thread at a time, as a context. */
+typedef struct aerial_sky aerial_sky;
+
+aerial_status aerial_sky_create(const aerial_sky_options* options, aerial_sky** out);
+void aerial_sky_destroy(aerial_sky* sky); /* NULL is fine */
+const char* aerial_sky_last_error(const aerial_sky* sky);
+/* Once per frame, after aerial_context_set_view: takes the context's atmosphere, model and view.
+ * AERIAL_ERROR_NO_VIEW before the context has a view. */
+aerial_status aerial_sky_set_frame(aerial_sky* sky, const aerial_context* context);
+
+/* The raw linear sky radiance towards a world direction (any length > 0). */
+aerial_status aerial_sky_radiance(const aerial_sky* sky, const double direction[3], float rgb[3]);
+
+/* Where sky colours go: RGBA8 codes after the display (alpha 255) and/or raw linear floats. */
+typedef struct aerial_sky_colours {
+    unsigned char* rgba8;
+    size_t rgba8_stride; /* bytes between vertices; default (0) 4 */
+    aerial_colour_format format;
+    float* rgb;
+    size_t rgb_stride; /* default (0) 12 */
+} aerial_sky_colours;
+
+/* Colours for the vertices of a dome the engine owns and draws: each vertex gets the sky seen
+ * along the direction from `centre` to it (centre NULL: the view's eye; positions in engine
+ * units, model_matrix applied first), so the dome's radius and tessellation do not change the
+ * look. Vertices below the horizon get the horizon's colour in their azimuth (as aerial::scene's
+ * dome skirt and the cubemap: terrain covers them). Draw them as the dome's vertex colours with
+ * texturing, lighting and fog off, depth writes off, behind everything. display NULL: exposure
+ * 1, clamp. AERIAL_ERROR_INVALID_BATCH for bad arrays; a vertex at the centre, straight below it
+ * or not finite gets black. */
+aerial_status aerial_sky_shade_dome(const aerial_sky* sky, const aerial_positions* vertices,
+                                    const double centre[3], const aerial_display* display,
+                                    const aerial_sky_colours* out);
+
+/* The six faces of a sky cubemap, size x size texels each, in GL's order and orientation (+X,
+ * -X, +Y, -Y, +Z, -Z, as glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + i) takes them, row t = 0
+ * first), 4 bytes a texel in `format` (RGBA8 or BGRA8; ARGB32 is BGRA8 on little-endian
+ * machines), face i at faces + i * size * size * 4. capacity_bytes >= 6 * size * size * 4.
+ * The radiance is recomputed only when the sun turned by more than 0.05 degrees, the eye's
+ * altitude moved by more than 10 m, or the atmosphere or size changed; *changed (may be NULL)
+ * is 1 when the texels were recomputed or re-encoded (another display, format or size) since the
+ * previous call (upload them then), else 0 (the same texels). Texels below the horizon repeat
+ * the horizon. */
+aerial_status aerial_sky_cubemap(aerial_sky* sky, int size, aerial_colour_format format,
+                                 const aerial_display* display, unsigned char* faces,
+                                 size_t capacity_bytes, int* changed);
+
+typedef struct aerial_sun_sprite_options {
+    int size;               /* texels a side, >= 8; default (0) 64 */
+    double half_width_rad;  /* angular half-width of the square, (0, 0.8); default 0.087 */
+    double sun_radius_rad;  /* angular radius of the disc; default 0.00465 (0.267 deg) */
+    double halo_g;          /* Henyey-Greenstein g of the halo, [0.9, 1); default 0.95 */
+    int disc_supersampling; /* per axis, >= 1; default 4 */
+} aerial_sun_sprite_options;
+
+/* Where and how to draw the sprite. */
+typedef struct aerial_sun_sprite_info {
+    int size;               /* texels a side of the image written */
+    double half_width_rad;  /* the square spans this angle either side of `direction` */
+    double direction[3];    /* unit world direction towards the sun: the square's centre */
+    float transmittance[3]; /* the sun's colour at the eye: E_sun(eye) / E_sun0, in [0, 1] */
+} aerial_sun_sprite_info;
+
+/* The sun sprite (disc and the narrow Mie halo no per-vertex dome carries, aerial::
+ * make_sun_sprite), size x size texels of `format`, row 0 at the sprite's -v edge; draw it
+ * additively (glBlendFunc(GL_ONE, GL_ONE)) as a square facing the eye, centred on
+ * info->direction, spanning half_width_rad either side, depth test off, after the sky.
+ * rgba may be NULL (capacity 0) to ask only for the info. */
+aerial_status aerial_sky_sun_sprite(const aerial_sky* sky, const aerial_sun_sprite_options* options,
+                                    const aerial_display* display, aerial_colour_format format,
+                                    unsigned char* rgba, size_t capacity_bytes,
+                                    aerial_sun_sprite_info* info);
 
 /* ---- OpenGL: the engine's context --------------------------------------------------------- */
 
@@ -296,6 +435,9 @@ typedef struct aerial_draw_options {
     int texture_unit;            /* the unit with the engine's texture; default 0 */
     int untextured;              /* non-zero: colour = F_ex + L_in; default 0 (textured) */
     int fixed_function_lighting; /* non-zero: keep GL lighting on, F_ex feeds the material */
+    /* two-pass: non-zero keeps the engine's face culling in the L_in pass; default 0: back
+     * faces (GL_FRONT_FACE as the engine set it) are culled there */
+    int keep_face_culling;
 } aerial_draw_options;
 
 /* One RGBA8 record per vertex of the engine's draw, e.g. from aerial_shade. */
@@ -313,10 +455,42 @@ aerial_status aerial_gl_choose_path(aerial_gl* gl, aerial_path requested,
                                     int fixed_function_lighting, aerial_path* chosen);
 
 /* Calls draw(user) once (twice on the two-pass path) with the colours applied, then restores
- * every piece of GL state it changed. path_used may be NULL. */
+ * every piece of GL state it changed. path_used may be NULL. The callback must point only its
+ * positions and texture coordinates and draw: when it re-points the colour or secondary-colour
+ * array (as an engine's own draw call does when its vertices carry a colour), the result is
+ * AERIAL_ERROR_ENGINE_STATE naming the array, instead of a silently wrong image; such engines
+ * use aerial_gl_draw_two_pass with colours NULL. */
 aerial_status aerial_gl_draw_colours(aerial_gl* gl, const aerial_draw_options* options,
                                      const aerial_vertex_colours* colours,
                                      aerial_draw_function draw, void* user, aerial_path* path_used);
+
+/* ---- OpenGL: engines with one vertex colour ----------------------------------------------- */
+
+/* The pass a two-pass callback draws. */
+typedef enum aerial_pass {
+    AERIAL_PASS_EXTINCTION = 0,   /* the mesh with its texture x F_ex, the engine's own state */
+    AERIAL_PASS_IN_SCATTERING = 1 /* L_in added: blend ONE, ONE, depth EQUAL, no texture */
+} aerial_pass;
+
+/* The engine's draw call for one pass: with aerial's colours (aerial_gl_draw_two_pass with
+ * colours set) it points only positions and texture coordinates and draws; with colours NULL
+ * it draws its mesh with its one vertex colour holding F_ex in pass 0 and L_in in pass 1 (two
+ * colour buffers, or one rewritten between the passes). */
+typedef void (*aerial_draw_pass_function)(void* user, aerial_pass pass);
+
+/* Draws an opaque mesh in two passes around the engine's own draw call: pass 0 as the engine
+ * set it up (its texture, depth test, blend and fog state, the primary colour F_ex), pass 1
+ * adds L_in: blend ONE, ONE; depth test on with EQUAL, depth and alpha writes off; texturing,
+ * lighting and alpha test off; fog colour black (fog fades L_in instead of adding its colour
+ * twice); back faces culled (or the engine's culling, options->keep_face_culling), so that a
+ * silhouette's back faces do not add L_in a second time. Every piece of state is restored
+ * afterwards. colours: aerial points the colour array at colours->primary for pass 0 and
+ * colours->secondary for pass 1 (NULL: the engine's own colour array). After each pass it checks
+ * that the callback left the state it set (colour array, blend, depth function and mask):
+ * AERIAL_ERROR_ENGINE_STATE names what the engine's draw changed. */
+aerial_status aerial_gl_draw_two_pass(aerial_gl* gl, const aerial_draw_options* options,
+                                      const aerial_vertex_colours* colours,
+                                      aerial_draw_pass_function draw, void* user);
 
 /* ---- OpenGL: the ARB vertex program ------------------------------------------------------- */
 
@@ -324,6 +498,19 @@ typedef enum aerial_parameter_space {
     AERIAL_PARAMETERS_LOCAL = 0, /* program.local[i] of the program object */
     AERIAL_PARAMETERS_ENV = 1    /* program.env[i], shared by the context's vertex programs */
 } aerial_parameter_space;
+
+/* ARB_vertex_program resource limits (aerial::ArbLimits); 0 in a field: the spec minimum. */
+typedef struct aerial_arb_limits {
+    int max_instructions; /* MAX_PROGRAM_(NATIVE_)INSTRUCTIONS_ARB; spec minimum 128 */
+    int max_temporaries;  /* spec minimum 12 */
+    int max_parameters;   /* spec minimum 96 */
+    int max_attributes;   /* spec minimum 16 */
+} aerial_arb_limits;
+
+/* The driver's native limits (MAX_PROGRAM_NATIVE_*_ARB of GL_VERTEX_PROGRAM_ARB), for
+ * aerial_arb_options.limits. Only queries: creates no program object and changes no state.
+ * AERIAL_ERROR_GL_UNSUPPORTED without GL_ARB_vertex_program. */
+aerial_status aerial_gl_arb_limits(aerial_gl* gl, aerial_arb_limits* out);
 
 typedef enum aerial_height_fidelity {
     AERIAL_HEIGHT_FIDELITY_AUTOMATIC = 0, /* the highest level that fits the limits */
@@ -344,8 +531,15 @@ typedef struct aerial_arb_options {
     int guard_coarse_ex2;                   /* for ~11-bit EX2 hardware; default 0 */
     aerial_height_fidelity height_fidelity; /* default AUTOMATIC */
     /* aerial_arb_program_create only: resolve AUTOMATIC against the driver's native limits
-     * rather than the spec minimums (default 0: spec minimums, 127 instructions). */
+     * rather than `limits` (default 0). */
     int use_native_limits;
+    /* The limits the program must fit and AUTOMATIC resolves against: a driver's native limits
+     * from aerial_gl_arb_limits, or an engine's own; a field left 0 is the spec minimum. */
+    aerial_arb_limits limits;
+    /* non-zero: vertex.position is in model space and the program reads the world position as
+     * M x vertex.position from three parameter vectors (aerial_arb_model_matrix, index in
+     * aerial_arb_info.model_matrix_index), set per draw; default 0: world positions. */
+    int model_matrix;
 } aerial_arb_options;
 
 /* The program text for `options` (NULL: defaults), without GL: exactly what goes to
@@ -363,6 +557,51 @@ aerial_status aerial_arb_parameters(const aerial_context* context,
                                     const aerial_arb_options* options,
                                     const aerial_display* display, float* vectors,
                                     size_t capacity_vectors, size_t* count);
+
+/* What the program `options` describe is and reads. */
+typedef struct aerial_arb_info {
+    aerial_model model;
+    aerial_height_fidelity height_fidelity; /* height: the level chosen (never AUTOMATIC) */
+    int instructions;                       /* as the spec counts them (section 2.14.3.7) */
+    int temporaries;
+    int parameter_bindings; /* distinct parameter bindings: state, local/env, constants */
+    int attributes;
+    int parameter_base;     /* first per-frame vector (program.local or .env) */
+    int parameter_count;    /* per-frame vectors, from parameter_base (aerial_arb_parameters) */
+    int model_matrix_index; /* first of the 3 model-matrix vectors; -1 without model_matrix */
+} aerial_arb_info;
+
+/* The program without GL: the chosen level, its resources and where its parameters go. Fails
+ * as aerial_arb_generate does (AERIAL_ERROR_ARB_PROGRAM naming the exceeded limit). */
+aerial_status aerial_arb_describe(const aerial_arb_options* options, aerial_arb_info* out);
+
+/* One parameter vector of the layout. */
+typedef struct aerial_arb_parameter {
+    int index;           /* absolute program.local / program.env index */
+    const char* name;    /* "eye", "sun", ... (static storage) */
+    const char* meaning; /* one line: what x, y, z, w hold (static storage) */
+} aerial_arb_parameter;
+
+/* The parameter layout (per-frame vectors, then the model matrix's rows), `count` entries
+ * (AERIAL_ERROR_BUFFER_TOO_SMALL when capacity is smaller; out may be NULL with capacity 0). */
+aerial_status aerial_arb_parameter_layout(const aerial_arb_options* options,
+                                          aerial_arb_parameter* out, size_t capacity,
+                                          size_t* count);
+
+/* The three model-matrix vectors (12 floats, the matrix's top three rows) of a column-major
+ * affine matrix, for index aerial_arb_info.model_matrix_index; per draw. */
+aerial_status aerial_arb_model_matrix(const aerial_arb_options* options, const float model[16],
+                                      float vectors[12]);
+
+/* The state an engine that binds the program itself (a material system, Irrlicht's
+ * addShaderMaterial) must set around its draw, set and later restored by aerial: GL_COLOR_SUM
+ * on (the program writes L_in to the secondary colour, which GL adds only with COLOR_SUM: without
+ * it the sky renders black), GL_TEXTURE_ENV_MODE MODULATE on options->texture_unit (texturing
+ * off there with options->untextured). The engine binds and enables its program. Saves what it
+ * changes; aerial_gl_restore_program_state puts it back. Not nested: a second set before the
+ * restore is AERIAL_ERROR_INVALID_ARGUMENT. */
+aerial_status aerial_gl_set_program_state(aerial_gl* gl, const aerial_draw_options* options);
+aerial_status aerial_gl_restore_program_state(aerial_gl* gl);
 
 typedef struct aerial_arb_program aerial_arb_program;
 

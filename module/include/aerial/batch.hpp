@@ -23,6 +23,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include <glm/vec3.hpp>
 
@@ -38,6 +39,10 @@ struct Positions {
     const float* z = nullptr;
     std::size_t count = 0;
     std::size_t stride_bytes = 0;  ///< bytes between consecutive vertices of each array
+    /// Model space: 16 floats, column-major (glLoadMatrixf's layout), affine (bottom row 0, 0,
+    /// 0, 1), mapping the positions to the world (computed in double per vertex); null: the
+    /// positions are world positions.
+    const float* model_matrix = nullptr;
 
     /// Interleaved records: x, y, z floats at the start of each, `stride_bytes` apart (0 means
     /// tightly packed, 12).
@@ -93,6 +98,32 @@ struct Lighting {
     glm::vec3 albedo{1.0f};               ///< multiplies the lit colour (1 when the texture has it)
 };
 
+/// The memory layout of the 8-bit colour outputs.
+enum class ColourFormat {
+    rgba8,   ///< bytes R, G, B, A (glColorPointer(4, GL_UNSIGNED_BYTE, ...))
+    bgra8,   ///< bytes B, G, R, A (GL_BGRA)
+    argb32,  ///< a native 32-bit word A << 24 | R << 16 | G << 8 | B (D3DCOLOR, Irrlicht SColor)
+};
+
+/// "rgba8", "bgra8" or "argb32".
+const char* colour_format_name(ColourFormat format);
+
+/// Writes an RGBA code into 4 bytes of `format` (the one rule of every colour output).
+inline void store_colour(std::uint8_t* out, ColourFormat format, std::uint8_t r, std::uint8_t g,
+                         std::uint8_t b, std::uint8_t a) {
+    if (format == ColourFormat::argb32) {
+        const std::uint32_t word = std::uint32_t(a) << 24 | std::uint32_t(r) << 16 |
+                                   std::uint32_t(g) << 8 | std::uint32_t(b);
+        std::memcpy(out, &word, 4);
+        return;
+    }
+    const bool bgra = format == ColourFormat::bgra8;
+    out[0] = bgra ? b : r;
+    out[1] = g;
+    out[2] = bgra ? r : b;
+    out[3] = a;
+}
+
 /// Where results go. Null pointers are skipped; strides of 0 mean tightly packed (4 bytes for
 /// RGBA8, 12 for float RGB).
 struct BatchOutputs {
@@ -108,6 +139,9 @@ struct BatchOutputs {
     std::size_t in_scattering_rgb_stride = 0;
     float* sun_irradiance_rgb = nullptr;
     std::size_t sun_irradiance_rgb_stride = 0;
+    /// The layout of the three *_rgba8 outputs (the names keep "rgba8" for every format). With
+    /// a stride they go straight into the colour field of interleaved engine vertices.
+    ColourFormat colour_format = ColourFormat::rgba8;
 };
 
 /// Which implementation computes the model.
@@ -146,7 +180,8 @@ struct BatchStats {
 /// where the value lies within float rounding (1e-6 relative) of a rounding boundary.
 /// Errors (nothing is written): a null array
 /// with count > 0, a stride smaller than its element, lit_rgba8 without lighting normals,
-/// exposure <= 0 or not finite, no output at all. `reference` runs on the scalar kernel whatever
+/// exposure <= 0 or not finite, no output at all, a model matrix that is not finite and affine.
+/// `reference` runs on the scalar kernel whatever
 /// `settings.kernel` says.
 Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positions,
                               const BatchOutputs& outputs, const BatchSettings& settings = {});

@@ -39,6 +39,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -49,8 +50,9 @@
 
 namespace aerial::gl {
 
-struct Api;   // aerial/gl_api.hpp
-struct Caps;  // aerial/gl_api.hpp
+struct Api;        // aerial/gl_api.hpp
+struct Caps;       // aerial/gl_api.hpp
+class StateSaver;  // aerial/gl_state_saver.hpp
 
 /// How the fixed pipeline combines texture, F_ex and L_in: colour = texture × F_ex + L_in.
 /// Every path first switches off what would bypass the fixed pipeline (GL_VERTEX_PROGRAM_ARB,
@@ -177,6 +179,10 @@ struct ApplyOptions {
     /// add L_in then: `automatic` picks one of them. The material's ambient and diffuse colours,
     /// which colour tracking overwrites, are restored after the draw.
     bool fixed_function_lighting = false;
+    /// The two-pass L_in pass culls back faces (GL_FRONT_FACE as the engine set it), so that a
+    /// silhouette's back faces, which pass the depth test EQUAL where they meet the front faces,
+    /// do not add L_in a second time. True: the engine's face culling as it is.
+    bool keep_face_culling = false;
 };
 
 /// What a draw did, for the engine's statistics.
@@ -191,6 +197,47 @@ struct ApplyStats {
 Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options,
                                      const VertexColours& colours,
                                      const std::function<void()>& draw);
+
+/// Which pass a draw_two_pass callback draws.
+enum class Pass {
+    extinction,     ///< the mesh with the engine's state: texture x F_ex (the primary colour)
+    in_scattering,  ///< + L_in: blend ONE, ONE, depth EQUAL, no texture, black fog
+};
+
+/// Two passes around an engine's own draw call, for engines whose vertices carry one colour:
+/// pass `extinction` as the engine set it up (its texture, depth, blend and fog state; lighting
+/// off unless options.fixed_function_lighting), then pass `in_scattering` adds L_in (blend ONE,
+/// ONE; depth EQUAL, depth and alpha writes off; every texture unit, lighting and alpha test off;
+/// a black fog colour; back faces culled unless options.keep_face_culling). With `colours` the
+/// module points the colour array at colours->primary, then at colours->secondary, and the
+/// callback must draw without touching it; with null colours the callback draws its own colour
+/// array, holding F_ex in the first pass and L_in in the second. After each pass the state the
+/// module set is checked: an error with field "engine.colour_array", "engine.blend",
+/// "engine.depth_func", "engine.depth_mask" or "engine.texture" names what the engine's draw
+/// changed (the image is then wrong; the state is restored either way).
+Result<ApplyStats> draw_two_pass(const Api& api, const ApplyOptions& options,
+                                 const VertexColours* colours,
+                                 const std::function<void(Pass)>& draw);
+
+/// The state an ARB vertex program of generate_arb_program needs when the engine binds and
+/// enables the program itself (a material system): GL_COLOR_SUM on (the program writes L_in to
+/// the secondary colour, which GL adds only with COLOR_SUM), GL_TEXTURE_ENV_MODE MODULATE on
+/// options.texture_unit (texturing off there when !options.textured), no fragment program and
+/// no GLSL program. ArbVertexProgram::draw sets the same. Saves what it changes; the destructor
+/// or restore() puts it back (the context must be current then). Move-only.
+class ProgramDrawState {
+  public:
+    /// Errors: "context" with no current context; "texture_unit" out of the context's range.
+    static Result<ProgramDrawState> set(const Api& api, const ApplyOptions& options = {});
+    void restore();
+    ProgramDrawState(ProgramDrawState&&) noexcept;
+    ProgramDrawState& operator=(ProgramDrawState&&) noexcept;
+    ~ProgramDrawState();
+
+  private:
+    explicit ProgramDrawState(std::unique_ptr<StateSaver> saver);
+    std::unique_ptr<StateSaver> saver_;
+};
 
 /// The driver's native ARB_vertex_program limits (GL_MAX_PROGRAM_NATIVE_INSTRUCTIONS_ARB,
 /// _TEMPORARIES_, _PARAMETERS_, _ATTRIBS_ of GL_VERTEX_PROGRAM_ARB); a limit the driver answers

@@ -96,6 +96,7 @@ struct Caps {
     AERIAL_GL_11(X, BlendFunc)          \
     AERIAL_GL_11(X, DepthFunc)          \
     AERIAL_GL_11(X, DepthMask)          \
+    AERIAL_GL_11(X, CullFace)           \
     AERIAL_GL_11(X, ColorMask)          \
     AERIAL_GL_11(X, ShadeModel)         \
     AERIAL_GL_11(X, ColorMaterial)      \

@@ -54,6 +54,7 @@ class StateSaver {
     void blend_func(GLenum source, GLenum destination);
     void depth_func(GLenum function);
     void depth_mask(bool write);
+    void cull_face(GLenum face);  ///< glCullFace (GL_FRONT, GL_BACK, GL_FRONT_AND_BACK)
     /// glColorMask with the engine's red/green/blue mask kept, alpha as given AND the engine's.
     void mask_alpha();
     void fog_color(const GLfloat colour[4]);

@@ -69,6 +69,10 @@ struct VirtualDome {
 Result<VirtualDome> fit_virtual_dome(const Atmosphere& atmosphere, double eye_altitude_m,
                                      int samples = 257);
 
+/// How far (m) the eye may climb or sink before a renderer fits the virtual dome again (the
+/// scene's sky and the C interface's aerial_sky keep a fit while the atmosphere holds).
+inline constexpr double kVirtualDomeRefitAltitudeM = 25.0;
+
 struct SkyOptions {
     int segments = 12;  ///< height_chained: pieces of the ray, >= 1
     /// dome_hp and dome_hp_single: the virtual dome fitted for this atmosphere and eye altitude

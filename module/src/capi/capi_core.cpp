@@ -205,6 +205,8 @@ View validated(const aerial_view* view) {
     return v;
 }
 
+}  // namespace
+
 Positions to_cpp_positions(const aerial_positions& positions) {
     if ((positions.y == nullptr) != (positions.z == nullptr)) {
         fail(AERIAL_ERROR_INVALID_BATCH, "positions",
@@ -217,14 +219,32 @@ Positions to_cpp_positions(const aerial_positions& positions) {
                  "expected 0 or >= 12 for interleaved x, y, z records, got " +
                      detail::number(positions.stride_bytes));
         }
-        return Positions::aos(positions.x, positions.count, positions.stride_bytes);
+        Positions p = Positions::aos(positions.x, positions.count, positions.stride_bytes);
+        p.model_matrix = positions.model_matrix;
+        return p;
     }
-    return Positions{positions.x, positions.y, positions.z, positions.count,
-                     positions.stride_bytes ? positions.stride_bytes : sizeof(float)};
+    return Positions{positions.x,
+                     positions.y,
+                     positions.z,
+                     positions.count,
+                     positions.stride_bytes ? positions.stride_bytes : sizeof(float),
+                     positions.model_matrix};
 }
+
+ColourFormat to_cpp_format(int format, const char* field) {
+    static constexpr EnumValue<ColourFormat> kFormats[] = {
+        {AERIAL_COLOUR_RGBA8, ColourFormat::rgba8},
+        {AERIAL_COLOUR_BGRA8, ColourFormat::bgra8},
+        {AERIAL_COLOUR_ARGB32, ColourFormat::argb32}};
+    return to_cpp_enum(format, kFormats, field,
+                       "AERIAL_COLOUR_RGBA8 (0), _BGRA8 (1) or _ARGB32 (2)");
+}
+
+namespace {
 
 BatchOutputs to_cpp_outputs(const aerial_outputs& outputs) {
     BatchOutputs o;
+    o.colour_format = to_cpp_format(int(outputs.colour_format), "outputs.colour_format");
     o.extinction_rgba8 = outputs.extinction_rgba8;
     o.extinction_rgba8_stride = outputs.extinction_rgba8_stride;
     o.lit_rgba8 = outputs.lit_rgba8;
@@ -319,6 +339,8 @@ const char* aerial_status_string(aerial_status status) {
             return "out of memory";
         case AERIAL_ERROR_INTERNAL:
             return "internal error";
+        case AERIAL_ERROR_ENGINE_STATE:
+            return "engine changed aerial's GL state";
         case AERIAL_STATUS_MAX_ENUM:
             break;
     }

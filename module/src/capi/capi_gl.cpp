@@ -18,6 +18,8 @@ struct aerial_gl {
     aerial::gl::Api api;
     /// The combiner path's 3D texture, created on the first combiner draw.
     std::optional<aerial::gl::CombinerTexture> combiner;
+    /// What aerial_gl_set_program_state saved, until aerial_gl_restore_program_state.
+    std::optional<aerial::gl::ProgramDrawState> program_state;
     std::string last_error;
 };
 
@@ -37,6 +39,7 @@ bool starts_with(const std::string& s, const char* prefix) {
 /// A GL layer error: the context lacks something (named by its extension, or the feature the
 /// fixed-function lighting or the combiner texture needs), or the caller passed a bad value.
 [[noreturn]] void fail_gl(const Error& error) {
+    if (starts_with(error.field, "engine.")) fail(AERIAL_ERROR_ENGINE_STATE, error);
     const bool unsupported = starts_with(error.field, "GL_") ||
                              error.field == "fixed_function_lighting" || error.field == "combiner";
     fail(unsupported ? AERIAL_ERROR_GL_UNSUPPORTED : AERIAL_ERROR_INVALID_ARGUMENT, error);
@@ -66,7 +69,53 @@ gl::ApplyOptions to_cpp_draw(const aerial_draw_options* c) {
     o.texture_unit = c->texture_unit;
     o.textured = c->untextured == 0;
     o.fixed_function_lighting = c->fixed_function_lighting != 0;
+    o.keep_face_culling = c->keep_face_culling != 0;
     return o;
+}
+
+/// The C limits: a field left 0 is the spec minimum; a negative one is an error.
+ArbLimits to_cpp_limits(const aerial_arb_limits& c) {
+    ArbLimits l;
+    const struct {
+        const char* field;
+        int value;
+        int* target;
+    } fields[] = {{"options.limits.max_instructions", c.max_instructions, &l.max_instructions},
+                  {"options.limits.max_temporaries", c.max_temporaries, &l.max_temporaries},
+                  {"options.limits.max_parameters", c.max_parameters, &l.max_parameters},
+                  {"options.limits.max_attributes", c.max_attributes, &l.max_attributes}};
+    for (const auto& f : fields) {
+        if (f.value < 0) {
+            fail(AERIAL_ERROR_INVALID_ARGUMENT, f.field,
+                 "expected >= 0 (0: the spec minimum), got " + std::to_string(f.value));
+        }
+        if (f.value > 0) *f.target = f.value;
+    }
+    return l;
+}
+
+aerial_arb_limits to_c_limits(const ArbLimits& l) {
+    aerial_arb_limits c;
+    c.max_instructions = l.max_instructions;
+    c.max_temporaries = l.max_temporaries;
+    c.max_parameters = l.max_parameters;
+    c.max_attributes = l.max_attributes;
+    return c;
+}
+
+constexpr EnumValue<ArbHeightFidelity> kFidelities[] = {
+    {AERIAL_HEIGHT_FIDELITY_AUTOMATIC, ArbHeightFidelity::automatic},
+    {AERIAL_HEIGHT_FIDELITY_SPEC_MINIMUM, ArbHeightFidelity::spec_minimum},
+    {AERIAL_HEIGHT_FIDELITY_EXACT_OPTICAL_DEPTH, ArbHeightFidelity::exact_optical_depth},
+    {AERIAL_HEIGHT_FIDELITY_FULL, ArbHeightFidelity::full}};
+
+/// The level a generated program has (AUTOMATIC for a model without levels).
+aerial_height_fidelity to_c_fidelity(const ArbProgramOptions& o) {
+    if (o.model != Model::height) return AERIAL_HEIGHT_FIDELITY_AUTOMATIC;
+    for (const EnumValue<ArbHeightFidelity>& f : kFidelities) {
+        if (f.cpp == o.height_fidelity) return aerial_height_fidelity(f.c);
+    }
+    return AERIAL_HEIGHT_FIDELITY_AUTOMATIC;
 }
 
 ArbProgramOptions to_cpp_arb(const aerial_arb_options* c) {
@@ -88,13 +137,9 @@ ArbProgramOptions to_cpp_arb(const aerial_arb_options* c) {
     }
     o.position_invariant = c->position_invariant != 0;
     o.guard_coarse_ex2 = c->guard_coarse_ex2 != 0;
-    static constexpr EnumValue<ArbHeightFidelity> kFidelities[] = {
-        {AERIAL_HEIGHT_FIDELITY_AUTOMATIC, ArbHeightFidelity::automatic},
-        {AERIAL_HEIGHT_FIDELITY_SPEC_MINIMUM, ArbHeightFidelity::spec_minimum},
-        {AERIAL_HEIGHT_FIDELITY_EXACT_OPTICAL_DEPTH, ArbHeightFidelity::exact_optical_depth},
-        {AERIAL_HEIGHT_FIDELITY_FULL, ArbHeightFidelity::full}};
     o.height_fidelity = to_cpp_enum(int(c->height_fidelity), kFidelities, "options.height_fidelity",
                                     "AERIAL_HEIGHT_FIDELITY_AUTOMATIC (0) .. _FULL (3)");
+    o.limits = to_cpp_limits(c->limits);
     return o;
 }
 
@@ -128,6 +173,16 @@ std::vector<std::array<float, 4>> parameters(const aerial_context& context,
 
 std::function<void()> callback(aerial_draw_function draw, void* user) {
     return [draw, user] { draw(user); };
+}
+
+gl::VertexColours to_cpp_colours(const aerial_vertex_colours& c) {
+    gl::VertexColours v;
+    v.primary = c.primary;
+    v.secondary = c.secondary;
+    v.primary_stride_bytes = c.primary_stride_bytes;
+    v.secondary_stride_bytes = c.secondary_stride_bytes;
+    v.vertex_count = c.vertex_count;
+    return v;
 }
 
 }  // namespace
@@ -193,19 +248,94 @@ aerial_status aerial_gl_draw_colours(aerial_gl* gl, const aerial_draw_options* o
             }
             o.combiner = &*gl->combiner;
         }
-        gl::VertexColours v;
-        v.primary = colours->primary;
-        v.secondary = colours->secondary;
-        v.primary_stride_bytes = colours->primary_stride_bytes;
-        v.secondary_stride_bytes = colours->secondary_stride_bytes;
-        v.vertex_count = colours->vertex_count;
-        auto stats = gl::draw_with_colours(gl->api, o, v, capi::callback(draw, user));
+        auto stats = gl::draw_with_colours(gl->api, o, capi::to_cpp_colours(*colours),
+                                           capi::callback(draw, user));
         if (!stats) capi::fail_gl(stats.error());
         if (path_used != nullptr) *path_used = capi::to_c_path(stats->path);
     });
 }
 
+aerial_status aerial_gl_draw_two_pass(aerial_gl* gl, const aerial_draw_options* options,
+                                      const aerial_vertex_colours* colours,
+                                      aerial_draw_pass_function draw, void* user) {
+    return guard("aerial_gl_draw_two_pass", capi::last_error_of(gl), [&] {
+        require(gl, "gl");
+        require(draw, "draw");
+        gl::ApplyOptions o = capi::to_cpp_draw(options);
+        if (o.path != gl::Path::automatic && o.path != gl::Path::two_pass) {
+            fail(AERIAL_ERROR_INVALID_ARGUMENT, "options.path",
+                 "expected AERIAL_PATH_AUTOMATIC (0) or _TWO_PASS (3), got " +
+                     std::to_string(int(options->path)));
+        }
+        std::optional<gl::VertexColours> v;
+        if (colours) v = capi::to_cpp_colours(*colours);
+        auto stats = gl::draw_two_pass(gl->api, o, v ? &*v : nullptr, [draw, user](gl::Pass pass) {
+            draw(user,
+                 pass == gl::Pass::extinction ? AERIAL_PASS_EXTINCTION : AERIAL_PASS_IN_SCATTERING);
+        });
+        if (!stats) capi::fail_gl(stats.error());
+    });
+}
+
+aerial_status aerial_gl_set_program_state(aerial_gl* gl, const aerial_draw_options* options) {
+    return guard("aerial_gl_set_program_state", capi::last_error_of(gl), [&] {
+        require(gl, "gl");
+        if (gl->program_state) {
+            fail(AERIAL_ERROR_INVALID_ARGUMENT, "gl",
+                 "expected aerial_gl_restore_program_state before setting the state again, got "
+                 "a second set");
+        }
+        const gl::ApplyOptions o = capi::to_cpp_draw(options);
+        gl->program_state = capi::value_or_fail(gl::ProgramDrawState::set(gl->api, o),
+                                                AERIAL_ERROR_INVALID_ARGUMENT);
+    });
+}
+
+aerial_status aerial_gl_restore_program_state(aerial_gl* gl) {
+    return guard("aerial_gl_restore_program_state", capi::last_error_of(gl), [&] {
+        require(gl, "gl");
+        if (!gl->program_state) {
+            fail(AERIAL_ERROR_INVALID_ARGUMENT, "gl",
+                 "expected aerial_gl_set_program_state first, got no saved state");
+        }
+        gl->program_state.reset();  // the destructor restores
+    });
+}
+
 // ---- ARB vertex program ----------------------------------------------------------------------
+
+aerial_status aerial_gl_arb_limits(aerial_gl* gl, aerial_arb_limits* out) {
+    return guard("aerial_gl_arb_limits", capi::last_error_of(gl), [&] {
+        require(gl, "gl");
+        require(out, "out");
+        if (!gl->api.caps.vertex_program) {
+            fail(AERIAL_ERROR_GL_UNSUPPORTED, "GL_ARB_vertex_program",
+                 "expected the extension, got a context without it (" + gl->api.caps.renderer +
+                     ", " + gl->api.caps.version + ")");
+        }
+        *out = capi::to_c_limits(gl::native_arb_limits(gl->api));
+    });
+}
+
+aerial_status aerial_arb_describe(const aerial_arb_options* options, aerial_arb_info* out) {
+    return guard("aerial_arb_describe", nullptr, [&] {
+        require(out, "out");
+        const ArbProgram program = capi::generate(capi::to_cpp_arb(options));
+        aerial_arb_info info;
+        std::memset(&info, 0, sizeof info);
+        info.model = program.options.model == Model::height ? AERIAL_MODEL_HEIGHT
+                                                            : AERIAL_MODEL_HOFFMAN_PREETHAM;
+        info.height_fidelity = capi::to_c_fidelity(program.options);
+        info.instructions = program.resources.instructions;
+        info.temporaries = program.resources.temporaries;
+        info.parameter_bindings = program.resources.parameters;
+        info.attributes = program.resources.attributes;
+        info.parameter_base = program.options.parameter_base;
+        info.parameter_count = arb_parameter_count(program.options);
+        info.model_matrix_index = -1;
+        *out = info;
+    });
+}
 
 aerial_status aerial_arb_generate(const aerial_arb_options* options, char* text, size_t capacity,
                                   size_t* length, int* parameter_count) {

@@ -126,6 +126,11 @@ Display to_cpp(const aerial_display* display);
 /// The model, or AERIAL_ERROR_INVALID_ARGUMENT naming `field`.
 Model to_cpp_model(int model, const char* field);
 
+/// The C positions (model matrix included), or AERIAL_ERROR_INVALID_BATCH.
+Positions to_cpp_positions(const aerial_positions& positions);
+/// The colour format, or AERIAL_ERROR_INVALID_ARGUMENT naming `field`.
+ColourFormat to_cpp_format(int format, const char* field);
+
 /// The context's current frame, or AERIAL_ERROR_NO_VIEW.
 const Frame<float>& current_frame(const aerial_context& context);
 

@@ -31,6 +31,35 @@ const float* advance(const float* p, std::size_t bytes) {
     return reinterpret_cast<const float*>(reinterpret_cast<const unsigned char*>(p) + bytes);
 }
 
+/// Reads n positions from `first` into x, y, z, through the model matrix when there is one
+/// (column-major, affine; computed in double, rounded once).
+void load_positions(const Positions& pos, std::size_t first, std::size_t n, float* x, float* y,
+                    float* z) {
+    const float* m = pos.model_matrix;
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t offset = (first + i) * pos.stride_bytes;
+        const double px = *advance(pos.x, offset), py = *advance(pos.y, offset),
+                     pz = *advance(pos.z, offset);
+        if (!m) {
+            x[i] = float(px), y[i] = float(py), z[i] = float(pz);
+            continue;
+        }
+        x[i] = float(double(m[0]) * px + double(m[4]) * py + double(m[8]) * pz + double(m[12]));
+        y[i] = float(double(m[1]) * px + double(m[5]) * py + double(m[9]) * pz + double(m[13]));
+        z[i] = float(double(m[2]) * px + double(m[6]) * py + double(m[10]) * pz + double(m[14]));
+    }
+}
+
+/// Rewrites the RGBA8 codes of [first, last) of one output in `format`, in place.
+void convert_codes(std::uint8_t* base, std::size_t stride, std::size_t first, std::size_t last,
+                   ColourFormat format) {
+    if (!base || format == ColourFormat::rgba8) return;
+    for (std::size_t i = first; i < last; ++i) {
+        std::uint8_t* p = base + i * stride;
+        store_colour(p, format, p[0], p[1], p[2], p[3]);
+    }
+}
+
 /// Scratch of one block, in structure-of-arrays form.
 struct BlockScratch {
     alignas(64) float x[kBlockSize];
@@ -133,8 +162,8 @@ std::size_t shade_range_rgba8(const Plan& plan, std::size_t first, std::size_t l
                                 : nullptr;
     };
     const bool packed_xyz = pos.x != nullptr && pos.stride_bytes == 3 * sizeof(float) &&
-                            pos.y == pos.x + 1 && pos.z == pos.x + 2;
-    if (packed_xyz || pos.stride_bytes == sizeof(float)) {
+                            pos.y == pos.x + 1 && pos.z == pos.x + 2 && !pos.model_matrix;
+    if (packed_xyz || (pos.stride_bytes == sizeof(float) && !pos.model_matrix)) {
         job.packed_xyz = packed_xyz;
         job.x = packed_xyz ? pos.x + 3 * first : pos.x + first;
         job.y = packed_xyz ? nullptr : pos.y + first;
@@ -147,12 +176,7 @@ std::size_t shade_range_rgba8(const Plan& plan, std::size_t first, std::size_t l
     std::size_t invalid = 0;
     for (std::size_t begin = first; begin < last; begin += kBlockSize) {
         const std::size_t n = std::min(kBlockSize, last - begin);
-        for (std::size_t i = 0; i < n; ++i) {
-            const std::size_t offset = (begin + i) * pos.stride_bytes;
-            x[i] = *advance(pos.x, offset);
-            y[i] = *advance(pos.y, offset);
-            z[i] = *advance(pos.z, offset);
-        }
+        load_positions(pos, begin, n, x, y, z);
         job.x = x;
         job.y = y;
         job.z = z;
@@ -163,8 +187,9 @@ std::size_t shade_range_rgba8(const Plan& plan, std::size_t first, std::size_t l
     return invalid;
 }
 
-/// Shades vertices [first, last) block by block; returns the invalid-vertex count.
-std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
+/// Shades vertices [first, last) block by block as RGBA8 codes; returns the invalid-vertex
+/// count.
+std::size_t shade_range_codes(const Plan& plan, std::size_t first, std::size_t last) {
     if (plan.one_pass_rgba8) return shade_range_rgba8(plan, first, last);
     const Positions& pos = plan.positions;
     const BatchOutputs& out = plan.out;
@@ -175,7 +200,7 @@ std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
                                                   : detail::KernelPrecision::accurate;
     // Tightly packed x, y, z records (the common AoS layout) are split with SIMD loads.
     const bool packed_xyz = pos.x != nullptr && pos.stride_bytes == 3 * sizeof(float) &&
-                            pos.y == pos.x + 1 && pos.z == pos.x + 2;
+                            pos.y == pos.x + 1 && pos.z == pos.x + 2 && !pos.model_matrix;
     BlockScratch scratch;
     std::size_t invalid = 0;
     for (std::size_t begin = first; begin < last; begin += kBlockSize) {
@@ -183,12 +208,7 @@ std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
         if (packed_xyz) {
             detail::deinterleave3(pos.x + 3 * begin, n, scratch.x, scratch.y, scratch.z);
         } else {
-            for (std::size_t i = 0; i < n; ++i) {
-                const std::size_t offset = (begin + i) * pos.stride_bytes;
-                scratch.x[i] = *advance(pos.x, offset);
-                scratch.y[i] = *advance(pos.y, offset);
-                scratch.z[i] = *advance(pos.z, offset);
-            }
+            load_positions(pos, begin, n, scratch.x, scratch.y, scratch.z);
         }
         detail::KernelBlock block;
         block.x = scratch.x;
@@ -240,6 +260,17 @@ std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
                                 n, scratch.sun_irradiance);
         }
     }
+    return invalid;
+}
+
+/// Shades vertices [first, last) into the outputs in their colour format.
+std::size_t shade_range(const Plan& plan, std::size_t first, std::size_t last) {
+    const std::size_t invalid = shade_range_codes(plan, first, last);
+    const ColourFormat format = plan.out.colour_format;
+    convert_codes(plan.out.extinction_rgba8, plan.extinction_rgba8_stride, first, last, format);
+    convert_codes(plan.out.lit_rgba8, plan.lit_rgba8_stride, first, last, format);
+    convert_codes(plan.out.in_scattering_rgba8, plan.in_scattering_rgba8_stride, first, last,
+                  format);
     return invalid;
 }
 
@@ -391,7 +422,36 @@ std::optional<Error> check_stride(const char* field, std::size_t stride, std::si
     return std::nullopt;
 }
 
+std::optional<Error> check_model_matrix(const float* m) {
+    if (!m) return std::nullopt;
+    for (int i = 0; i < 16; ++i) {
+        if (!std::isfinite(m[i])) {
+            return detail::invalid(kShadeInto, "positions.model_matrix", "16 finite numbers",
+                                   "element " + detail::number(i) + " = " + detail::number(m[i]));
+        }
+    }
+    if (m[3] != 0.0f || m[7] != 0.0f || m[11] != 0.0f || m[15] != 1.0f) {
+        return detail::invalid(kShadeInto, "positions.model_matrix",
+                               "an affine matrix (bottom row 0, 0, 0, 1; column-major m[3], m[7], "
+                               "m[11], m[15])",
+                               detail::vector(std::array<float, 4>{m[3], m[7], m[11], m[15]}));
+    }
+    return std::nullopt;
+}
+
 }  // namespace
+
+const char* colour_format_name(ColourFormat format) {
+    switch (format) {
+        case ColourFormat::rgba8:
+            return "rgba8";
+        case ColourFormat::bgra8:
+            return "bgra8";
+        case ColourFormat::argb32:
+            return "argb32";
+    }
+    return "unknown";
+}
 
 Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positions,
                               const BatchOutputs& out, const BatchSettings& settings) {
@@ -428,6 +488,12 @@ Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positi
                                   settings.lighting->normal_stride_bytes, 12)) {
             return *e;
         }
+    }
+    if (auto e = check_model_matrix(positions.model_matrix)) return *e;
+    if (out.colour_format != ColourFormat::rgba8 && out.colour_format != ColourFormat::bgra8 &&
+        out.colour_format != ColourFormat::argb32) {
+        return detail::invalid(kShadeInto, "outputs.colour_format", "rgba8, bgra8 or argb32",
+                               detail::number(int(out.colour_format)));
     }
     if (!std::isfinite(settings.display.exposure) || settings.display.exposure <= 0.0f) {
         return detail::invalid(kShadeInto, "display.exposure", "a finite value > 0",

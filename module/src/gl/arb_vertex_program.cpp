@@ -229,24 +229,12 @@ std::optional<Error> ArbVertexProgram::set_parameters(
     return std::nullopt;
 }
 
-Result<ApplyStats> ArbVertexProgram::draw(const std::function<void()>& draw,
-                                          const ApplyOptions& options) const {
-    constexpr const char* kFunction = "gl::ArbVertexProgram::draw";
-    if (!draw) return aerial::detail::invalid(kFunction, "draw", "a draw callback", "an empty one");
-    if (id_ == 0)
-        return aerial::detail::error(kFunction, "program", "this ArbVertexProgram was moved from");
-    if (auto e = no_current_context(*api_)) return aerial::detail::from(kFunction, *e);
-    if (options.texture_unit < 0 || options.texture_unit >= api_->caps.max_texture_units) {
-        return aerial::detail::invalid(
-            kFunction, "texture_unit",
-            "0 .. " + aerial::detail::number(api_->caps.max_texture_units - 1),
-            aerial::detail::number(options.texture_unit));
-    }
-    StateSaver s(*api_);
-    if (api_->caps.fragment_program) s.enable(GL_FRAGMENT_PROGRAM_ARB, false);
+namespace {
+
+/// What ProgramDrawState and ArbVertexProgram::draw set (the program's binding aside).
+void program_draw_state(const Api& api, StateSaver& s, const ApplyOptions& options) {
+    if (api.caps.fragment_program) s.enable(GL_FRAGMENT_PROGRAM_ARB, false);
     s.use_no_glsl_program();
-    s.bind_program(id_);
-    s.enable(GL_VERTEX_PROGRAM_ARB, true);
     // COLOR_SUM_ARB is defined by ARB_vertex_program itself, so this is valid without
     // EXT_secondary_color.
     s.enable(GL_COLOR_SUM, true);
@@ -255,6 +243,57 @@ Result<ApplyStats> ArbVertexProgram::draw(const std::function<void()>& draw,
     } else {
         s.unit_disable_all_targets(options.texture_unit);
     }
+}
+
+std::optional<Error> check_texture_unit(const Api& api, const char* function, int unit) {
+    if (unit < 0 || unit >= api.caps.max_texture_units) {
+        return aerial::detail::invalid(
+            function, "texture_unit",
+            "0 .. " + aerial::detail::number(api.caps.max_texture_units - 1),
+            aerial::detail::number(unit));
+    }
+    return std::nullopt;
+}
+
+}  // namespace
+
+Result<ProgramDrawState> ProgramDrawState::set(const Api& api, const ApplyOptions& options) {
+    constexpr const char* kFunction = "gl::ProgramDrawState::set";
+    if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
+    if (auto e = check_texture_unit(api, kFunction, options.texture_unit)) return *e;
+    auto saver = std::make_unique<StateSaver>(api);
+    program_draw_state(api, *saver, options);
+    return ProgramDrawState(std::move(saver));
+}
+
+ProgramDrawState::ProgramDrawState(std::unique_ptr<StateSaver> saver) : saver_(std::move(saver)) {}
+ProgramDrawState::ProgramDrawState(ProgramDrawState&&) noexcept = default;
+ProgramDrawState& ProgramDrawState::operator=(ProgramDrawState&& other) noexcept {
+    if (this != &other) {
+        restore();
+        saver_ = std::move(other.saver_);
+    }
+    return *this;
+}
+ProgramDrawState::~ProgramDrawState() { restore(); }
+
+void ProgramDrawState::restore() {
+    if (saver_) saver_->restore();
+    saver_.reset();
+}
+
+Result<ApplyStats> ArbVertexProgram::draw(const std::function<void()>& draw,
+                                          const ApplyOptions& options) const {
+    constexpr const char* kFunction = "gl::ArbVertexProgram::draw";
+    if (!draw) return aerial::detail::invalid(kFunction, "draw", "a draw callback", "an empty one");
+    if (id_ == 0)
+        return aerial::detail::error(kFunction, "program", "this ArbVertexProgram was moved from");
+    if (auto e = no_current_context(*api_)) return aerial::detail::from(kFunction, *e);
+    if (auto e = check_texture_unit(*api_, kFunction, options.texture_unit)) return *e;
+    StateSaver s(*api_);
+    program_draw_state(*api_, s, options);
+    s.bind_program(id_);
+    s.enable(GL_VERTEX_PROGRAM_ARB, true);
     draw();
     s.restore();
     ApplyStats stats;

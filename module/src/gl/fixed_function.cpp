@@ -9,6 +9,7 @@
 #include "../common/names.hpp"
 #include "aerial/gl.hpp"
 #include "aerial/gl_api.hpp"
+#include "pass_state.hpp"
 #include "state_saver.hpp"
 #include "texture_owner.hpp"
 
@@ -286,6 +287,7 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
     stats.path = path;
     StateSaver s(api);
     common_state(api, s, options);
+    std::optional<Error> error;  // what the engine's draw changed (detail::check_*)
     switch (path) {
         case Path::secondary_color:
             s.color_array(4, GL_UNSIGNED_BYTE, primary_stride, colours.primary);
@@ -293,6 +295,8 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
             s.enable(GL_COLOR_SUM, true);
             s.rebind_engine_array_buffer();
             draw();
+            error = detail::check_colour_array(api, kDraw, colours.primary, false);
+            if (!error) error = detail::check_colour_array(api, kDraw, colours.secondary, true);
             stats.passes = 1;
             break;
         case Path::combiner: {
@@ -324,6 +328,7 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
             s.texcoord_array(next, 3, GL_FLOAT, 0, combiner->texcoords_for(colours));
             s.rebind_engine_array_buffer();
             draw();
+            error = detail::check_colour_array(api, kDraw, colours.primary, false);
             stats.passes = 1;
             break;
         }
@@ -334,25 +339,15 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
             if (api.caps.secondary_color) s.enable(GL_COLOR_SUM, false);
             s.rebind_engine_array_buffer();
             draw();
-            // Pass 2: + L_in on exactly the pixels pass 1 left in front. Fog blends towards
-            // black: pass 1 already added (1 - f) × the fog colour, and the sum must be
-            // f (texture F_ex + L_in) + (1 - f) fog colour, as in one pass.
-            for (int u = 0; u < detail::saved_texture_units(api.caps); ++u) {
-                s.unit_disable_all_targets(u);
-            }
+            error = detail::check_colour_array(api, kDraw, colours.primary, false);
+            stats.passes = 1;
+            if (error) break;
+            detail::in_scattering_pass_state(api, s, options);
             s.color_array(4, GL_UNSIGNED_BYTE, secondary_stride, colours.secondary);
-            s.enable(GL_LIGHTING, false);  // L_in is light already: added as it is
-            s.enable(GL_BLEND, true);
-            s.blend_func(GL_ONE, GL_ONE);
-            s.depth_func(GL_EQUAL);
-            s.depth_mask(false);
-            s.mask_alpha();
-            if (api.IsEnabled(GL_FOG)) {
-                static constexpr GLfloat kBlack[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-                s.fog_color(kBlack);
-            }
             s.rebind_engine_array_buffer();
             draw();
+            error = detail::check_colour_array(api, kDraw, colours.secondary, false);
+            if (!error) error = detail::check_in_scattering_state(api, kDraw);
             stats.passes = 2;
             break;
         }
@@ -360,6 +355,7 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
             break;
     }
     s.restore();
+    if (error) return *error;
     return stats;
 }
 

@@ -83,6 +83,8 @@ const StateSaver::EnumState kDepthFunc{
     "GL_DEPTH_FUNC",
     GL_LESS,
     {GL_NEVER, GL_LESS, GL_EQUAL, GL_LEQUAL, GL_GREATER, GL_NOTEQUAL, GL_GEQUAL, GL_ALWAYS}};
+const StateSaver::EnumState kCullFaceMode{
+    GL_CULL_FACE_MODE, "GL_CULL_FACE_MODE", GL_BACK, {GL_FRONT, GL_BACK, GL_FRONT_AND_BACK}};
 const StateSaver::EnumState kColorMaterialFace{GL_COLOR_MATERIAL_FACE,
                                                "GL_COLOR_MATERIAL_FACE",
                                                GL_FRONT_AND_BACK,
@@ -229,6 +231,13 @@ void StateSaver::depth_func(GLenum function) {
     const Api* api = &api_;
     undo_.push_back([api, was] { api->DepthFunc(static_cast<GLenum>(was)); });
     api_.DepthFunc(function);
+}
+
+void StateSaver::cull_face(GLenum face) {
+    const GLint was = read_enum(kCullFaceMode);
+    const Api* api = &api_;
+    undo_.push_back([api, was] { api->CullFace(static_cast<GLenum>(was)); });
+    api_.CullFace(face);
 }
 
 void StateSaver::depth_mask(bool write) {

@@ -18,7 +18,7 @@ namespace aerial::scene::detail {
 /// covers it; it takes the horizon's (ring 0's) colours.
 inline constexpr double kSkirtElevationRad = -10.0 * kPi / 180.0;
 /// The eye may climb or sink this much (m) before the virtual dome is fitted again.
-inline constexpr double kRefitAltitudeM = 25.0;
+inline constexpr double kRefitAltitudeM = kVirtualDomeRefitAltitudeM;
 
 /// The sky method of the dome for a frame's model: the 2002 dome (dome_hp) for
 /// hoffman-preetham and for reference (too slow for a sky every frame), dome_height for height.

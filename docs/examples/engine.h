@@ -24,4 +24,39 @@ typedef struct engine_mesh {
  * `mesh` is the engine_mesh. It must not touch the colour or secondary-colour arrays. */
 void engine_draw_mesh(void* mesh);
 
+/* An engine with a material system: it owns its program objects. engine_program_create loads
+ * ARB vertex program text (0 on failure), engine_program_local sets program.local[index], and
+ * engine_program_draw binds and enables the program, draws the mesh, and disables it. */
+unsigned int engine_program_create(const char* text);
+void engine_program_local(unsigned int program, int index, const float vector[4]);
+void engine_program_draw(unsigned int program, engine_mesh* mesh);
+
+/* An engine whose vertices carry one colour: a packed ARGB32 word (D3DCOLOR) in each
+ * interleaved record. engine_draw_coloured draws the mesh with its one colour array pointing
+ * at `colours` (ARGB32, `stride` bytes apart) instead of its vertices' own field. */
+typedef struct engine_vertex {
+    float xyz[3];
+    unsigned int colour; /* A << 24 | R << 16 | G << 8 | B */
+    float uv[2];
+} engine_vertex;
+
+typedef struct engine_coloured_mesh {
+    engine_vertex* vertices;
+    size_t vertex_count;
+    unsigned int* in_scattering; /* ARGB32 per vertex: the colours of the L_in pass */
+} engine_coloured_mesh;
+
+void engine_draw_coloured(const engine_coloured_mesh* mesh, const unsigned int* colours,
+                          size_t stride);
+
+/* The engine's sky dome: vertices around the eye (any radius), one RGBA8 colour each, drawn
+ * first with texturing, lighting and depth writes off. */
+typedef struct engine_dome {
+    const float* xyz; /* world positions, engine units, tightly packed */
+    size_t vertex_count;
+    unsigned char* rgba; /* RGBA8 per vertex */
+} engine_dome;
+
+void engine_draw_dome(const engine_dome* dome);
+
 #endif

@@ -2,9 +2,12 @@
 // an engine would run them, on a headless context: each draws the haze, leaves the GL state as
 // it found it, and the GL 1.1 two-pass example and the ARB program agree within 2 LSB.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,6 +31,15 @@ void gl14_shutdown(void);
 int arb_init(aerial_gl_load_function load, void* user);
 int arb_frame(const engine_camera* camera, engine_mesh* meshes, size_t mesh_count);
 void arb_shutdown(void);
+int material_init(aerial_gl_load_function load, void* user);
+int material_frame(const engine_camera* camera, engine_mesh* meshes, size_t mesh_count);
+void material_shutdown(void);
+int one_colour_init(aerial_gl_load_function load, void* user);
+int one_colour_frame(const engine_camera* camera, engine_coloured_mesh* meshes, size_t count);
+void one_colour_shutdown(void);
+int sky_init(void);
+int sky_frame(const engine_camera* camera, engine_dome* dome);
+void sky_shutdown(void);
 }
 
 namespace {
@@ -88,19 +100,97 @@ extern "C" void engine_draw_mesh(void* mesh) {
     gl.DisableClientState(GL_VERTEX_ARRAY);
 }
 
+extern "C" unsigned int engine_program_create(const char* text) {
+    const aerial::gl::Api& gl = *g_api;
+    GLuint id = 0;
+    gl.GenPrograms(1, &id);
+    gl.BindProgram(GL_VERTEX_PROGRAM_ARB, id);
+    gl.ProgramString(GL_VERTEX_PROGRAM_ARB, GL_PROGRAM_FORMAT_ASCII_ARB, GLsizei(std::strlen(text)),
+                     text);
+    GLint error_at = -1;
+    gl.GetIntegerv(GL_PROGRAM_ERROR_POSITION_ARB, &error_at);
+    gl.BindProgram(GL_VERTEX_PROGRAM_ARB, 0);
+    return error_at == -1 ? id : 0;
+}
+
+extern "C" void engine_program_local(unsigned int program, int index, const float vector[4]) {
+    const aerial::gl::Api& gl = *g_api;
+    gl.BindProgram(GL_VERTEX_PROGRAM_ARB, program);
+    gl.ProgramLocalParameter4fv(GL_VERTEX_PROGRAM_ARB, GLuint(index), vector);
+    gl.BindProgram(GL_VERTEX_PROGRAM_ARB, 0);
+}
+
+extern "C" void engine_program_draw(unsigned int program, engine_mesh* mesh) {
+    const aerial::gl::Api& gl = *g_api;
+    gl.BindProgram(GL_VERTEX_PROGRAM_ARB, program);
+    gl.Enable(GL_VERTEX_PROGRAM_ARB);
+    engine_draw_mesh(mesh);
+    gl.Disable(GL_VERTEX_PROGRAM_ARB);
+    gl.BindProgram(GL_VERTEX_PROGRAM_ARB, 0);
+}
+
+extern "C" void engine_draw_coloured(const engine_coloured_mesh* mesh, const unsigned int* colours,
+                                     size_t stride) {
+    const aerial::gl::Api& gl = *g_api;
+    const auto s = GLsizei(sizeof(engine_vertex));
+    gl.EnableClientState(GL_VERTEX_ARRAY);
+    gl.EnableClientState(GL_TEXTURE_COORD_ARRAY);
+    gl.EnableClientState(GL_COLOR_ARRAY);
+    gl.VertexPointer(3, GL_FLOAT, s, mesh->vertices[0].xyz);
+    gl.TexCoordPointer(2, GL_FLOAT, s, mesh->vertices[0].uv);
+    gl.ColorPointer(GL_BGRA, GL_UNSIGNED_BYTE, GLsizei(stride), colours);  // ARGB32 words
+    gl.DrawElements(GL_TRIANGLES, GLsizei(g_grid->indices.size()), GL_UNSIGNED_INT,
+                    g_grid->indices.data());
+    gl.DisableClientState(GL_COLOR_ARRAY);
+    gl.DisableClientState(GL_TEXTURE_COORD_ARRAY);
+    gl.DisableClientState(GL_VERTEX_ARRAY);
+    // The pointers as the engine keeps them between draws (what run() compares against).
+    gl.VertexPointer(3, GL_FLOAT, 0, g_grid->xyz.data());
+    gl.TexCoordPointer(2, GL_FLOAT, 0, g_grid->texcoords.data());
+    gl.ColorPointer(4, GL_FLOAT, 0, nullptr);
+}
+
+namespace {
+int g_domes_drawn = 0;
+}
+
+extern "C" void engine_draw_dome(const engine_dome*) { ++g_domes_drawn; }
+
 namespace {
 
+/// One example: its init, its frame (drawing the grid its way) and its shutdown.
 struct Example {
     const char* name;
     int (*init)(aerial_gl_load_function, void*);
-    int (*frame)(const engine_camera*, engine_mesh*, size_t);
+    std::function<int(const engine_camera*, Grid&)> frame;
     void (*shutdown)();
 };
+
+/// The frame of an example that draws engine_mesh arrays.
+std::function<int(const engine_camera*, Grid&)> mesh_frame(int (*frame)(const engine_camera*,
+                                                                        engine_mesh*, size_t)) {
+    return
+        [frame](const engine_camera* camera, Grid& grid) { return frame(camera, &grid.mesh, 1); };
+}
+
+/// The one-colour example's frame: the grid as interleaved ARGB32 engine vertices.
+int coloured_frame(const engine_camera* camera, Grid& grid) {
+    std::vector<engine_vertex> vertices(grid.mesh.vertex_count);
+    for (std::size_t v = 0; v < vertices.size(); ++v) {
+        vertices[v] = {{grid.xyz[3 * v], grid.xyz[3 * v + 1], grid.xyz[3 * v + 2]},
+                       0u,
+                       {grid.texcoords[2 * v], grid.texcoords[2 * v + 1]}};
+    }
+    std::vector<unsigned int> in_scattering(vertices.size());
+    engine_coloured_mesh mesh{vertices.data(), vertices.size(), in_scattering.data()};
+    return one_colour_frame(camera, &mesh, 1);
+}
 
 /// Runs one example for one frame on a fresh context with a white texture bound (the engine's),
 /// and returns the image.
 std::vector<std::uint8_t> run(const Example& example) {
-    auto ctx = aerial::headless::Context::create({aerial::headless::Platform::osmesa, kSize, kSize});
+    auto ctx =
+        aerial::headless::Context::create({aerial::headless::Platform::osmesa, kSize, kSize});
     EXPECT_TRUE(ctx.ok()) << ctx.error().message;
     if (!ctx.ok()) return {};
     const aerial::gl::Api& gl = ctx->api();
@@ -130,7 +220,7 @@ std::vector<std::uint8_t> run(const Example& example) {
     EXPECT_EQ(example.init(ctx->loader(), ctx->loader_user()), 1)
         << example.name << ": " << aerial_last_error_message();
     const auto before = aerial::gl::capture_state(gl);
-    EXPECT_EQ(example.frame(&camera, &grid.mesh, 1), 1)
+    EXPECT_EQ(example.frame(&camera, grid), 1)
         << example.name << ": " << aerial_last_error_message();
     const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(gl));
     EXPECT_TRUE(changed.empty()) << example.name << " left changed: " << changed.front();
@@ -165,9 +255,9 @@ void expect_haze(const std::vector<std::uint8_t>& image, const char* name) {
 }
 
 TEST(DocsExamples, EachGenerationDrawsTheHazeAndRestoresTheState) {
-    const Example gl11{"gl11_two_pass", gl11_init, gl11_frame, gl11_shutdown};
-    const Example gl14{"gl14_secondary_color", gl14_init, gl14_frame, gl14_shutdown};
-    const Example arb{"arb_vertex_program", arb_init, arb_frame, arb_shutdown};
+    const Example gl11{"gl11_two_pass", gl11_init, mesh_frame(gl11_frame), gl11_shutdown};
+    const Example gl14{"gl14_secondary_color", gl14_init, mesh_frame(gl14_frame), gl14_shutdown};
+    const Example arb{"arb_vertex_program", arb_init, mesh_frame(arb_frame), arb_shutdown};
     const auto a = run(gl11);
     expect_haze(a, gl11.name);
     const auto b = run(gl14);
@@ -179,6 +269,45 @@ TEST(DocsExamples, EachGenerationDrawsTheHazeAndRestoresTheState) {
     EXPECT_LE(max_difference(a, c), 2);
     // The lit, hazy example is a different picture.
     EXPECT_GT(max_difference(a, b), 10);
+}
+
+TEST(DocsExamples, AMaterialSystemsProgramAndOneColourTwoPassesDrawTheSameHeightModel) {
+    const Example material{"material_system", material_init, mesh_frame(material_frame),
+                           material_shutdown};
+    const Example one_colour{"one_colour", one_colour_init, coloured_frame, one_colour_shutdown};
+    const auto a = run(material);
+    expect_haze(a, material.name);
+    const auto b = run(one_colour);
+    expect_haze(b, one_colour.name);
+    std::printf("material-system ARB program vs one-colour two passes: max %d LSB\n",
+                max_difference(a, b));
+    EXPECT_LE(max_difference(a, b), 2);
+}
+
+TEST(DocsExamples, TheSkyExampleColoursTheEnginesDomeByDirection) {
+    ASSERT_EQ(sky_init(), 1) << aerial_last_error_message();
+    const engine_camera camera{{0.0, 0.0, 0.05}, {0.0, 0.6, 0.8}, 1000.0};
+    std::vector<std::vector<std::uint8_t>> colours;
+    for (double radius : {1.0, 100.0}) {  // 1 km and 100 km around the eye
+        std::vector<float> xyz;
+        for (int e = 0; e <= 90; e += 15) {
+            const double el = e * 3.14159265358979323846 / 180.0;
+            xyz.insert(xyz.end(), {float(radius * std::cos(el)), 0.0f,
+                                   float(camera.position[2] + radius * std::sin(el))});
+        }
+        std::vector<std::uint8_t> rgba(4 * xyz.size() / 3);
+        engine_dome dome{xyz.data(), xyz.size() / 3, rgba.data()};
+        const int drawn = g_domes_drawn;
+        ASSERT_EQ(sky_frame(&camera, &dome), 1) << aerial_last_error_message();
+        EXPECT_EQ(g_domes_drawn, drawn + 1);
+        colours.push_back(rgba);
+    }
+    sky_shutdown();
+    EXPECT_EQ(colours[0], colours[1]);  // the radius does not change the sky
+    const std::vector<std::uint8_t>& c = colours[0];
+    const std::size_t zenith = c.size() - 4;
+    EXPECT_GT(c[zenith + 2], c[zenith]);  // blue overhead
+    EXPECT_GT(c[2], 0);                   // not black at the horizon
 }
 
 }  // namespace

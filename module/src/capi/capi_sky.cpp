@@ -25,6 +25,7 @@ struct aerial_sky {
     aerial_sky_method method = AERIAL_SKY_AUTOMATIC;
     int segments = 12;
     std::optional<aerial::SkyContext> context;
+    glm::dvec3 eye{0.0};  ///< the view's eye in engine units (the dome's default centre)
     /// The 2002 dome's fit, kept while the atmosphere holds and the eye stays within
     /// kVirtualDomeRefitAltitudeM of the altitude it was fitted at.
     std::optional<aerial::VirtualDome> fit;
@@ -273,6 +274,7 @@ aerial_status aerial_sky_set_frame(aerial_sky* sky, const aerial_context* contex
         if (method == SkyMethod::dome_hp || method == SkyMethod::dome_hp_single) {
             options.dome = &capi::current_fit(*sky, context->atmosphere, frame.eye_altitude_m);
         }
+        sky->eye = context->view->eye;
         sky->context =
             capi::value_or_fail(prepare_sky(context->atmosphere, *context->view, method, options),
                                 AERIAL_ERROR_INVALID_VIEW);
@@ -306,8 +308,7 @@ aerial_status aerial_sky_shade_dome(const aerial_sky* sky, const aerial_position
         capi::check_sky_colours(*out);
         const ColourFormat format = capi::to_cpp_format(int(out->format), "out.format");
         const Display d = capi::display_of(display);
-        const glm::dvec3 c =
-            centre ? glm::dvec3(centre[0], centre[1], centre[2]) : context.view.eye;
+        const glm::dvec3 c = centre ? glm::dvec3(centre[0], centre[1], centre[2]) : sky->eye;
         const std::vector<glm::dvec3> world = capi::world_positions(*vertices);
         for (std::size_t v = 0; v < world.size(); ++v) {
             const glm::dvec3 dir = capi::dome_direction(world[v] - c, context.view.up);

@@ -435,9 +435,11 @@ typedef struct aerial_draw_options {
     int texture_unit;            /* the unit with the engine's texture; default 0 */
     int untextured;              /* non-zero: colour = F_ex + L_in; default 0 (textured) */
     int fixed_function_lighting; /* non-zero: keep GL lighting on, F_ex feeds the material */
-    /* two-pass: non-zero keeps the engine's face culling in the L_in pass; default 0: back
-     * faces (GL_FRONT_FACE as the engine set it) are culled there */
-    int keep_face_culling;
+    /* two-pass: non-zero culls back faces (GL_FRONT_FACE as the engine set it) in the L_in pass,
+     * so that the back faces of a closed mesh drawn without culling do not add L_in a second
+     * time at its silhouette; default 0: the engine's culling as it is (a mirroring transform
+     * flips the winding, and a sky dome is seen from inside: only the engine knows) */
+    int cull_back_faces;
 } aerial_draw_options;
 
 /* One RGBA8 record per vertex of the engine's draw, e.g. from aerial_shade. */
@@ -480,10 +482,10 @@ typedef void (*aerial_draw_pass_function)(void* user, aerial_pass pass);
 
 /* Draws an opaque mesh in two passes around the engine's own draw call: pass 0 as the engine
  * set it up (its texture, depth test, blend and fog state, the primary colour F_ex), pass 1
- * adds L_in: blend ONE, ONE; depth test on with EQUAL, depth and alpha writes off; texturing,
+ * adds L_in: blend ONE, ONE; depth function EQUAL, depth and alpha writes off; texturing,
  * lighting and alpha test off; fog colour black (fog fades L_in instead of adding its colour
- * twice); back faces culled (or the engine's culling, options->keep_face_culling), so that a
- * silhouette's back faces do not add L_in a second time. Every piece of state is restored
+ * twice); with options->cull_back_faces, back faces culled so that a silhouette's back faces
+ * do not add L_in a second time (else the engine's culling). Every piece of state is restored
  * afterwards. colours: aerial points the colour array at colours->primary for pass 0 and
  * colours->secondary for pass 1 (NULL: the engine's own colour array). After each pass it checks
  * that the callback left the state it set (colour array, blend, depth function and mask):

@@ -179,10 +179,13 @@ struct ApplyOptions {
     /// add L_in then: `automatic` picks one of them. The material's ambient and diffuse colours,
     /// which colour tracking overwrites, are restored after the draw.
     bool fixed_function_lighting = false;
-    /// The two-pass L_in pass culls back faces (GL_FRONT_FACE as the engine set it), so that a
-    /// silhouette's back faces, which pass the depth test EQUAL where they meet the front faces,
-    /// do not add L_in a second time. True: the engine's face culling as it is.
-    bool keep_face_culling = false;
+    /// True: the two-pass L_in pass culls back faces (GL_FRONT_FACE as the engine set it), so
+    /// that a silhouette's back faces, which pass the depth test EQUAL where they meet the front
+    /// faces, do not add L_in a second time: for engines that draw closed meshes without
+    /// culling and wind them consistently. False (default): the engine's culling as it is (the
+    /// module cannot know the winding: a mirroring transform flips it, a dome is seen from
+    /// inside).
+    bool cull_back_faces = false;
 };
 
 /// What a draw did, for the engine's statistics.
@@ -208,7 +211,7 @@ enum class Pass {
 /// pass `extinction` as the engine set it up (its texture, depth, blend and fog state; lighting
 /// off unless options.fixed_function_lighting), then pass `in_scattering` adds L_in (blend ONE,
 /// ONE; depth EQUAL, depth and alpha writes off; every texture unit, lighting and alpha test off;
-/// a black fog colour; back faces culled unless options.keep_face_culling). With `colours` the
+/// a black fog colour; back faces culled with options.cull_back_faces). With `colours` the
 /// module points the colour array at colours->primary, then at colours->secondary, and the
 /// callback must draw without touching it; with null colours the callback draws its own colour
 /// array, holding F_ex in the first pass and L_in in the second. After each pass the state the

@@ -136,7 +136,6 @@ class ScatteringCallback : public ::osg::NodeCallback {
     UpdateReport report_;
     std::optional<Error> error_;
     bool warned_ = false;
-    std::vector<float> world_positions_;   ///< scratch: positions of a transformed Geometry
     std::vector<std::uint8_t> secondary_;  ///< scratch: RGBA8 L_in before the RGB8 copy
 };
 

@@ -69,7 +69,7 @@ gl::ApplyOptions to_cpp_draw(const aerial_draw_options* c) {
     o.texture_unit = c->texture_unit;
     o.textured = c->untextured == 0;
     o.fixed_function_lighting = c->fixed_function_lighting != 0;
-    o.keep_face_culling = c->keep_face_culling != 0;
+    o.cull_back_faces = c->cull_back_faces != 0;
     return o;
 }
 

@@ -13,7 +13,7 @@ namespace aerial::gl::detail {
 
 /// Pass 2 of two: + L_in on exactly the pixels pass 1 left in front. Every texture unit,
 /// lighting and alpha writes off; blend ONE, ONE; depth EQUAL without writes; back faces culled
-/// unless options.keep_face_culling; a black fog colour (pass 1 already added (1 - f) x the fog
+/// with options.cull_back_faces; a black fog colour (pass 1 already added (1 - f) x the fog
 /// colour, and the sum must be f (texture F_ex + L_in) + (1 - f) fog colour, as in one pass).
 void in_scattering_pass_state(const Api& api, StateSaver& s, const ApplyOptions& options);
 

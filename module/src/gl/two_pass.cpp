@@ -17,11 +17,10 @@ void in_scattering_pass_state(const Api& api, StateSaver& s, const ApplyOptions&
     s.enable(GL_LIGHTING, false);  // L_in is light already: added as it is
     s.enable(GL_BLEND, true);
     s.blend_func(GL_ONE, GL_ONE);
-    s.enable(GL_DEPTH_TEST, true);
     s.depth_func(GL_EQUAL);
     s.depth_mask(false);
     s.mask_alpha();
-    if (!options.keep_face_culling) {
+    if (options.cull_back_faces) {
         s.enable(GL_CULL_FACE, true);
         s.cull_face(GL_BACK);
     }
@@ -80,7 +79,7 @@ std::optional<Error> check_in_scattering_state(const Api& api, const char* funct
     const char* changed = nullptr;
     if (api.IsEnabled(GL_BLEND) != GL_TRUE || source != GL_ONE || destination != GL_ONE) {
         changed = "engine.blend";
-    } else if (api.IsEnabled(GL_DEPTH_TEST) != GL_TRUE || depth != GL_EQUAL) {
+    } else if (depth != GL_EQUAL) {
         changed = "engine.depth_func";
     } else if (mask != GL_FALSE) {
         changed = "engine.depth_mask";
@@ -88,7 +87,7 @@ std::optional<Error> check_in_scattering_state(const Api& api, const char* funct
     if (!changed) return std::nullopt;
     return aerial::detail::invalid(
         function, changed,
-        "the L_in pass's state left as set (blend ONE, ONE; depth test EQUAL; depth writes off): "
+        "the L_in pass's state left as set (blend ONE, ONE; depth function EQUAL; depth writes off): "
         "the engine's draw must not apply its material in the callback",
         "the engine's draw changed it, so L_in was not added as it should be");
 }

@@ -218,17 +218,11 @@ std::optional<Error> ScatteringCallback::update(::osg::Node& node,
             continue;
         }
         if (n == 0) continue;
-        const float* xyz = &(*vertices)[0].x();
-        if (!to_world.isIdentity()) {
-            world_positions_.resize(3 * n);
-            for (std::size_t v = 0; v < n; ++v) {
-                const ::osg::Vec3d p = ::osg::Vec3d((*vertices)[v]) * to_world;
-                world_positions_[3 * v + 0] = float(p.x());
-                world_positions_[3 * v + 1] = float(p.y());
-                world_positions_[3 * v + 2] = float(p.z());
-            }
-            xyz = world_positions_.data();
-        }
+        // Model-space vertices with their matrix: no world copy. OSG's matrices multiply row
+        // vectors, so their storage is the column-major array of the column-vector matrix.
+        Positions positions = Positions::aos(&(*vertices)[0].x(), n);
+        const ::osg::Matrixf model(to_world);
+        if (!to_world.isIdentity()) positions.model_matrix = model.ptr();
         auto* primary = dynamic_cast<::osg::Vec4ubArray*>(g.getColorArray());
         if (!primary || primary->size() != n) {
             primary = new ::osg::Vec4ubArray(unsigned(n));
@@ -255,7 +249,7 @@ std::optional<Error> ScatteringCallback::update(::osg::Node& node,
         batch.display = settings_.display;
         batch.kernel = settings_.kernel;
         batch.threads = settings_.threads;
-        auto stats = shade_into(*frame, Positions::aos(xyz, n), out, batch);
+        auto stats = shade_into(*frame, positions, out, batch);
         if (!stats) return from(kUpdateNow, stats.error());
         report_.invalid_vertices += stats->invalid_vertices;
         for (std::size_t v = 0; v < n; ++v) {

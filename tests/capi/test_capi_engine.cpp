@@ -148,6 +148,45 @@ TEST_F(EngineContext, ModelSpacePositionsWithAModelMatrixShadeAsTheirWorldPositi
         << aerial_last_error_message();
 }
 
+TEST_F(EngineContext, SplitBatchesAndSeparateArraysTakeTheMatrixAndTheFormatToo) {
+    // Large enough to be split over two threads; x, y, z as separate arrays; the float path
+    // (an rgb output) and the one-pass RGBA8 path.
+    const std::size_t n = 70000;
+    std::vector<float> x(n), y(n), z(n), wx(n), wy(n), wz(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        x[i] = float(i % 400) * 40.0f - 8000.0f;
+        y[i] = float(i / 400) * 90.0f - 8000.0f;
+        z[i] = float((i * 7) % 600);
+        wx[i] = float(double(x[i]) * 2.0 + 10.0);
+        wy[i] = float(double(y[i]) * 2.0 - 20.0);
+        wz[i] = float(double(z[i]) * 2.0 + 30.0);
+    }
+    const float scale2[16] = {2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 10, -20, 30, 1};
+    aerial_batch_settings settings{};
+    settings.threads = 2;
+    settings.min_vertices_per_thread = 1000;
+    for (bool with_float : {false, true}) {
+        std::vector<std::uint8_t> want(4 * n), got(4 * n);
+        std::vector<float> rgb(3 * n);
+        aerial_positions world{};
+        world.x = wx.data(), world.y = wy.data(), world.z = wz.data(), world.count = n;
+        aerial_outputs ow{};
+        ow.in_scattering_rgba8 = want.data();
+        ow.colour_format = AERIAL_COLOUR_BGRA8;
+        if (with_float) ow.in_scattering_rgb = rgb.data();
+        ASSERT_EQ(aerial_shade(ctx_, &world, &ow, &settings, nullptr), AERIAL_OK);
+        aerial_positions model{};
+        model.x = x.data(), model.y = y.data(), model.z = z.data(), model.count = n;
+        model.model_matrix = scale2;
+        aerial_outputs om = ow;
+        om.in_scattering_rgba8 = got.data();
+        aerial_batch_stats stats{};
+        ASSERT_EQ(aerial_shade(ctx_, &model, &om, &settings, &stats), AERIAL_OK);
+        EXPECT_EQ(stats.threads_used, 2u);
+        EXPECT_EQ(got, want) << (with_float ? "float path" : "one-pass path");
+    }
+}
+
 class EngineSky : public EngineContext {
   protected:
     void SetUp() override {

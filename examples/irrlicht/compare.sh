@@ -1,5 +1,5 @@
 #!/bin/sh
-# Renders the Irrlicht example's RUNs (arb-FIDELITY or cpu) under Xvfb and aerial::scene's cpu and
+# Renders the Irrlicht example's RUNs (arb-FIDELITY, cpu or cpu-vbo) under Xvfb and aerial::scene's cpu and
 # arb frames of the same scene, compares every RUN with both references and every pair of RUNs
 # with aerial-compare, and fails when any max_lsb exceeds 3.
 # usage: compare.sh EXAMPLE REFERENCE COMPARE XVFB_RUN OUT_DIR RUN...
@@ -14,8 +14,9 @@ done
 for run in "$@"; do
     case $run in
         cpu) flags="--path cpu" ;;
+        cpu-vbo) flags="--path cpu --buffers vbo" ;;
         arb-*) flags="--path arb --fidelity ${run#arb-}" ;;
-        *) echo "compare.sh: RUN: expected cpu or arb-FIDELITY, got '$run'" >&2; exit 2 ;;
+        *) echo "compare.sh: RUN: expected cpu, cpu-vbo or arb-FIDELITY, got '$run'" >&2; exit 2 ;;
     esac
     # shellcheck disable=SC2086
     "$xvfb" -a -s '-screen 0 1024x768x24' "$example" $flags --out "$dir/irrlicht-$run.png"

@@ -29,7 +29,9 @@ constexpr const char* kTool = "aerial-irrlicht-example";
 constexpr const char* kUsage =
     "usage: aerial-irrlicht-example --out FILE.png [--path arb|cpu]\n"
     "         [--fidelity spec-minimum|exact-optical-depth|full] [--width N] [--height N]\n"
-    "         [--l-in-material engine|none]\n"
+    "         [--buffers client|vbo] [--l-in-material engine|none]\n"
+    "--buffers vbo: the terrain in Irrlicht's hardware buffers (EHM_STATIC), re-uploaded once\n"
+    "after aerial_shade; client (default): Irrlicht's client arrays (EHM_NEVER).\n"
     "--l-in-material engine (cpu): the L_in pass applies an additive Irrlicht material of its\n"
     "own, as an engine that does not leave the pass's state to aerial would: the frame fails\n"
     "with aerial's AERIAL_ERROR_ENGINE_STATE naming the blend state.\n";
@@ -39,6 +41,7 @@ struct Options {
     bool arb = true;
     aerial_height_fidelity fidelity = AERIAL_HEIGHT_FIDELITY_FULL;
     int width = 320, height = 240;
+    bool vbo = false;
     bool engine_l_in_material = false;  ///< the misuse --l-in-material engine demonstrates
 };
 
@@ -76,6 +79,12 @@ bool parse_flag(const std::string& flag, const std::string& value, Options& o, s
             "main(): --fidelity: expected one of spec-minimum, exact-optical-depth, full, got '" +
             value + "'";
         return false;
+    } else if (flag == "--buffers") {
+        if (value != "client" && value != "vbo") {
+            error = "main(): --buffers: expected one of client, vbo, got '" + value + "'";
+            return false;
+        }
+        o.vbo = value == "vbo";
     } else if (flag == "--l-in-material") {
         if (value != "engine" && value != "none") {
             error = "main(): --l-in-material: expected one of engine, none, got '" + value + "'";
@@ -92,7 +101,8 @@ bool parse_flag(const std::string& flag, const std::string& value, Options& o, s
         (flag == "--width" ? o.width : o.height) = int(n);
     } else {
         error = "main(): " + flag +
-                ": expected one of --out, --path, --fidelity, --width, --height, --l-in-material";
+                ": expected one of --out, --path, --fidelity, --width, --height, --buffers, "
+                "--l-in-material, got an unknown option";
         return false;
     }
     return true;
@@ -118,7 +128,7 @@ core::vector3df irr_point(const double twin[3]) {
 }
 
 /// The terrain in Irrlicht's world (x, height, y of the twin); Color white until shaded.
-scene::SMeshBuffer* make_terrain() {
+scene::SMeshBuffer* make_terrain(bool vbo) {
     auto* mb = new scene::SMeshBuffer;
     mb->Vertices.reallocate(SCENE_GRID_N * SCENE_GRID_N);
     for (int j = 0; j < SCENE_GRID_N; ++j) {
@@ -140,7 +150,8 @@ scene::SMeshBuffer* make_terrain() {
         }
     }
     mb->recalculateBoundingBox();
-    mb->setHardwareMappingHint(scene::EHM_NEVER);  // client arrays: Color is read at each draw
+    // vbo: uploaded at the first draw after setDirty (shade_terrain); else client arrays.
+    mb->setHardwareMappingHint(vbo ? scene::EHM_STATIC : scene::EHM_NEVER);
     return mb;
 }
 
@@ -489,13 +500,13 @@ bool setup(Frame& f, const Options& o, std::string& error) {
     f.dome = make_dome(irr_point(eye_twin));
     if (!shade_dome(f.air, f.dome, error)) return false;
     make_materials(f);
-    f.fex = make_terrain();
+    f.fex = make_terrain(o.vbo);
     if (o.arb) {
         f.terrain.MaterialType = video::E_MATERIAL_TYPE(
             make_arb_material(f.driver, f.air, o.fidelity, f.constants, error));
         return f.terrain.MaterialType >= 0 && error.empty();
     }
-    f.lin = make_terrain();
+    f.lin = make_terrain(o.vbo);
     f.engine_l_in_material = o.engine_l_in_material;
     return shade_terrain(f, error);
 }

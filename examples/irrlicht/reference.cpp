@@ -126,7 +126,9 @@ int main(int argc, char** argv) {
         } else if (flag == "--width" || flag == "--height") {
             (flag == "--width" ? width : height) = std::atoi(value.c_str());
         } else {
-            return fail("main(): " + flag + ": expected one of --out, --backend, --width, --height",
+            return fail("main(): " + flag +
+                            ": expected one of --out, --backend, --width, --height, got an "
+                            "unknown option",
                         2);
         }
     }

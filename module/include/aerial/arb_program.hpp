@@ -16,7 +16,9 @@
 // (aerial/validation/arb_executor.hpp).
 //
 // Vertex positions are read from vertex.position as world positions in engine units (what
-// aerial::scatter takes), and vertex.position.w must be 1 (glVertex3*, 3-component arrays).
+// aerial::scatter takes), and vertex.position.w must be 1 (glVertex3*, 3-component arrays). With
+// ArbProgramOptions::model_matrix they are model-space positions and the program reads the
+// model matrix's top rows per draw (arb_model_matrix_parameters).
 #pragma once
 
 #include <array>
@@ -62,18 +64,20 @@ enum class ArbHeightFidelity {
     /// native_arb_limits). generate_arb_program reports the level it chose in
     /// ArbProgram::options.
     automatic,
-    /// 127 instructions (with one texture unit), 11 temporaries: within the spec minimums of 128
-    /// instructions and 12 temporaries. Leaves out three parts of the model (listed at
-    /// kArbHeightParameterCount).
+    /// 125 instructions (with one texture unit; 128 with model_matrix), 11 temporaries: within
+    /// the spec minimums of 128 instructions and 12 temporaries. Leaves out parts of the model
+    /// (listed at kArbHeightParameterCount).
     spec_minimum,
-    /// spec_minimum plus the weights' correction by the exact optical depth: 150 instructions.
+    /// spec_minimum plus the weights' correction by the exact optical depth (and phi from its
+    /// series near 0): 154 instructions.
     exact_optical_depth,
     /// All of the CPU model: exact_optical_depth plus the sun's column factors at the vertex
     /// (an erfcx fit and the below-horizon branch) interpolated along the segment as the model
     /// does, the planet's shadow per sunlight point and the eye's or the vertex's blocked sun:
-    /// 249 instructions, 12 temporaries and kArbHeightFullParameterCount parameters: within 1
-    /// LSB of the CPU model. Needs a driver whose MAX_PROGRAM_NATIVE_INSTRUCTIONS is at least
-    /// 249 (256 on Direct3D 9-class hardware; Mesa's are far larger).
+    /// 249 instructions (252 with model_matrix), 12 temporaries and kArbHeightFullParameterCount
+    /// parameters: within 1 LSB of the CPU model. Needs a driver whose
+    /// MAX_PROGRAM_NATIVE_INSTRUCTIONS is at least that (256 on Direct3D 9-class hardware;
+    /// Mesa's are far larger).
     full,
 };
 
@@ -85,7 +89,7 @@ Result<ArbHeightFidelity> parse_arb_height_fidelity(std::string_view name);
 
 /// Options of generate_arb_program and arb_program_parameters (use the same for both).
 struct ArbProgramOptions {
-    /// hoffman_preetham (22 instructions) or height (127 to 249 by height_fidelity).
+    /// hoffman_preetham (22 instructions) or height (125 to 249 by height_fidelity).
     /// `reference` has no program.
     Model model = Model::hoffman_preetham;
     ParameterSpace parameter_space = ParameterSpace::local;
@@ -109,71 +113,39 @@ struct ArbProgramOptions {
     /// height only: how much of the CPU height model the program computes (see
     /// ArbHeightFidelity). `automatic` takes the highest level whose program fits `limits`.
     ArbHeightFidelity height_fidelity = ArbHeightFidelity::automatic;
+    /// vertex.position is in model space: the program takes the world position as M *
+    /// vertex.position from the 3 top rows of a per-draw model matrix, the 3 parameter vectors
+    /// at arb_model_matrix_parameter_index (right after the frame's); the clip-space position
+    /// still comes from state.matrix.mvp and vertex.position (the engine's modelview holds M).
+    /// Costs 4 instructions in hoffman-preetham (26), 3 in height.
+    bool model_matrix = false;
     ArbLimits limits;  ///< checked by generate_arb_program
 };
 
-/// How many program.local / program.env vectors the hoffman-preetham program reads, starting at
-/// parameter_base.
-///
-/// Layout (index relative to parameter_base; x, y, z are the R, G, B channels where it applies):
-///   0  eye        xyz: eye position, engine units;  w: 1 - 2^-20 (vertex.w - eye.w = 2^-20
-///                 exactly, which keeps |vertex - eye|^2 >= 2^-40 for RSQ)
-///   1  sun        xyz: sun_dir (unit, towards the sun), negated when g < 0;  w: 0
-///   2  extinction xyz: -beta_ex * meters_per_unit * log2(e), per engine unit (EX2 argument / s);
-///                 w: 0
-///   3  rayleigh   xyz: exposure * E_sun * beta_R * 3/(16 pi) / beta_ex;  w: 0
-///   4  mie        xyz: exposure * E_sun * beta_M * (1 - g^2)/(4 pi) / beta_ex;  w: 0
-///   5  phase      (|g|, 1/4, (1 - |g|)^2, -1)
-/// with E_sun = frame.sun_irradiance_eye and beta_ex clamped per channel to at least
-/// 1e-12 * (largest channel) and 1e-30 /m, so that a channel without extinction stays finite (see
-/// arb_program_parameters). The program also declares the constant { 2, -1.5, 0, 0 }.
+/// How many frame parameter vectors the hoffman-preetham program reads (from parameter_base;
+/// arb_parameter_layout names and describes each: eye, sun, ext, ray, mie, hg). beta_ex is
+/// clamped per channel to at least 1e-12 * (largest channel) and 1e-30 /m, so that a channel
+/// without extinction stays finite (see arb_program_parameters).
 inline constexpr int kArbParameterCount = 6;
 
-/// How many parameter vectors the `height` program reads, starting at parameter_base.
-///
-/// Layout (index relative to parameter_base; lengths in metres, log2 = base-2 logarithm):
-///   0  eye        xyz: eye position in metres (View::eye * meters_per_unit);  w: 1 - 2^-20
-///   1  scale      (meters_per_unit, meters_per_unit, meters_per_unit, 1)
-///   2  sun        xyz: sun_dir, negated when g < 0;  w: 0
-///   3  centre     xyz: 2 c, c = eye + R up (from the planet centre to the eye);
-///                 w: |eye|^2 + 2 R eye.up (m^2)
-///   4  planet     (R^2, R, frame.min_altitude_m, 1 / meters_per_unit)
-///   5  eye alt.   (frame.eye_altitude_m, 1/(12 R), 1/(2 R), w): w = 1 if the sun reaches the
-///                 eye (its column factors are below the model's blocked value), else 0; read
-///                 by `full` only
-///   6  inverse H  log2(e) (-1/H_R, -1/H_M, 1/H_R, 1/H_M)
-///   7  extr       xyz: -log2(e) beta_R (<= -1e-30);  w: 0 (keeps the secondary alpha 0)
-///   8  extm       xyz: -log2(e) beta_M,extinction (<= -1e-30);  w: 0 (the same)
-///   9  rayleigh   xyz: log2(e)^2 exposure E_sun0 beta_R 3/(16 pi);
-///                 w: log2(e)^2 beta_R,G exp(-h0/H_R) (read from exact_optical_depth on)
-///   10 mie        xyz: log2(e)^2 exposure E_sun0 beta_M (1 - g^2)/(4 pi);
-///                 w: log2(e)^2 beta_M,ext,G exp(-h0/H_M) (the same)
-///   11 phase      (|g|, 1/4, (1 - |g|)^2, -1)
-///   12 sun column x, y: log2(e) times the eye's log Chapman factors (frame.eye_log_chapman_*),
-///                 capped at 40 (a blocked sun becomes a column of e^40 H_i exp(-h/H_i)); for
-///                 `full` not capped, and 0 when the sun is blocked at the eye;
-///                 z, w: log2(beta_i,G / k0) + 2^-10, k0 = G extinction at the eye
-/// The program computes what the CPU `height` model computes, F_ex exactly (within 1 LSB), L_in
-/// with three approximations that fit it into 128 instructions:
-///   - the quadrature weights use the fitted exponential extinction profile's Jacobian only,
-///     without the model's correction by the exact optical depth to each node (exp(tau_fit -
-///     tau)), which matters where two components with very different scale heights both carry
-///     optical depth (rays leaving or entering a haze or fog layer); the exact_optical_depth
-///     fidelity adds it, beyond 128 instructions;
-///   - the sun's column factors are the eye's along the whole segment (the model interpolates to
-///     the vertex's), which matters at a low sun on long rays;
-///   - no per-node planet shadow: a sun below the eye's horizon is treated as blocked (the model
-///     lights the parts of the segment that still see it: twilight is dark).
-/// The `full` fidelity leaves none of them out. docs/arb-program.md gives the measured
-/// error against the CPU and reference models.
-inline constexpr int kArbHeightParameterCount = 13;
+/// How many frame parameter vectors the `height` program reads at the spec_minimum and
+/// exact_optical_depth levels (arb_parameter_layout names and describes each: 13 shared with
+/// `full`, then the sun columns' slopes slr, slm). It computes what the CPU `height` model
+/// computes, F_ex within 1 LSB, L_in with these approximations at spec_minimum:
+///   - the sun's column factors along the segment: the eye's, plus their change to first order
+///     in d = vertex - eye (the model interpolates to the vertex's exact factors); right within
+///     tens of km, wrong on rays of hundreds of km at a low sun;
+///   - the nodes are placed by the G optical depth with the mean sag (the model: without it)
+///     and the weights miss the model's correction by the exact optical depth to each node
+///     (exact_optical_depth adds it): wrong on very long rays (a sky dome of 1000 km, whose
+///     segments sag tens of km below the straight altitude profile) and where two components
+///     with very different scale heights both carry optical depth (haze or fog layers);
+///   - no per-node planet shadow: a sun below the eye's horizon is treated as blocked.
+/// The `full` level leaves none of them out. docs/arb-program.md gives the measured error.
+inline constexpr int kArbHeightParameterCount = 15;
 
-/// How many parameter vectors the `full` height program reads: the 13 above, then
-///   13 sun (true) xyz: sun_dir (not negated);  w: c.sun_dir, c = eye + R up (m)
-///   14 chapman x  (1/H_R, 1/H_M, R/H_R, R/H_M): x = (R + h)/H at altitude h
-///   15 chapman h  (H_R sqrt(pi/2), H_M sqrt(pi/2), 2 H_R sqrt(pi/2), 2 H_M sqrt(pi/2)) (m)
-///   16 fit clamp  x, y: sky.z, sky.w + (80 - h0/H_i) log2(e), the model's bound on the fitted
-///                 profile's end (exp(-rise/H_i) <= e^80);  z, w: 0 (unused)
+/// How many frame parameter vectors the `full` height program reads: the 13 shared ones, then
+/// sunc, chx, chh, fitc (arb_parameter_layout).
 inline constexpr int kArbHeightFullParameterCount = 17;
 
 /// kArbParameterCount or kArbHeightParameterCount (0 for a model without a program).
@@ -183,15 +155,37 @@ constexpr int arb_parameter_count(Model model) {
                                             : 0;
 }
 
-/// The parameter count of the program `options` describe: arb_parameter_count(options.model),
-/// or kArbHeightFullParameterCount for the height program at the `full` fidelity (`automatic`
-/// resolved against options.limits as generate_arb_program resolves it).
+/// The parameter count of the program `options` describe: its frame parameters
+/// (kArbParameterCount, kArbHeightParameterCount or, at the `full` fidelity,
+/// kArbHeightFullParameterCount; `automatic` resolved as generate_arb_program resolves it),
+/// plus the 3 model-matrix rows with options.model_matrix. arb_parameter_layout(options).size().
 int arb_parameter_count(const ArbProgramOptions& options);
 
 /// The fidelity generate_arb_program uses for `options` (height model): options.height_fidelity,
 /// or for `automatic` the highest level whose program fits options.limits, spec_minimum when
 /// none does (generation then fails naming the exceeded limit).
 ArbHeightFidelity resolve_arb_height_fidelity(const ArbProgramOptions& options);
+
+/// One parameter vector of a program.
+struct ArbParameterInfo {
+    int index = 0;             ///< absolute: program.local[index] (or env), parameter_base added
+    const char* name = "";     ///< the name the program text declares it by: "eye", "scale", ...
+    const char* meaning = "";  ///< one line: what each component holds
+};
+
+/// The parameter layout of the program `options` describe, in index order: the frame's vectors
+/// (what arb_program_parameters returns first), then with options.model_matrix the rows
+/// "model0", "model1", "model2". The source of truth: the program declares each as
+/// `PARAM name = program.local[index];  # meaning`. Empty for a model without a program.
+std::vector<ArbParameterInfo> arb_parameter_layout(const ArbProgramOptions& options);
+
+/// The absolute index of the first model-matrix row (options.model_matrix): parameter_base plus
+/// the frame's parameter count. Rows 0, 1, 2 of M go to this index and the next two.
+int arb_model_matrix_parameter_index(const ArbProgramOptions& options);
+
+/// The 3 top rows of a column-major 4x4 model matrix (glLoadMatrixf order, engine units), as the
+/// program reads them: row i = (m[i], m[4 + i], m[8 + i], m[12 + i]). Upload per draw.
+std::array<std::array<float, 4>, 3> arb_model_matrix_parameters(const float column_major[16]);
 
 /// What a program uses, counted as the spec counts it (section 2.14.3.7).
 struct ArbResources {
@@ -217,9 +211,11 @@ struct ArbProgram {
 Result<ArbProgram> generate_arb_program(const ArbProgramOptions& options = {});
 
 /// The arb_parameter_count(options) parameter vectors of one frame (element i goes to
-/// index options.parameter_base + i; layouts above). Requires frame.model == options.model, a
-/// finite display.exposure > 0 and display.tone == ToneCurve::clamp (GL clamps the secondary
-/// colour; the exponential curve has no room in the program). Every value is finite.
+/// index options.parameter_base + i; arb_parameter_layout describes each). With
+/// options.model_matrix the last 3 are the identity's rows (world = model space) until the
+/// engine uploads a draw's arb_model_matrix_parameters over them. Requires frame.model ==
+/// options.model, a finite display.exposure > 0 and display.tone == ToneCurve::clamp (GL clamps the
+/// secondary colour; the exponential curve has no room in the program). Every value is finite.
 ///
 /// Extinction close to 0: the program computes L_in = A (1 - 2^(k s)) with A proportional to
 /// beta_sc / beta_ex, which is <= 1 and never overflows; only beta_ex = 0 (0/0) needs care, so

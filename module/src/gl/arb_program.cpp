@@ -33,6 +33,58 @@ std::string parameter_name(const ArbProgramOptions& o, int i) {
     return "program." + space + "[" + std::to_string(o.parameter_base + i) + "]";
 }
 
+namespace {
+
+constexpr ParameterRow kModelMatrixLayout[kModelMatrixRows] = {
+    {"model0", "model matrix row 0 (engine units): world x = model0 . vertex.position"},
+    {"model1", "model matrix row 1: world y = model1 . vertex.position"},
+    {"model2", "model matrix row 2: world z = model2 . vertex.position"},
+};
+
+}  // namespace
+
+std::vector<ParameterRow> parameter_layout(const ArbProgramOptions& o, ArbHeightFidelity fidelity) {
+    std::vector<ParameterRow> rows = o.model == Model::height ? height_layout(fidelity)
+                                     : o.model == Model::hoffman_preetham
+                                         ? hoffman_preetham_layout()
+                                         : std::vector<ParameterRow>{};
+    if (o.model_matrix && !rows.empty()) {
+        rows.insert(rows.end(), std::begin(kModelMatrixLayout), std::end(kModelMatrixLayout));
+    }
+    return rows;
+}
+
+void write_parameter_declarations(ProgramWriter& w, const ArbProgramOptions& o,
+                                  ArbHeightFidelity fidelity) {
+    const std::vector<ParameterRow> rows = parameter_layout(o, fidelity);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        w.line("PARAM " + std::string(rows[i].name) + " = " +
+                   parameter_name(o, static_cast<int>(i)) + ";",
+               rows[i].meaning);
+    }
+}
+
+void write_world_segment(ProgramWriter& w, const ArbProgramOptions& o, const std::string& reg,
+                         const std::string& scale, const std::string& comment) {
+    if (o.model_matrix) {
+        w.line("DP4 " + reg + ".x, model0, pos;", "world position M * vertex.position");
+        w.line("DP4 " + reg + ".y, model1, pos;");
+        w.line("DP4 " + reg + (scale.empty() ? ".z" : ".zw") + ", model2, pos;");
+        if (scale.empty()) {
+            w.line("SUB " + reg + ".xyz, " + reg + ", eye;");
+            w.line("SUB " + reg + ".w, pos.w, eye.w;", comment);
+        } else {
+            w.line("MAD " + reg + ", " + reg + ", " + scale + ", -eye;", comment);
+        }
+        return;
+    }
+    if (scale.empty()) {
+        w.line("SUB " + reg + ", pos, eye;", comment);
+    } else {
+        w.line("MAD " + reg + ", pos, " + scale + ", -eye;", comment);
+    }
+}
+
 void write_clip_space_position(ProgramWriter& w, const ArbProgramOptions& o) {
     if (o.position_invariant) return;
     w.comment("Clip-space position.");
@@ -150,15 +202,33 @@ ArbHeightFidelity resolve_arb_height_fidelity(const ArbProgramOptions& options) 
 }
 
 int arb_parameter_count(const ArbProgramOptions& options) {
-    if (options.model == Model::height && options.height_fidelity == ArbHeightFidelity::full) {
-        return kArbHeightFullParameterCount;
+    return static_cast<int>(arb_parameter_layout(options).size());
+}
+
+std::vector<ArbParameterInfo> arb_parameter_layout(const ArbProgramOptions& options) {
+    const ArbHeightFidelity fidelity = options.model == Model::height
+                                           ? resolve_arb_height_fidelity(options)
+                                           : ArbHeightFidelity::automatic;
+    std::vector<ArbParameterInfo> out;
+    for (const detail::arb::ParameterRow& row : detail::arb::parameter_layout(options, fidelity)) {
+        out.push_back(
+            {options.parameter_base + static_cast<int>(out.size()), row.name, row.meaning});
     }
-    if (options.model == Model::height && options.height_fidelity == ArbHeightFidelity::automatic) {
-        ArbProgramOptions resolved = options;
-        resolved.height_fidelity = resolve_arb_height_fidelity(options);
-        return arb_parameter_count(resolved);
+    return out;
+}
+
+int arb_model_matrix_parameter_index(const ArbProgramOptions& options) {
+    ArbProgramOptions frame_only = options;
+    frame_only.model_matrix = false;
+    return options.parameter_base + arb_parameter_count(frame_only);
+}
+
+std::array<std::array<float, 4>, 3> arb_model_matrix_parameters(const float column_major[16]) {
+    std::array<std::array<float, 4>, 3> rows{};
+    for (std::size_t i = 0; i < 3; ++i) {
+        for (std::size_t j = 0; j < 4; ++j) rows[i][j] = column_major[4 * j + i];
     }
-    return arb_parameter_count(options.model);
+    return rows;
 }
 
 namespace {
@@ -245,10 +315,15 @@ Result<std::vector<std::array<float, 4>>> arb_program_parameters(const Frame<flo
                        std::string(tone_curve_name(display.tone)));
     }
 
-    if (options.model == Model::height) {
-        return detail::arb::height_parameters(frame, display, resolve_arb_height_fidelity(options));
+    auto p =
+        options.model == Model::height
+            ? detail::arb::height_parameters(frame, display, resolve_arb_height_fidelity(options))
+            : detail::arb::hoffman_preetham_parameters(frame, display);
+    if (p && options.model_matrix) {
+        constexpr float kIdentity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+        for (const auto& row : arb_model_matrix_parameters(kIdentity)) p.value().push_back(row);
     }
-    return detail::arb::hoffman_preetham_parameters(frame, display);
+    return p;
 }
 
 }  // namespace aerial

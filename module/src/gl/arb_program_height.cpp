@@ -5,8 +5,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
+#include "aerial/scattering.hpp"
 
 #include "../core/height_constants.hpp"
 #include "aerial/phase.hpp"
@@ -15,8 +19,8 @@
 namespace aerial::detail::arb {
 namespace {
 
-/// Indices of the height program's parameters, relative to parameter_base (layout in
-/// arb_program.hpp).
+/// Indices of the height program's parameters, relative to parameter_base: the rows of the
+/// layout tables below (kSharedLayout, then kLowerLayout or kFullLayout).
 enum HeightParameterIndex {
     kHeightEye,
     kHeightScale,
@@ -31,13 +35,57 @@ enum HeightParameterIndex {
     kHeightMie,
     kHeightPhase,
     kHeightSunColumn,
+    kHeightSharedCount,
+    // spec_minimum and exact_optical_depth:
+    kHeightRayleighSlope = kHeightSharedCount,
+    kHeightMieSlope,
     kHeightParameterCount,
-    kHeightTrueSun = kHeightParameterCount,
+    // full:
+    kHeightTrueSun = kHeightSharedCount,
     kHeightChapmanX,
     kHeightChapmanH,
     kHeightFitClamp,
     kHeightFullParameterCount
 };
+
+/// The layout of every level (lengths in metres, log2 the base-2 logarithm, c = eye + R up
+/// from the planet centre to the eye, h0 the eye's altitude, G the channel of the quadrature).
+constexpr ParameterRow kSharedLayout[] = {
+    {"eye", "xyz: eye (m, View::eye * meters_per_unit); w: -2^-20 (so that d.w = 2^-20)"},
+    {"scale", "(meters_per_unit x3, 0)"},
+    {"sun", "xyz: sun_dir (towards the sun), negated when g < 0; w: 0"},
+    {"centre", "xyz: 2 c; w: |eye|^2 + 2 R eye.up (m^2)"},
+    {"planet", "(R^2, R, frame.min_altitude_m, 1 / meters_per_unit)"},
+    {"eyealt", "(h0, 1/(12 R), 1/(2 R), w): w = 1 if the sun reaches the eye (read by full)"},
+    {"inv", "log2(e) (-1/H_R, -1/H_M, 1/H_R, 1/H_M)"},
+    {"extr", "xyz: -log2(e) beta_R (<= -1e-30); w: 0"},
+    {"extm", "xyz: -log2(e) beta_M,extinction (<= -1e-30); w: 0"},
+    {"ray", "xyz: log2(e)^2 exposure E_sun0 beta_R 3/(16 pi); w: log2(e)^2 k_R,G(h0) (exact on)"},
+    {"mie", "xyz: log2(e)^2 exposure E_sun0 beta_M (1-g^2)/(4 pi); w: log2(e)^2 k_M,G(h0) (same)"},
+    {"hg", "(|g|, 1/4, (1 - |g|)^2, -1)"},
+    {"sky",
+     "xy: log2(e) eye's log Chapman factors (R, M; capped at 40 log2(e) below full, for "
+     "full 0 where the eye's sun is blocked); zw: log2(beta_i,G / k_G(h0)) + 2^-10"},
+};
+/// spec_minimum and exact_optical_depth: the sun columns' change along the segment.
+constexpr ParameterRow kLowerLayout[] = {
+    {"slr", "xyz: gradient of sky.x along d = vertex - eye at the eye, per m (0 if blocked); w: 0"},
+    {"slm", "xyz: the same for sky.y (Mie); w: 0"},
+};
+/// full: the sun's column factors at the vertex.
+constexpr ParameterRow kFullLayout[] = {
+    {"sunc", "xyz: sun_dir (not negated); w: c.sun_dir (m)"},
+    {"chx", "(1/H_R, 1/H_M, R/H_R, R/H_M): x = (R + h)/H at altitude h"},
+    {"chh", "(1, 1, 2, 2) sqrt(pi/2) (H_R, H_M, H_R, H_M) (m)"},
+    {"fitc", "xy: sky.zw + (80 - h0/H_i) log2(e), the bound e^80 on the fit's end; zw: 0"},
+};
+// sky.xy's cap: a blocked sun becomes a column of e^40 H_i exp(-h/H_i), out up to 100 km.
+// slr, slm: d lf_i/d mu at the eye (the model's own factors, a central difference) times
+// d mu/d d = (sun - mu0 c/|c|)/|c| (column_slopes).
+static_assert(std::size(kSharedLayout) == kHeightSharedCount &&
+                  kHeightSharedCount + std::size(kLowerLayout) == kHeightParameterCount &&
+                  kHeightSharedCount + std::size(kFullLayout) == kHeightFullParameterCount,
+              "the layout tables and the indices disagree");
 static_assert(kHeightParameterCount == kArbHeightParameterCount, "layout and count disagree");
 static_assert(kHeightFullParameterCount == kArbHeightFullParameterCount,
               "layout and count disagree");
@@ -55,6 +103,8 @@ constexpr double kSeriesLimit = 0.25;
 /// this far from 0, where the node placement would divide 0 by 0; a shift this small moves the
 /// nodes by < 1e-3 of the segment.
 constexpr double kMinFitSlope = 1.0 / 1024.0;
+/// spec_minimum takes phi(y) = (1 - 2^-y)/(y ln 2) at max(|y|, kMinDensityRise) (log2 units).
+constexpr double kMinDensityRise = 1.0 / 1024.0;
 // The height model clamps its fitted slope to +-kMaxFitSlope (natural units) and so does the
 // program (from above; below it the float range suffices).
 /// Below this log factor (natural units) the sun column at the eye is used as it is; a blocked sun
@@ -116,8 +166,8 @@ std::array<double, kErfcxDegree + 1> erfcx_fit() {
 /// The program's header comments and its declarations: the per-frame parameters (layout in
 /// arb_program.hpp), the constants (`full` adds those of the erfcx fit and the blocked sun) and
 /// the temporaries.
-void write_height_declarations(ProgramWriter& w, const ArbProgramOptions& o, bool full) {
-    const auto param = [&](int i) { return parameter_name(o, i); };
+void write_height_declarations(ProgramWriter& w, const ArbProgramOptions& o, bool full,
+                               bool quotient) {
     const double ln2 = std::log(2.0);
     w.line("!!ARBvp1.0");
     if (o.position_invariant) w.line("OPTION ARB_position_invariant;");
@@ -125,38 +175,34 @@ void write_height_declarations(ProgramWriter& w, const ArbProgramOptions& o, boo
     w.comment("profiles averaged along the segment, sunlight at 3 points of it. Generated by");
     w.comment("aerial::generate_arb_program; parameters from aerial::arb_program_parameters, once");
     w.comment("per frame.");
-    w.comment("In:  vertex.position = world position in engine units, w = 1.");
+    w.comment(o.model_matrix ? "In:  vertex.position = model-space position, w = 1; model0..2: the"
+                             : "In:  vertex.position = world position in engine units, w = 1.");
+    if (o.model_matrix) w.comment("     model matrix's top rows (world = M * vertex.position).");
     w.comment("Out: primary = F_ex (extinction; a = 1), secondary = L_in (in-scattering, exposure");
     w.comment("     applied), fogcoord = distance eye -> vertex (engine units).");
     w.line("ATTRIB pos = vertex.position;");
     if (!o.position_invariant) w.line("PARAM mvp[4] = { state.matrix.mvp };");
-    w.line("PARAM eye = " + param(kHeightEye) + ";", "eye (m); w = 1 - 2^-20");
-    w.line("PARAM scale = " + param(kHeightScale) + ";", "(m per unit x3, 1)");
-    w.line("PARAM sun = " + param(kHeightSun) + ";", "towards the sun (away if g < 0); w = 0");
-    w.line("PARAM centre = " + param(kHeightCentre) + ";", "(2 c, |eye|^2 + 2 R eye.up)");
-    w.line("PARAM planet = " + param(kHeightPlanet) + ";", "(R^2, R, lowest altitude, units/m)");
-    w.line("PARAM eyealt = " + param(kHeightEyeAltitude) + ";", "(h0, 1/(12 R), 1/(2 R), 0)");
-    w.line("PARAM inv = " + param(kHeightInverseScaleHeights) + ";",
-           "(-1, -1, 1, 1) log2(e) / (H_R, H_M)");
-    w.line("PARAM extr = " + param(kHeightRayleighExtinction) + ";", "-log2(e) beta_R; w = 0");
-    w.line("PARAM extm = " + param(kHeightMieExtinction) + ";", "-log2(e) beta_M,ext; w = 0");
-    w.line("PARAM ray = " + param(kHeightRayleigh) + ";", "log2(e)^2 E0 beta_R 3/(16 pi)");
-    w.line("PARAM mie = " + param(kHeightMie) + ";", "log2(e)^2 E0 beta_M (1 - g^2)/(4 pi)");
-    w.line("PARAM hg = " + param(kHeightPhase) + ";", "(|g|, 1/4, (1 - |g|)^2, -1)");
-    w.line("PARAM sky = " + param(kHeightSunColumn) + ";", "log2 sun column factors, fit offsets");
+    write_parameter_declarations(w, o,
+                                 full ? ArbHeightFidelity::full : ArbHeightFidelity::spec_minimum);
     const double c = kSeriesLimit * kLog2E;  // the limit in log2 units
     w.line("PARAM num = " + format_float4(2.0, -1.5, c, kLog2E) + ";",
            "2, -1.5, series limit, log2(e)");
-    w.line("PARAM ser = " +
-               format_float4(std::pow(ln2, 4) / 120.0, -std::pow(ln2, 3) / 24.0, ln2 * ln2 / 6.0,
-                             -ln2 / 2.0) +
-               ";",
-           "series of (1 - 2^-y)/(y ln 2)");
+    if (!quotient) {
+        w.line("PARAM ser = " +
+                   format_float4(std::pow(ln2, 4) / 120.0, -std::pow(ln2, 3) / 24.0,
+                                 ln2 * ln2 / 6.0, -ln2 / 2.0) +
+                   ";",
+               "series of (1 - 2^-y)/(y ln 2)");
+    }
     w.line("PARAM cst = " +
            format_float4(1.0 - one_minus_exp_over_x(kSeriesLimit), -height::kMinChapmanFactor, 1.0,
                          -kMaxFitSlope * kLog2E) +
            ";");
     w.line("PARAM fit = " + format_float4(-kMinFitSlope, 2.0 * kMinFitSlope, 0.0, 0.0) + ";");
+    if (quotient) {
+        w.line("PARAM dens = " + format_float4(std::log2(kLog2E), kMinDensityRise, 0.0, 0.0) + ";",
+               "log2(log2(e)), smallest |y|");
+    }
     w.line("PARAM ynode = " + format_float4(kSunNodes[0], kSunNodes[1], kSunNodes[2], 0.0) + ";",
            "Gauss nodes in the attenuation share");
     w.line("PARAM ynode1 = " +
@@ -168,9 +214,6 @@ void write_height_declarations(ProgramWriter& w, const ArbProgramOptions& o, boo
            "log2 of the Gauss weights");
     if (full) {
         const std::array<double, kErfcxDegree + 1> q = erfcx_fit();
-        w.line("PARAM sunc = " + param(kHeightTrueSun) + ";", "(sun, c.sun), c = eye + R up");
-        w.line("PARAM chx = " + param(kHeightChapmanX) + ";", "(1/H_R, 1/H_M, R/H_R, R/H_M)");
-        w.line("PARAM chh = " + param(kHeightChapmanH) + ";", "(1, 1, 2, 2) sqrt(pi/2) H_i");
         w.line("PARAM chc = " +
                    format_float4(std::sqrt(0.5) / kErfcxScale, kBlockedLogColumn * kLog2E, kBlocked,
                                  q[0]) +
@@ -180,11 +223,9 @@ void write_height_declarations(ProgramWriter& w, const ArbProgramOptions& o, boo
         w.line("PARAM erfb = " + format_float4(q[4], q[3], q[2], q[1]) + ";",
                "t = C/(y + C), C = 2");
         w.line("PARAM lim = " + format_float4(-ln2, 0.0, 0.0, 0.0) + ";");
-        w.line("PARAM fitc = " + param(kHeightFitClamp) + ";", "clamp of the fit's end");
-        w.line("TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc, chp;");
-    } else {
-        w.line("TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc;");
     }
+    w.line(full ? "TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc, chp;"
+                : "TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc;");
 }
 
 /// colm = (y_R, y_M, C_R, C_M) of the exact optical depth tau(u) (see write_exact_optical_depth).
@@ -203,9 +244,9 @@ void write_optical_depth_coefficients(ProgramWriter& w) {
 
 /// The segment d = vertex - eye, its length s (and the fog coordinate), and both phase functions
 /// without their constants.
-void write_segment_and_phases(ProgramWriter& w) {
+void write_segment_and_phases(ProgramWriter& w, const ArbProgramOptions& o) {
     w.comment("Segment d = vertex - eye (m), s = |d|, w = |d/s - sun|^2 = 2 (1 - cos theta).");
-    w.line("MAD seg, pos, scale, -eye;", "(d, 2^-20)");
+    write_world_segment(w, o, "seg", "scale", "(d, 2^-20)");
     w.line("DP4 seg.w, seg, seg;", "s^2 + 2^-40, never 0");
     w.line("RSQ node.w, seg.w;", "1/s");
     w.line("MAD view, seg, node.w, -sun;", "(d/s - sun, s)");
@@ -238,6 +279,11 @@ void write_vertex_altitude(ProgramWriter& w, bool full) {
     w.line("MAD alt.z, seg.w, -eyealt.y, alt.z;");
     w.line("MAX alt.z, alt.z, planet.z;", "h_low");
     w.line("SUB alt.w, alt.x, eyealt.x;", "rise");
+    if (!full) {
+        // view.x (w) is free after the phases, acc until the transmittance sums.
+        w.line("DP3 view.x, seg, slr;", "lr1 - lr0 (log2), to first order in d");
+        w.line("DP3 acc.w, seg, slm;");
+    }
 }
 
 /// full: the upward sun column factors at the vertex, H_i sqrt(pi x_i/2) erfcx(y_i).
@@ -318,6 +364,27 @@ void write_segment_end_factors(ProgramWriter& w) {
     w.line("MAX work.w, work.z, eyealt.w;");
     w.line("SUB work.w, cst.z, work.w;");
     w.line("MAD chp.xy, work.w, chc.z, chp;");
+}
+
+/// spec_minimum: the path-averaged densities with phi from its quotient alone, |y| kept at least
+/// kMinDensityRise (phi there is within 3.4e-4 of phi(0) = 1: F_ex within 0.04 LSB). Needs a
+/// full-precision EX2 near |y| = 0, where 1 - 2^-y cancels (a 2^-11 EX2 puts 2^-11 / |y| into
+/// phi); the higher levels take phi from its series there and do not.
+void write_quotient_densities(ProgramWriter& w) {
+    w.comment(
+        "Path-averaged densities rho_i = exp(-h_low/H_i) phi(|rise|/H_i), phi(x) = (1-e^-x)/x");
+    w.comment("= log2(e) (1 - 2^-y)/y, y = |rise| log2(e)/H_i kept >= 2^-10.");
+    w.line("MAD work, alt.zzww, inv, dens.xxzz;", "(log2(log2(e) e^(-h_low/H)), y)");
+    w.line("MAX work.zw, work, -work;", "|y|");
+    w.line("MAX work.zw, work, dens.y;");
+    w.line("EX2 rho.x, work.x;");
+    w.line("EX2 rho.y, work.y;");
+    w.line("EX2 rho.z, -work.z;");
+    w.line("EX2 rho.w, -work.w;");
+    w.line("RCP ext.z, work.z;");
+    w.line("RCP ext.w, work.w;");
+    w.line("MAD ext.zw, -rho, ext, ext;", "(1 - 2^-y)/y");
+    w.line("MUL rho.xy, rho, ext.zwzw;", "rho_R, rho_M");
 }
 
 /// The path-averaged densities rho_R, rho_M.
@@ -501,8 +568,10 @@ void write_node_columns(ProgramWriter& w, bool full) {
         w.line("MIN colr.xyz, colr, chc.y;", "and on the columns (no inf: alpha stays 0)");
         w.line("MIN colm.xyz, colm, chc.y;");
     } else {
-        w.line("MAD colr.xyz, colm, inv.x, sky.x;");
-        w.line("MAD colm.xyz, colm, inv.y, sky.y;");
+        w.line("MAD colr.xyz, work, view.x, sky.x;");
+        w.line("MAD colr.xyz, colm, inv.x, colr;");
+        w.line("MAD ext.xyz, work, acc.w, sky.y;");
+        w.line("MAD colm.xyz, colm, inv.y, ext;");
     }
     for (const char* reg : {"colr", "colm"}) {
         for (char lane : {'x', 'y', 'z'}) {
@@ -546,44 +615,101 @@ void write_in_scattering(ProgramWriter& w) {
 
 }  // namespace
 
+std::vector<ParameterRow> height_layout(ArbHeightFidelity fidelity) {
+    std::vector<ParameterRow> rows(std::begin(kSharedLayout), std::end(kSharedLayout));
+    if (fidelity == ArbHeightFidelity::full) {
+        rows.insert(rows.end(), std::begin(kFullLayout), std::end(kFullLayout));
+    } else {
+        rows.insert(rows.end(), std::begin(kLowerLayout), std::end(kLowerLayout));
+    }
+    return rows;
+}
+
+namespace {
+
+/// The change of the log2 sun column factors (Rayleigh, Mie) per metre of d = vertex - eye, to
+/// first order: d lf/d mu at the eye times d mu/d d = (sun - mu0 c/|c|)/|c|, c = eye + R up.
+std::array<glm::dvec3, 2> column_slopes(const Frame<float>& frame, bool eye_lit) {
+    if (!eye_lit) return {glm::dvec3(0), glm::dvec3(0)};
+    const glm::dvec3 up = frame.view.up, sun = frame.view.sun_dir;
+    const glm::dvec3 eye = frame.view.eye * frame.view.meters_per_unit;
+    const glm::dvec3 c = eye + double(frame.planet_radius_m) * up;
+    const double length = glm::length(c);
+    const glm::dvec3 zenith = c / length;
+    const double mu0 = glm::dot(zenith, sun);
+    const glm::dvec3 side = sun - mu0 * zenith;  // the sun's horizontal direction at the eye
+    const double side_length = glm::length(side);
+    const glm::dvec3 horizontal = side_length > 1e-9 ? side / side_length : glm::dvec3(0);
+    // The log factors of a sun at zenith cosine mu (same eye), by the model's own code.
+    const auto factors = [&](double mu) {
+        Frame<float> f = frame;
+        const double m = std::clamp(mu, -1.0, 1.0);
+        f.view.sun_dir = m * zenith + std::sqrt(std::max(0.0, 1.0 - m * m)) * horizontal;
+        f.sun_dir = glm::vec3(f.view.sun_dir);
+        const Frame<float> g = frame_with_eye(f, eye);
+        return glm::dvec2(g.eye_log_chapman_rayleigh, g.eye_log_chapman_mie);
+    };
+    const double step = 1e-3;
+    const double lo = std::max(mu0 - step, -1.0), hi = std::min(mu0 + step, 1.0);
+    glm::dvec2 derivative = (factors(hi) - factors(lo)) / (hi - lo);
+    const glm::dvec2 f_lo = factors(lo), f_hi = factors(hi);
+    if (f_lo.x >= kBlockedLogColumn || f_hi.x >= kBlockedLogColumn || f_lo.y >= kBlockedLogColumn ||
+        f_hi.y >= kBlockedLogColumn) {
+        derivative = glm::dvec2(0);
+    }
+    const glm::dvec3 dmu = (sun - mu0 * zenith) / length;
+    return {kLog2E * derivative.x * dmu, kLog2E * derivative.y * dmu};
+}
+
+}  // namespace
+
 // The height program. Per vertex, like height_model() in scattering.cpp (metres; d = p - eye,
 // s = |d|, the G channel drives the quadrature):
 //   h1 = n / (|p - centre| + R), n = |p|^2 + 2 R p.up (from the eye's n: no cancellation);
 //   rho_i = exp(-h_low/H_i) phi(|h1 - h0|/H_i), h_low = min(h0, h1) - s^2/(12 R),
-//     phi(x) = (1 - e^-x)/x as S(min(x, c)) + Q(max(x, c)) - phi(c): the series S is right below
-//     c, the quotient Q above it, and neither needs a branch (c = 0.25);
+//     phi(x) = (1 - e^-x)/x: at spec_minimum its quotient at max(x, 2^-10 ln 2); above, as
+//     S(min(x, c)) + Q(max(x, c)) - phi(c): the series S is right below c, the quotient Q above
+//     it, and neither needs a branch (c = 0.25), which a coarse EX2 does not upset;
 //   F_ex = exp(-beta s), beta = beta_R rho_R + beta_M rho_M per channel;
 //   the fitted G profile k0 exp(-a u), a = ln(k0 / k(h1)) (b = a log2(e), kept >= 2^-10 from 0);
 //   nodes y_n (3-point Gauss) in the share of the attenuation: f_n = -ln(1 - y_n (1 - F_G))/tau_G,
 //     u_n = -ln(1 - f_n (1 - e^-a))/a, altitude h_n = h0 + (h1 - h0) u_n - sag u_n (1 - u_n);
 //   weights W_n rho_i(h_n) e^(a u_n), sun transmittance at each node from the eye's Chapman
-//     factors and the node's densities;
+//     factors plus their change along d to first order (slr, slm: lr0 + (d.sl) u_n, where the
+//     model interpolates to the vertex's exact factors) and the node's densities;
 //   L_in = E0 s phi(tau_c) phi(a) sum_i beta_i P_i sum_n weight_in T_n (exposure in the params).
-// What the model does and the program does not (128 instructions): the weights' correction by
-// exp(tau_fit(u_n) - tau(u_n)) (about 20 instructions: six more EX2 and a guarded division), the
-// sun column factors interpolated to the vertex (an erfcx and its below-horizon branch, about 30)
-// and the planet-shadow test per node (about 10). Budget: 4 transform, 6 distance and fog, 3
-// phase, 12 altitude, 17 densities, 8 fit, 11 F_ex, 14 nodes, 6 node altitudes, 9 weights,
-// 8 columns, 21 transmittance sums, 6 L_in, 1 per texture unit: 127 with one unit.
-// exact_optical_depth adds the correction (23 more: 150). full adds the rest of the model (99
-// more: 249): the vertex's column factors (the erfcx fit, the below-horizon branch, the choice
-// between them, the blocked tests and the ends' interpolation), the shadow per node, tau_total
-// without the sag for the node placement and the scale phi(tau_total)/phi(tau_G), the model's
-// bounds on the fit, the weights and the columns, and the interpolated factors at the nodes.
+// What the model does and spec_minimum does not (128 instructions): the node placement by the
+// optical depth without the sag and the scale phi(tau_total)/phi(tau_G) (about 14 instructions),
+// the weights' correction by exp(tau_fit(u_n) - tau(u_n)) (about 20: six more EX2 and a guarded
+// division), the exact column factors at the vertex (an erfcx and its below-horizon branch,
+// about 60 with the interpolation) and the planet-shadow test per node (about 10). Budget: 4
+// transform (3 more for the model matrix), 6 distance and fog, 3 phase, 14 altitude and column
+// slopes, 11 densities, 8 fit, 11 F_ex, 14 nodes, 6 node altitudes, 9 weights, 10 columns, 21
+// transmittance sums, 6 L_in, 1 per texture unit: 125 with one unit.
+// exact_optical_depth adds the correction and phi's series (29 more: 154). full adds the rest of
+// the model (249): the vertex's column factors (the erfcx fit, the below-horizon branch, the
+// choice between them, the blocked tests and the ends' interpolation), the shadow per node,
+// tau_total without the sag for the node placement and the scale phi(tau_total)/phi(tau_G), the
+// model's bounds on the fit, the weights and the columns, and the interpolated factors at the
+// nodes.
 std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fidelity) {
     const bool exact = fidelity != ArbHeightFidelity::spec_minimum;
     const bool full = fidelity == ArbHeightFidelity::full;
     ProgramWriter w;
-    write_height_declarations(w, o, full);
+    write_height_declarations(w, o, full, !exact);
     write_clip_space_position(w, o);
-    write_segment_and_phases(w);
+    write_segment_and_phases(w, o);
     write_vertex_altitude(w, full);
     if (full) {
         write_vertex_upward_factors(w);
         write_vertex_below_horizon_factors(w);
         write_segment_end_factors(w);
     }
-    write_densities(w);
+    if (exact) {
+        write_densities(w);
+    } else {
+        write_quotient_densities(w);
+    }
     write_fitted_profile(w, full);
     write_extinction(w);
     write_node_placement(w, full);
@@ -631,8 +757,9 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
 
     const double sign = g < 0.0 ? -1.0 : 1.0;
     std::vector<std::array<double, 4>> p(full ? kHeightFullParameterCount : kHeightParameterCount);
-    p[kHeightEye] = {eye.x, eye.y, eye.z, 1.0 - kEpsilon};
-    p[kHeightScale] = {mpu, mpu, mpu, 1.0};
+    // d = world * scale - eye: d.w = 0 - (-2^-20), whatever the world position's w.
+    p[kHeightEye] = {eye.x, eye.y, eye.z, -kEpsilon};
+    p[kHeightScale] = {mpu, mpu, mpu, 0.0};
     p[kHeightSun] = {sign * sun.x, sign * sun.y, sign * sun.z, 0.0};
     p[kHeightCentre] = {2.0 * centre.x, 2.0 * centre.y, 2.0 * centre.z,
                         glm::dot(eye, eye) + 2.0 * r * glm::dot(eye, up)};
@@ -662,6 +789,11 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
     p[kHeightSunColumn] = {kLog2E * lf[0], kLog2E * lf[1],
                            std::log2(beta_g[0]) - log2_k0 + kMinFitSlope,
                            std::log2(beta_g[1]) - log2_k0 + kMinFitSlope};
+    if (!full) {
+        const std::array<glm::dvec3, 2> slope = column_slopes(frame, eye_lit);
+        p[kHeightRayleighSlope] = {slope[0].x, slope[0].y, slope[0].z, 0.0};
+        p[kHeightMieSlope] = {slope[1].x, slope[1].y, slope[1].z, 0.0};
+    }
     if (full) {
         const double hr = frame.rayleigh_scale_height_m, hm = frame.mie_scale_height_m;
         const double root = std::sqrt(0.5 * kPi);

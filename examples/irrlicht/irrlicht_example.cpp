@@ -238,17 +238,26 @@ void* load_gl(void*, const char* name) {
     return reinterpret_cast<void*>(glXGetProcAddressARB(reinterpret_cast<const GLubyte*>(name)));
 }
 
-/// With Irrlicht's context current.
+/// Once, with Irrlicht's context current: the context (earth preset, height model), the sky
+/// (the height model's dome method) and the GL object.
 bool make_air(Air& air, std::string& error) {
-    aerial_view view;
-    scene_aerial_view(&view);
     if (AERIAL_CHECK_VERSION() != AERIAL_OK ||
         aerial_context_create(nullptr, AERIAL_MODEL_HEIGHT, &air.ctx) != AERIAL_OK ||
-        aerial_context_set_view(air.ctx, &view) != AERIAL_OK ||
-        aerial_auto_exposure(air.ctx, nullptr, &air.display.exposure) != AERIAL_OK ||
         aerial_sky_create(nullptr, &air.sky) != AERIAL_OK ||
-        aerial_sky_set_frame(air.sky, air.ctx) != AERIAL_OK ||
         aerial_gl_create(load_gl, nullptr, &air.gl) != AERIAL_OK) {
+        error = aerial_error();
+        return false;
+    }
+    return true;
+}
+
+/// Per frame: the view, the exposure (the sun or the air may have moved) and the sky's frame.
+bool set_view(Air& air, std::string& error) {
+    aerial_view view;
+    scene_aerial_view(&view);
+    if (aerial_context_set_view(air.ctx, &view) != AERIAL_OK ||
+        aerial_auto_exposure(air.ctx, nullptr, &air.display.exposure) != AERIAL_OK ||
+        aerial_sky_set_frame(air.sky, air.ctx) != AERIAL_OK) {
         error = aerial_error();
         return false;
     }
@@ -277,6 +286,7 @@ bool shade_dome(const Air& air, Dome& dome, std::string& error) {
 /// program is generated with AERIAL_PARAMETERS_LOCAL.
 class ArbConstants : public video::IShaderConstantSetCallBack {
   public:
+    aerial_arb_options options{};  ///< the program's, for aerial_arb_parameters
     std::vector<float> vectors;
     int base = 0;
     void OnSetConstants(video::IMaterialRendererServices* services, s32) override {
@@ -292,25 +302,26 @@ void describe(const aerial_arb_info& info, const aerial_arb_options& options) {
         "%d parameter vectors from program.local[%d]\n",
         kTool, levels[info.height_fidelity], info.instructions, info.temporaries,
         info.parameter_count, info.parameter_base);
-    aerial_arb_parameter layout[64];
     size_t n = 0;
-    if (aerial_arb_parameter_layout(&options, layout, 64, &n) != AERIAL_OK) return;
+    (void)aerial_arb_parameter_layout(&options, nullptr, 0, &n);  // the count
+    std::vector<aerial_arb_parameter> layout(n);
+    if (aerial_arb_parameter_layout(&options, layout.data(), n, &n) != AERIAL_OK) return;
     for (size_t i = 0; i < n; ++i) {
         std::printf("  program.local[%d] %s: %s\n", layout[i].index, layout[i].name,
                     layout[i].meaning);
     }
 }
 
-/// Generates the program for the driver's native limits and the fidelity asked for, hands it
-/// to Irrlicht as a shader material and fills the callback's parameters; the material type.
+/// Generates the program for the driver's native limits and the fidelity asked for and hands
+/// it to Irrlicht as a shader material; the material type (-1 with `error` set).
 s32 make_arb_material(video::IVideoDriver* driver, const Air& air, aerial_height_fidelity level,
                       ArbConstants& constants, std::string& error) {
-    aerial_arb_options options{};
+    aerial_arb_options& options = constants.options;
     options.model = AERIAL_MODEL_HEIGHT;
     options.parameter_space = AERIAL_PARAMETERS_LOCAL;  // Irrlicht's setVertexShaderConstant
     options.height_fidelity = level;
     aerial_arb_info info{};
-    size_t length = 0, count = 0;
+    size_t length = 0;
     if (aerial_gl_arb_limits(air.gl, &options.limits) != AERIAL_OK ||
         aerial_arb_describe(&options, &info) != AERIAL_OK) {
         error = aerial_error();
@@ -324,9 +335,7 @@ s32 make_arb_material(video::IVideoDriver* driver, const Air& air, aerial_height
     std::vector<char> text(length + 1);
     constants.vectors.resize(4 * std::size_t(info.parameter_count));
     constants.base = info.parameter_base;
-    if (aerial_arb_generate(&options, text.data(), text.size(), nullptr, nullptr) != AERIAL_OK ||
-        aerial_arb_parameters(air.ctx, &options, &air.display, constants.vectors.data(),
-                              std::size_t(info.parameter_count), &count) != AERIAL_OK) {
+    if (aerial_arb_generate(&options, text.data(), text.size(), nullptr, nullptr) != AERIAL_OK) {
         error = aerial_error();
         return -1;
     }
@@ -494,24 +503,40 @@ IrrlichtDevice* make_device(const Options& o) {
     return createDeviceEx(p);
 }
 
+/// Once: aerial's objects, the meshes, the materials (arb: the shader material).
 bool setup(Frame& f, const Options& o, std::string& error) {
     if (!make_air(f.air, error)) return false;
-    double eye_twin[3] = {SCENE_EYE_X, SCENE_EYE_Y, SCENE_EYE_Z};
+    const double eye_twin[3] = {SCENE_EYE_X, SCENE_EYE_Y, SCENE_EYE_Z};
     f.dome = make_dome(irr_point(eye_twin));
-    if (!shade_dome(f.air, f.dome, error)) return false;
     make_materials(f);
     f.fex = make_terrain(o.vbo);
     if (o.arb) {
-        f.terrain.MaterialType = video::E_MATERIAL_TYPE(
-            make_arb_material(f.driver, f.air, o.fidelity, f.constants, error));
-        return f.terrain.MaterialType >= 0 && error.empty();
+        const s32 type = make_arb_material(f.driver, f.air, o.fidelity, f.constants, error);
+        f.terrain.MaterialType = video::E_MATERIAL_TYPE(type);
+        return type >= 0;
     }
     f.lin = make_terrain(o.vbo);
     f.engine_l_in_material = o.engine_l_in_material;
-    return shade_terrain(f, error);
+    return true;
+}
+
+/// Per frame, before drawing: the view, exposure and sky, the dome's colours, and the
+/// terrain's (cpu: aerial_shade into the vertices; arb: the parameters OnSetConstants uploads).
+bool update_frame(Frame& f, const Options& o, std::string& error) {
+    if (!set_view(f.air, error) || !shade_dome(f.air, f.dome, error)) return false;
+    if (!o.arb) return shade_terrain(f, error);
+    ArbConstants& c = f.constants;
+    size_t count = 0;
+    if (aerial_arb_parameters(f.air.ctx, &c.options, &f.air.display, c.vectors.data(),
+                              c.vectors.size() / 4, &count) != AERIAL_OK) {
+        error = aerial_error();
+        return false;
+    }
+    return true;
 }
 
 bool render(Frame& f, const Options& o, std::string& error) {
+    if (!update_frame(f, o, error)) return false;
     f.driver->beginScene(true, true, video::SColor(255, 0, 0, 0));
     set_camera(f.driver, o.width, o.height);
     draw_sky(f);

@@ -3,6 +3,7 @@
 // engine's one colour array), the check that reports a draw call that re-pointed aerial's colour
 // arrays or changed the L_in pass's state, the state a material system's ARB program needs, and
 // the driver's ARB limits with the program level they choose.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -211,6 +212,47 @@ TEST_F(EngineGl, TheDriversLimitsChooseTheHeightProgramsLevel) {
     full.limits.max_instructions = -1;
     EXPECT_EQ(aerial_arb_describe(&full, &info), AERIAL_ERROR_INVALID_ARGUMENT);
     EXPECT_STREQ(aerial_last_error_field(), "options.limits.max_instructions");
+}
+
+TEST(EngineArb, TheLayoutNamesEveryVectorAndTheModelMatrixFollowsTheFrame) {
+    aerial_arb_options options{};
+    options.model = AERIAL_MODEL_HEIGHT;
+    options.parameter_base = 4;
+    options.model_matrix = 1;
+    aerial_arb_info info{};
+    ASSERT_EQ(aerial_arb_describe(&options, &info), AERIAL_OK) << aerial_last_error_message();
+    EXPECT_LE(info.instructions, 128);  // the spec minimum, with the model matrix
+    size_t count = 0;
+    ASSERT_EQ(aerial_arb_parameter_layout(&options, nullptr, 0, &count), AERIAL_OK);
+    EXPECT_EQ(count, std::size_t(info.parameter_count));
+    std::vector<aerial_arb_parameter> layout(count);
+    EXPECT_EQ(aerial_arb_parameter_layout(&options, layout.data(), 1, &count),
+              AERIAL_ERROR_BUFFER_TOO_SMALL);
+    ASSERT_EQ(aerial_arb_parameter_layout(&options, layout.data(), layout.size(), &count),
+              AERIAL_OK);
+    for (std::size_t i = 0; i < layout.size(); ++i) {
+        EXPECT_EQ(layout[i].index, 4 + int(i));
+        EXPECT_STRNE(layout[i].name, "");
+        EXPECT_STRNE(layout[i].meaning, "");
+    }
+    EXPECT_EQ(info.model_matrix_index, info.parameter_base + info.parameter_count - 3);
+    EXPECT_STREQ(layout[std::size_t(info.model_matrix_index - 4)].name, "model0");
+
+    const float m[16] = {0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 10, 20, 30, 1};
+    float rows[12];
+    ASSERT_EQ(aerial_arb_model_matrix(&options, m, rows), AERIAL_OK);
+    const float want[12] = {0, -1, 0, 10, 1, 0, 0, 20, 0, 0, 1, 30};
+    for (int i = 0; i < 12; ++i) EXPECT_EQ(rows[i], want[i]) << i;
+    float projective[16];
+    std::copy(m, m + 16, projective);
+    projective[3] = 1.0f;
+    EXPECT_EQ(aerial_arb_model_matrix(&options, projective, rows), AERIAL_ERROR_INVALID_ARGUMENT);
+    EXPECT_STREQ(aerial_last_error_field(), "model");
+    options.model_matrix = 0;
+    EXPECT_EQ(aerial_arb_model_matrix(&options, m, rows), AERIAL_ERROR_INVALID_ARGUMENT);
+    EXPECT_STREQ(aerial_last_error_field(), "options.model_matrix");
+    ASSERT_EQ(aerial_arb_describe(&options, &info), AERIAL_OK);
+    EXPECT_EQ(info.model_matrix_index, -1);
 }
 
 }  // namespace

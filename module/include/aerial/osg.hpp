@@ -21,15 +21,17 @@
 //
 // Frames and units: OSG's world is Z-up, the module's default `up` too, so Settings::up = +Z
 // fits an ordinary OSG scene; a Y-up scene sets up = (0, 1, 0). Positions are OSG world units;
-// `meters_per_unit` converts them (a scene in kilometres sets 1000). The cpu backend takes each
-// Geometry's local-to-world matrix (its first parental path) into account; the arb program reads
-// vertex.position as a world position, so on the arb backend every Geometry must be in world
-// coordinates (no transform above it below the scene root): the update reports an error naming
-// the Geometry otherwise. The camera's view matrix is read in the update traversal: a camera
-// manipulator updates it after the scene's update callbacks, so the colours lag it by one
-// frame; set the view matrix before Viewer::frame() (or call update_now()) to avoid the lag.
+// `meters_per_unit` converts them (a scene in kilometres sets 1000). Both backends take each
+// Geometry's local-to-world matrix (its first parental path) as a model matrix, with no copy of
+// its vertices: the cpu backend through Positions::model_matrix, the arb backend through the
+// program's model-matrix parameters (ArbProgramOptions::model_matrix; a Geometry below a
+// transform gets its own osg::VertexProgram with the same text and its matrix). The camera's view
+// matrix is read in the update traversal: a camera manipulator updates it after the scene's update
+// callbacks, so the colours lag it by one frame; set the view matrix before Viewer::frame() (or
+// call update_now()) to avoid the lag.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -38,6 +40,7 @@
 
 #include <glm/vec3.hpp>
 #include <osg/Camera>
+#include <osg/Geometry>
 #include <osg/Matrixd>
 #include <osg/Node>
 #include <osg/NodeCallback>
@@ -127,6 +130,18 @@ class ScatteringCallback : public ::osg::NodeCallback {
     std::optional<Error> update(::osg::Node& node, const ::osg::Matrixd& parent_to_world,
                                 const glm::dvec3& eye);
     void prepare_state(::osg::Node& node);
+    /// A Geometry below a transform on the arb backend, its program and its model matrix rows.
+    struct Transformed {
+        ::osg::observer_ptr<::osg::Geometry> geometry;
+        ::osg::ref_ptr<::osg::VertexProgram> program;
+        std::array<std::array<float, 4>, 3> rows{};
+        bool seen = false;  ///< found in this update
+    };
+    /// arb: the entry of a Geometry below a transform, its own program (same text, its own
+    /// program.local model matrix) put on its StateSet when first seen.
+    Transformed& transformed(::osg::Geometry& geometry);
+    /// Takes the per-Geometry programs off their StateSets (new settings, or the cpu backend).
+    void remove_transformed_programs();
 
     Settings settings_;
     ArbProgram program_;
@@ -137,6 +152,7 @@ class ScatteringCallback : public ::osg::NodeCallback {
     std::optional<Error> error_;
     bool warned_ = false;
     std::vector<std::uint8_t> secondary_;  ///< scratch: RGBA8 L_in before the RGB8 copy
+    std::vector<Transformed> transformed_;
 };
 
 }  // namespace aerial::osg_adapter

@@ -2,12 +2,15 @@
 // the ARB vertex program. Each entry point runs inside capi::guard, so no exception leaves it
 // (nor one thrown by a C++ draw callback: the GL layer restores its state, then the guard turns
 // the exception into AERIAL_ERROR_INTERNAL).
+#include <array>
+#include <cmath>
 #include <cstring>
 #include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 
+#include "../common/error_text.hpp"
 #include "aerial/aerial.h"
 #include "aerial/arb_program.hpp"
 #include "aerial/gl.hpp"
@@ -140,6 +143,7 @@ ArbProgramOptions to_cpp_arb(const aerial_arb_options* c) {
     o.height_fidelity = to_cpp_enum(int(c->height_fidelity), kFidelities, "options.height_fidelity",
                                     "AERIAL_HEIGHT_FIDELITY_AUTOMATIC (0) .. _FULL (3)");
     o.limits = to_cpp_limits(c->limits);
+    o.model_matrix = c->model_matrix != 0;
     return o;
 }
 
@@ -332,8 +336,59 @@ aerial_status aerial_arb_describe(const aerial_arb_options* options, aerial_arb_
         info.attributes = program.resources.attributes;
         info.parameter_base = program.options.parameter_base;
         info.parameter_count = arb_parameter_count(program.options);
-        info.model_matrix_index = -1;
+        info.model_matrix_index =
+            program.options.model_matrix ? arb_model_matrix_parameter_index(program.options) : -1;
         *out = info;
+    });
+}
+
+aerial_status aerial_arb_parameter_layout(const aerial_arb_options* options,
+                                          aerial_arb_parameter* out, size_t capacity,
+                                          size_t* count) {
+    return guard("aerial_arb_parameter_layout", nullptr, [&] {
+        if (capacity > 0) require(out, "out");
+        const ArbProgram program = capi::generate(capi::to_cpp_arb(options));
+        const std::vector<ArbParameterInfo> layout = arb_parameter_layout(program.options);
+        if (count != nullptr) *count = layout.size();
+        if (capacity == 0 && out == nullptr) return;  // asking the count
+        if (capacity < layout.size()) {
+            fail(AERIAL_ERROR_BUFFER_TOO_SMALL, "capacity",
+                 "expected >= " + std::to_string(layout.size()) +
+                     " entries (the program's parameter vectors), got " + std::to_string(capacity));
+        }
+        for (std::size_t i = 0; i < layout.size(); ++i) {
+            out[i].index = layout[i].index;
+            out[i].name = layout[i].name;
+            out[i].meaning = layout[i].meaning;
+        }
+    });
+}
+
+aerial_status aerial_arb_model_matrix(const aerial_arb_options* options, const float model[16],
+                                      float vectors[12]) {
+    return guard("aerial_arb_model_matrix", nullptr, [&] {
+        require(options, "options");
+        require(model, "model");
+        require(vectors, "vectors");
+        if (options->model_matrix == 0) {
+            fail(AERIAL_ERROR_INVALID_ARGUMENT, "options.model_matrix",
+                 "expected non-zero (a program that reads a model matrix), got 0");
+        }
+        for (int i = 0; i < 16; ++i) {
+            if (!std::isfinite(model[i])) {
+                fail(AERIAL_ERROR_INVALID_ARGUMENT, "model",
+                     "expected 16 finite numbers, got element " + std::to_string(i) + " = " +
+                         detail::number(model[i]));
+            }
+        }
+        if (model[3] != 0.0f || model[7] != 0.0f || model[11] != 0.0f || model[15] != 1.0f) {
+            fail(
+                AERIAL_ERROR_INVALID_ARGUMENT, "model",
+                "expected an affine matrix (bottom row 0, 0, 0, 1), got " +
+                    detail::vector(std::array<float, 4>{model[3], model[7], model[11], model[15]}));
+        }
+        const auto rows = arb_model_matrix_parameters(model);
+        for (std::size_t r = 0; r < 3; ++r) std::memcpy(vectors + 4 * r, rows[r].data(), 16);
     });
 }
 

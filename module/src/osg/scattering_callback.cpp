@@ -133,6 +133,7 @@ std::optional<Error> ScatteringCallback::set_settings(const Settings& settings) 
         options.parameter_space = ParameterSpace::local;
         options.texcoord_units = settings.texture_units;
         options.limits = settings.arb_limits;
+        options.model_matrix = true;  // Geometries below transforms keep model-space vertices
         auto generated = generate_arb_program(options);
         if (!generated) return from(kFunction, generated.error());
         program = std::move(generated.value());
@@ -140,6 +141,7 @@ std::optional<Error> ScatteringCallback::set_settings(const Settings& settings) 
     settings_ = settings;
     program_ = std::move(program);
     vertex_program_ = nullptr;  // a new program object for the new text
+    remove_transformed_programs();
     return std::nullopt;
 }
 
@@ -209,11 +211,10 @@ std::optional<Error> ScatteringCallback::update(::osg::Node& node,
         report_.vertices += n;
         if (settings_.backend == Backend::arb) {
             if (!to_world.isIdentity()) {
-                return invalid(kUpdateNow, "transform",
-                               "world coordinates with the arb backend (the program reads world "
-                               "positions; use the cpu backend, or put the vertices in world "
-                               "coordinates)",
-                               geometry_name(g, i) + " below a transform");
+                Transformed& t = transformed(g);
+                const ::osg::Matrixf model(to_world);
+                t.rows = arb_model_matrix_parameters(model.ptr());
+                t.seen = true;
             }
             continue;
         }
@@ -262,13 +263,56 @@ std::optional<Error> ScatteringCallback::update(::osg::Node& node,
         auto parameters = arb_program_parameters(*frame, settings_.display, program_.options);
         if (!parameters) return from(kUpdateNow, parameters.error());
         const GLuint base = GLuint(program_.options.parameter_base);
-        for (std::size_t i = 0; i < parameters->size(); ++i) {
-            const auto& p = (*parameters)[i];
-            vertex_program_->setProgramLocalParameter(base + GLuint(i),
-                                                      ::osg::Vec4(p[0], p[1], p[2], p[3]));
+        const auto set = [&](::osg::VertexProgram& vp) {
+            for (std::size_t i = 0; i < parameters->size(); ++i) {
+                const auto& p = (*parameters)[i];
+                vp.setProgramLocalParameter(base + GLuint(i), ::osg::Vec4(p[0], p[1], p[2], p[3]));
+            }
+        };
+        set(*vertex_program_);  // the identity's model rows: world-space Geometries
+        const GLuint rows = GLuint(arb_model_matrix_parameter_index(program_.options));
+        for (Transformed& t : transformed_) {
+            if (!t.seen) continue;
+            set(*t.program);
+            for (GLuint r = 0; r < 3; ++r) {
+                const auto& row = t.rows[r];
+                t.program->setProgramLocalParameter(rows + r,
+                                                    ::osg::Vec4(row[0], row[1], row[2], row[3]));
+            }
+            t.seen = false;
         }
     }
     return std::nullopt;
+}
+
+ScatteringCallback::Transformed& ScatteringCallback::transformed(::osg::Geometry& geometry) {
+    for (Transformed& t : transformed_) {
+        if (t.geometry == &geometry) return t;
+    }
+    Transformed t;
+    t.geometry = &geometry;
+    t.program = new ::osg::VertexProgram;
+    t.program->setVertexProgram(program_.text);
+    // Compiling this Geometry's display list with its own vertex program crashed inside Mesa's
+    // llvmpipe (EGL, OSG 3.6, test_osg_adapter); buffer objects draw the same colours.
+    if (geometry.getUseDisplayList()) {
+        geometry.setUseDisplayList(false);
+        geometry.setUseVertexBufferObjects(true);
+    }
+    geometry.getOrCreateStateSet()->setAttributeAndModes(t.program.get(),
+                                                         ::osg::StateAttribute::ON);
+    transformed_.push_back(t);
+    return transformed_.back();
+}
+
+void ScatteringCallback::remove_transformed_programs() {
+    for (Transformed& t : transformed_) {
+        ::osg::ref_ptr<::osg::Geometry> geometry;
+        if (t.geometry.lock(geometry) && geometry->getStateSet()) {
+            geometry->getStateSet()->removeAttribute(t.program.get());
+        }
+    }
+    transformed_.clear();
 }
 
 void ScatteringCallback::prepare_state(::osg::Node& node) {
@@ -290,8 +334,11 @@ void ScatteringCallback::prepare_state(::osg::Node& node) {
         if (current != vertex_program_.get()) {
             state->setAttributeAndModes(vertex_program_.get(), ::osg::StateAttribute::ON);
         }
-    } else if (current && current == installed_program_.get()) {
-        state->removeAttribute(current);  // ours, from an earlier arb setting
+    } else {
+        if (current && current == installed_program_.get()) {
+            state->removeAttribute(current);  // ours, from an earlier arb setting
+        }
+        remove_transformed_programs();
     }
     installed_program_ = settings_.backend == Backend::arb ? vertex_program_ : nullptr;
 }

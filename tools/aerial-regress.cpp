@@ -47,8 +47,19 @@ constexpr const char* kDescription =
     "regression (fail or crash not in the baseline), 2 on bad usage or a driver mismatch, 77\n"
     "when the context itself is not supported.";
 
+/// The suite of the source tree this was built from, else the installed one beside the binary
+/// (PREFIX/bin/aerial-regress reads PREFIX/share/aerial/golden/suite.txt).
+std::string default_suite() {
+    std::error_code error;
+    if (fs::exists(AERIAL_REGRESS_SUITE, error)) return AERIAL_REGRESS_SUITE;
+    const fs::path self = fs::read_symlink("/proc/self/exe", error);
+    if (error) return AERIAL_REGRESS_SUITE;
+    return (self.parent_path().parent_path() / "share" / "aerial" / "golden" / "suite.txt")
+        .string();
+}
+
 struct Flags {
-    std::string gl = "osmesa", driver, suite = AERIAL_REGRESS_SUITE, tier = "all", filter;
+    std::string gl = "osmesa", driver, suite = default_suite(), tier = "all", filter;
     std::string out = "regress", baseline, write_baseline;
     bool bless = false, bless_cpu = false;
     int jobs = 1, timeout = 300;

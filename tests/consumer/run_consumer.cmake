@@ -1,6 +1,7 @@
-# Installs the project into a prefix under the build directory, then builds and runs the
-# consumer out of tree: with find_package(aerial CONFIG) (C and C++), and the C program alone
-# with `pkg-config --cflags --libs aerial`. Run with cmake -P and:
+# Installs the project into a prefix under the build directory, then builds and runs consumers
+# out of tree: find_package(aerial CONFIG) with every component (C, C++, OpenSceneGraph); C-only
+# consumers of COMPONENTS core and core;gl with the C++ dependencies' find_package disabled; the
+# installed tools; the C program with pkg-config's aerial-core and aerial. Run with cmake -P and:
 #   -DBUILD_DIR=  the project's build directory     -DSOURCE_DIR= tests/consumer
 #   -DWORK_DIR=   scratch directory (wiped)         -DGENERATOR=  CMake generator
 #   -DC_COMPILER= the C compiler for the pkg-config build
@@ -25,6 +26,54 @@ run(${CMAKE_COMMAND} -S ${SOURCE_DIR} -B ${WORK_DIR}/build -G ${GENERATOR}
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
 run(${WORK_DIR}/build/consumer_c)
 run(${WORK_DIR}/build/consumer_cpp)
+if(EXISTS ${WORK_DIR}/build/consumer_osg)
+    run(${WORK_DIR}/build/consumer_osg)
+elseif(EXISTS ${prefix}/lib/cmake/aerial/aerial-osg-targets.cmake)
+    message(FATAL_ERROR "the package has the osg component, but consumer_osg was not built")
+endif()
+
+# A C-only consumer of the core, then of core and gl, with every C++ dependency's find_package
+# disabled: the components it asks for need none of them.
+foreach(components core "core;gl")
+    string(REPLACE ";" "-" name "${components}")
+    run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/c_only -B ${WORK_DIR}/c_only-${name} -G ${GENERATOR}
+        -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix}
+        -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF "-DCOMPONENTS=${components}"
+        -DCMAKE_DISABLE_FIND_PACKAGE_hwy=ON -DCMAKE_DISABLE_FIND_PACKAGE_nlohmann_json=ON
+        -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON -DCMAKE_DISABLE_FIND_PACKAGE_glm=ON)
+    run(${CMAKE_COMMAND} --build ${WORK_DIR}/c_only-${name})
+    run(${WORK_DIR}/c_only-${name}/consumer_c_only)
+endforeach()
+# A component the package does not have is an error naming it.
+execute_process(COMMAND ${CMAKE_COMMAND} -S ${SOURCE_DIR}/c_only -B ${WORK_DIR}/c_only-bad
+                        -G ${GENERATOR} -DCMAKE_PREFIX_PATH=${prefix} "-DCOMPONENTS=core;vulkan"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(rc EQUAL 0 OR NOT "${out}${err}" MATCHES "unknown component 'vulkan'")
+    message(FATAL_ERROR "COMPONENTS vulkan: expected an error naming it, got (${rc}):\n${out}${err}")
+endif()
+
+# The tools come with the package.
+foreach(tool aerial-eval aerial-compare aerial-render aerial-regress)
+    run(${prefix}/bin/${tool} --help)
+endforeach()
+if(NOT EXISTS ${prefix}/share/aerial/golden/suite.txt)
+    message(FATAL_ERROR "the regression suite is not installed: ${prefix}/share/aerial/golden/suite.txt")
+endif()
+
+# pkg-config, per component: the C program with aerial-core's flags only.
+set(ENV{PKG_CONFIG_PATH} ${prefix}/lib/pkgconfig)
+execute_process(COMMAND pkg-config --cflags --libs aerial-core RESULT_VARIABLE rc
+                OUTPUT_VARIABLE flags ERROR_VARIABLE err OUTPUT_STRIP_TRAILING_WHITESPACE)
+if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "pkg-config --cflags --libs aerial-core failed: ${err}")
+endif()
+separate_arguments(flags UNIX_COMMAND "${flags}")
+run(${C_COMPILER} -std=c89 -pedantic -Werror ${SOURCE_DIR}/consumer.c -o ${WORK_DIR}/consumer_c_core_pc
+    ${flags})
+run(${WORK_DIR}/consumer_c_core_pc)
+foreach(component gl headless mesh scene)
+    run(pkg-config --exists --print-errors aerial-${component})
+endforeach()
 
 # pkg-config: the C program with nothing but the flags the package's aerial.pc gives.
 set(ENV{PKG_CONFIG_PATH} ${prefix}/lib/pkgconfig)

@@ -16,6 +16,17 @@ function(run)
     endif()
 endfunction()
 
+# The flags `pkg-config --cflags --libs PACKAGE` gives, as a list in `var`.
+function(pkg_config_flags var package)
+    execute_process(COMMAND pkg-config --cflags --libs ${package} RESULT_VARIABLE rc
+                    OUTPUT_VARIABLE flags ERROR_VARIABLE err OUTPUT_STRIP_TRAILING_WHITESPACE)
+    if(NOT rc EQUAL 0)
+        message(FATAL_ERROR "pkg-config --cflags --libs ${package} failed: ${err}")
+    endif()
+    separate_arguments(flags UNIX_COMMAND "${flags}")
+    set(${var} ${flags} PARENT_SCOPE)
+endfunction()
+
 file(REMOVE_RECURSE ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
@@ -62,12 +73,7 @@ endif()
 
 # pkg-config, per component: the C program with aerial-core's flags only.
 set(ENV{PKG_CONFIG_PATH} ${prefix}/lib/pkgconfig)
-execute_process(COMMAND pkg-config --cflags --libs aerial-core RESULT_VARIABLE rc
-                OUTPUT_VARIABLE flags ERROR_VARIABLE err OUTPUT_STRIP_TRAILING_WHITESPACE)
-if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "pkg-config --cflags --libs aerial-core failed: ${err}")
-endif()
-separate_arguments(flags UNIX_COMMAND "${flags}")
+pkg_config_flags(flags aerial-core)
 run(${C_COMPILER} -std=c89 -pedantic -Werror ${SOURCE_DIR}/consumer.c -o ${WORK_DIR}/consumer_c_core_pc
     ${flags})
 run(${WORK_DIR}/consumer_c_core_pc)
@@ -77,12 +83,7 @@ endforeach()
 
 # pkg-config: the C program with nothing but the flags the package's aerial.pc gives.
 set(ENV{PKG_CONFIG_PATH} ${prefix}/lib/pkgconfig)
-execute_process(COMMAND pkg-config --cflags --libs aerial RESULT_VARIABLE rc
-                OUTPUT_VARIABLE flags ERROR_VARIABLE err OUTPUT_STRIP_TRAILING_WHITESPACE)
-if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "pkg-config --cflags --libs aerial failed: ${err}")
-endif()
-separate_arguments(flags UNIX_COMMAND "${flags}")
+pkg_config_flags(flags aerial)
 run(${C_COMPILER} -std=c89 -pedantic -Werror ${SOURCE_DIR}/consumer.c -o ${WORK_DIR}/consumer_c_pkgconfig
     ${flags})
 run(${WORK_DIR}/consumer_c_pkgconfig)

@@ -283,6 +283,22 @@ struct FrameResult {
     std::vector<std::uint8_t> pixels;
 };
 
+/// Embeds `viewer` in the current 96 x 64 EGL context (its framebuffer) with the tests' camera:
+/// 60 degrees, near 10, far 50 km, looking north from 3 km south at 500 m.
+::osg::Camera* embed_viewer(osgViewer::Viewer& viewer, const aerial::gl::Api& api) {
+    viewer.setThreadingModel(osgViewer::Viewer::SingleThreaded);
+    auto window = viewer.setUpViewerAsEmbeddedInWindow(0, 0, 96, 64);
+    GLint fbo = 0;
+    api.GetIntegerv(GL_FRAMEBUFFER_BINDING, &fbo);
+    window->setDefaultFboId(GLuint(fbo));
+    ::osg::Camera* camera = viewer.getCamera();
+    camera->setComputeNearFarMode(::osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR);
+    camera->setProjectionMatrixAsPerspective(60.0, 1.5, 10.0, 50000.0);
+    camera->setViewMatrixAsLookAt({0, -3000, 500}, {0, 5000, 0}, {0, 0, 1});
+    camera->setClearColor({0.2f, 0.3f, 0.5f, 1.0f});
+    return camera;
+}
+
 TEST(OsgAdapter, AFrameWithTheAdapterLeavesTheGlStateAsOneWithout) {
     auto ctx = aerial::headless::Context::create({aerial::headless::Platform::egl, 96, 64});
     ASSERT_TRUE(ctx.ok()) << ctx.error().message;
@@ -290,16 +306,7 @@ TEST(OsgAdapter, AFrameWithTheAdapterLeavesTheGlStateAsOneWithout) {
     for (Backend backend : {Backend::cpu, Backend::arb}) {
         SCOPED_TRACE(aerial::osg_adapter::backend_name(backend));
         osgViewer::Viewer viewer;
-        viewer.setThreadingModel(osgViewer::Viewer::SingleThreaded);
-        auto window = viewer.setUpViewerAsEmbeddedInWindow(0, 0, 96, 64);
-        GLint fbo = 0;
-        api.GetIntegerv(GL_FRAMEBUFFER_BINDING, &fbo);
-        window->setDefaultFboId(GLuint(fbo));
-        ::osg::Camera* camera = viewer.getCamera();
-        camera->setComputeNearFarMode(::osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR);
-        camera->setProjectionMatrixAsPerspective(60.0, 1.5, 10.0, 50000.0);
-        camera->setViewMatrixAsLookAt({0, -3000, 500}, {0, 5000, 0}, {0, 0, 1});
-        camera->setClearColor({0.2f, 0.3f, 0.5f, 1.0f});
+        ::osg::Camera* camera = embed_viewer(viewer, api);
 
         // The hazy grid on the left with the adapter, a plain one on the right drawn after it.
         ::osg::ref_ptr<::osg::Group> root = new ::osg::Group;
@@ -374,16 +381,7 @@ std::vector<std::uint8_t> transformed_frame(const aerial::headless::Context& ctx
                                             const ::osg::Matrixd& m) {
     const auto& api = ctx.api();
     osgViewer::Viewer viewer;
-    viewer.setThreadingModel(osgViewer::Viewer::SingleThreaded);
-    auto window = viewer.setUpViewerAsEmbeddedInWindow(0, 0, 96, 64);
-    GLint fbo = 0;
-    api.GetIntegerv(GL_FRAMEBUFFER_BINDING, &fbo);
-    window->setDefaultFboId(GLuint(fbo));
-    ::osg::Camera* camera = viewer.getCamera();
-    camera->setComputeNearFarMode(::osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR);
-    camera->setProjectionMatrixAsPerspective(60.0, 1.5, 10.0, 50000.0);
-    camera->setViewMatrixAsLookAt({0, -3000, 500}, {0, 5000, 0}, {0, 0, 1});
-    camera->setClearColor({0.2f, 0.3f, 0.5f, 1.0f});
+    ::osg::Camera* camera = embed_viewer(viewer, api);
     ::osg::ref_ptr<::osg::Group> root = new ::osg::Group;
     ::osg::ref_ptr<::osg::MatrixTransform> xf = new ::osg::MatrixTransform;
     xf->setMatrix(m);

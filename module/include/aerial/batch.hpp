@@ -24,6 +24,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 
 #include <glm/vec3.hpp>
 
@@ -97,6 +98,10 @@ struct Lighting {
     glm::vec3 ambient{0.0f};              ///< sky irradiance added to the sun term (linear RGB)
     glm::vec3 albedo{1.0f};               ///< multiplies the lit colour (1 when the texture has it)
 };
+
+/// A model matrix as Positions::model_matrix takes it: 16 finite floats, column-major, affine
+/// (m[3], m[7], m[11] = 0, m[15] = 1). The error's field is "model_matrix". Null is valid (none).
+std::optional<Error> validate_model_matrix(const float* column_major);
 
 /// The memory layout of the 8-bit colour outputs.
 enum class ColourFormat {

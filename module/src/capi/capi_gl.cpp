@@ -374,18 +374,8 @@ aerial_status aerial_arb_model_matrix(const aerial_arb_options* options, const f
             fail(AERIAL_ERROR_INVALID_ARGUMENT, "options.model_matrix",
                  "expected non-zero (a program that reads a model matrix), got 0");
         }
-        for (int i = 0; i < 16; ++i) {
-            if (!std::isfinite(model[i])) {
-                fail(AERIAL_ERROR_INVALID_ARGUMENT, "model",
-                     "expected 16 finite numbers, got element " + std::to_string(i) + " = " +
-                         detail::number(model[i]));
-            }
-        }
-        if (model[3] != 0.0f || model[7] != 0.0f || model[11] != 0.0f || model[15] != 1.0f) {
-            fail(
-                AERIAL_ERROR_INVALID_ARGUMENT, "model",
-                "expected an affine matrix (bottom row 0, 0, 0, 1), got " +
-                    detail::vector(std::array<float, 4>{model[3], model[7], model[11], model[15]}));
+        if (auto e = validate_model_matrix(model)) {
+            fail(AERIAL_ERROR_INVALID_ARGUMENT, "model", std::string(detail::text_of(*e)));
         }
         const auto rows = arb_model_matrix_parameters(model);
         for (std::size_t r = 0; r < 3; ++r) std::memcpy(vectors + 4 * r, rows[r].data(), 16);

@@ -422,24 +422,25 @@ std::optional<Error> check_stride(const char* field, std::size_t stride, std::si
     return std::nullopt;
 }
 
-std::optional<Error> check_model_matrix(const float* m) {
+}  // namespace
+
+std::optional<Error> validate_model_matrix(const float* m) {
+    constexpr const char* kFunction = "validate_model_matrix";
     if (!m) return std::nullopt;
     for (int i = 0; i < 16; ++i) {
         if (!std::isfinite(m[i])) {
-            return detail::invalid(kShadeInto, "positions.model_matrix", "16 finite numbers",
+            return detail::invalid(kFunction, "model_matrix", "16 finite numbers",
                                    "element " + detail::number(i) + " = " + detail::number(m[i]));
         }
     }
     if (m[3] != 0.0f || m[7] != 0.0f || m[11] != 0.0f || m[15] != 1.0f) {
-        return detail::invalid(kShadeInto, "positions.model_matrix",
+        return detail::invalid(kFunction, "model_matrix",
                                "an affine matrix (bottom row 0, 0, 0, 1; column-major m[3], m[7], "
                                "m[11], m[15])",
                                detail::vector(std::array<float, 4>{m[3], m[7], m[11], m[15]}));
     }
     return std::nullopt;
 }
-
-}  // namespace
 
 const char* colour_format_name(ColourFormat format) {
     switch (format) {
@@ -489,7 +490,9 @@ Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positi
             return *e;
         }
     }
-    if (auto e = check_model_matrix(positions.model_matrix)) return *e;
+    if (auto e = validate_model_matrix(positions.model_matrix)) {
+        return detail::from(kShadeInto, *e, "positions.");
+    }
     if (out.colour_format != ColourFormat::rgba8 && out.colour_format != ColourFormat::bgra8 &&
         out.colour_format != ColourFormat::argb32) {
         return detail::invalid(kShadeInto, "outputs.colour_format", "rgba8, bgra8 or argb32",

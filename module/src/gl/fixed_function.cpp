@@ -212,6 +212,10 @@ std::optional<Error> check_stride(const char* field, std::size_t stride) {
     return std::nullopt;
 }
 
+}  // namespace
+
+namespace detail {
+
 // State every path sets the same way: no vertex, fragment or GLSL program (they would bypass
 // the fixed pipeline), no fixed-function lighting unless the options keep it (it replaces the
 // primary colour; bake lighting with aerial::shade_into's lit_rgba8 instead), and the engine's
@@ -228,7 +232,7 @@ void common_state(const Api& api, StateSaver& s, const ApplyOptions& options) {
     }
 }
 
-}  // namespace
+}  // namespace detail
 
 Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options,
                                      const VertexColours& colours,
@@ -286,7 +290,7 @@ Result<ApplyStats> draw_with_colours(const Api& api, const ApplyOptions& options
     ApplyStats stats;
     stats.path = path;
     StateSaver s(api);
-    common_state(api, s, options);
+    detail::common_state(api, s, options);
     std::optional<Error> error;  // what the engine's draw changed (detail::check_*)
     switch (path) {
         case Path::secondary_color:

@@ -11,6 +11,11 @@
 
 namespace aerial::gl::detail {
 
+/// What every fixed-function path sets the same way (draw_with_colours, draw_two_pass): no
+/// vertex, fragment or GLSL program, no GL lighting unless options keep it, the engine's texture
+/// modulated on options.texture_unit (or texturing off there when untextured).
+void common_state(const Api& api, StateSaver& s, const ApplyOptions& options);
+
 /// Pass 2 of two: + L_in on exactly the pixels pass 1 left in front. Every texture unit,
 /// lighting and alpha writes off; blend ONE, ONE; depth EQUAL without writes; back faces culled
 /// with options.cull_back_faces; a black fog colour (pass 1 already added (1 - f) x the fog

@@ -87,7 +87,8 @@ std::optional<Error> check_in_scattering_state(const Api& api, const char* funct
     if (!changed) return std::nullopt;
     return aerial::detail::invalid(
         function, changed,
-        "the L_in pass's state left as set (blend ONE, ONE; depth function EQUAL; depth writes off): "
+        "the L_in pass's state left as set (blend ONE, ONE; depth function EQUAL; depth writes "
+        "off): "
         "the engine's draw must not apply its material in the callback",
         "the engine's draw changed it, so L_in was not added as it should be");
 }
@@ -122,15 +123,7 @@ Result<ApplyStats> draw_two_pass(const Api& api, const ApplyOptions& options,
     }
     const auto stride = [](std::size_t s) { return static_cast<GLsizei>(s ? s : 4); };
     StateSaver s(api);
-    if (api.caps.vertex_program) s.enable(GL_VERTEX_PROGRAM_ARB, false);
-    if (api.caps.fragment_program) s.enable(GL_FRAGMENT_PROGRAM_ARB, false);
-    s.use_no_glsl_program();
-    if (!options.fixed_function_lighting) s.enable(GL_LIGHTING, false);
-    if (options.textured) {
-        s.tex_env(options.texture_unit, GL_TEXTURE_ENV_MODE, GL_MODULATE);
-    } else {
-        s.unit_disable_all_targets(options.texture_unit);
-    }
+    detail::common_state(api, s, options);
     if (api.caps.secondary_color) s.enable(GL_COLOR_SUM, false);
     std::optional<Error> error;
     if (colours) {

@@ -1,6 +1,6 @@
-// The ARB vertex program of the height model and its per-frame parameters (the options, their
-// checks and the dispatch between the models are in arb_program.cpp). The program text is
-// written stage by stage (write_*), in the order the program computes; its overview is above
+// The ARB vertex program of the height model (its parameters: arb_program_height_parameters.cpp;
+// the options, their checks and the dispatch between the models: arb_program.cpp). The program text
+// is written stage by stage (write_*), in the order the program computes; its overview is above
 // height_program_text.
 #include <algorithm>
 #include <array>
@@ -14,81 +14,11 @@
 
 #include "../core/height_constants.hpp"
 #include "aerial/phase.hpp"
+#include "arb_program_height_layout.hpp"
 #include "arb_program_internal.hpp"
 
 namespace aerial::detail::arb {
 namespace {
-
-/// Indices of the height program's parameters, relative to parameter_base: the rows of the
-/// layout tables below (kSharedLayout, then kLowerLayout or kFullLayout).
-enum HeightParameterIndex {
-    kHeightEye,
-    kHeightScale,
-    kHeightSun,
-    kHeightCentre,
-    kHeightPlanet,
-    kHeightEyeAltitude,
-    kHeightInverseScaleHeights,
-    kHeightRayleighExtinction,
-    kHeightMieExtinction,
-    kHeightRayleigh,
-    kHeightMie,
-    kHeightPhase,
-    kHeightSunColumn,
-    kHeightSharedCount,
-    // spec_minimum and exact_optical_depth:
-    kHeightRayleighSlope = kHeightSharedCount,
-    kHeightMieSlope,
-    kHeightParameterCount,
-    // full:
-    kHeightTrueSun = kHeightSharedCount,
-    kHeightChapmanX,
-    kHeightChapmanH,
-    kHeightFitClamp,
-    kHeightFullParameterCount
-};
-
-/// The layout of every level (lengths in metres, log2 the base-2 logarithm, c = eye + R up
-/// from the planet centre to the eye, h0 the eye's altitude, G the channel of the quadrature).
-constexpr ParameterRow kSharedLayout[] = {
-    {"eye", "xyz: eye (m, View::eye * meters_per_unit); w: -2^-20 (so that d.w = 2^-20)"},
-    {"scale", "(meters_per_unit x3, 0)"},
-    {"sun", "xyz: sun_dir (towards the sun), negated when g < 0; w: 0"},
-    {"centre", "xyz: 2 c; w: |eye|^2 + 2 R eye.up (m^2)"},
-    {"planet", "(R^2, R, frame.min_altitude_m, 1 / meters_per_unit)"},
-    {"eyealt", "(h0, 1/(12 R), 1/(2 R), w): w = 1 if the sun reaches the eye (read by full)"},
-    {"inv", "log2(e) (-1/H_R, -1/H_M, 1/H_R, 1/H_M)"},
-    {"extr", "xyz: -log2(e) beta_R (<= -1e-30); w: 0"},
-    {"extm", "xyz: -log2(e) beta_M,extinction (<= -1e-30); w: 0"},
-    {"ray", "xyz: log2(e)^2 exposure E_sun0 beta_R 3/(16 pi); w: log2(e)^2 k_R,G(h0) (exact on)"},
-    {"mie", "xyz: log2(e)^2 exposure E_sun0 beta_M (1-g^2)/(4 pi); w: log2(e)^2 k_M,G(h0) (same)"},
-    {"hg", "(|g|, 1/4, (1 - |g|)^2, -1)"},
-    {"sky",
-     "xy: log2(e) eye's log Chapman factors (R, M; capped at 40 log2(e) below full, for "
-     "full 0 where the eye's sun is blocked); zw: log2(beta_i,G / k_G(h0)) + 2^-10"},
-};
-/// spec_minimum and exact_optical_depth: the sun columns' change along the segment.
-constexpr ParameterRow kLowerLayout[] = {
-    {"slr", "xyz: gradient of sky.x along d = vertex - eye at the eye, per m (0 if blocked); w: 0"},
-    {"slm", "xyz: the same for sky.y (Mie); w: 0"},
-};
-/// full: the sun's column factors at the vertex.
-constexpr ParameterRow kFullLayout[] = {
-    {"sunc", "xyz: sun_dir (not negated); w: c.sun_dir (m)"},
-    {"chx", "(1/H_R, 1/H_M, R/H_R, R/H_M): x = (R + h)/H at altitude h"},
-    {"chh", "(1, 1, 2, 2) sqrt(pi/2) (H_R, H_M, H_R, H_M) (m)"},
-    {"fitc", "xy: sky.zw + (80 - h0/H_i) log2(e), the bound e^80 on the fit's end; zw: 0"},
-};
-// sky.xy's cap: a blocked sun becomes a column of e^40 H_i exp(-h/H_i), out up to 100 km.
-// slr, slm: d lf_i/d mu at the eye (the model's own factors, a central difference) times
-// d mu/d d = (sun - mu0 c/|c|)/|c| (column_slopes).
-static_assert(std::size(kSharedLayout) == kHeightSharedCount &&
-                  kHeightSharedCount + std::size(kLowerLayout) == kHeightParameterCount &&
-                  kHeightSharedCount + std::size(kFullLayout) == kHeightFullParameterCount,
-              "the layout tables and the indices disagree");
-static_assert(kHeightParameterCount == kArbHeightParameterCount, "layout and count disagree");
-static_assert(kHeightFullParameterCount == kArbHeightFullParameterCount,
-              "layout and count disagree");
 
 using height::kBlockedLogColumn;
 using height::kMaxExponent;
@@ -99,18 +29,10 @@ using height::kSunWeights;
 /// phi(x) = (1 - e^-x)/x is taken from its series below x = kSeriesLimit and from the quotient
 /// above it (the quotient loses 2^-24 / x to rounding, 2^-11 / x with a coarse EX2).
 constexpr double kSeriesLimit = 0.25;
-/// The slope b of the fitted extinction profile (log2 units over the segment) is kept at least
-/// this far from 0, where the node placement would divide 0 by 0; a shift this small moves the
-/// nodes by < 1e-3 of the segment.
-constexpr double kMinFitSlope = 1.0 / 1024.0;
 /// spec_minimum takes phi(y) = (1 - 2^-y)/(y ln 2) at max(|y|, kMinDensityRise) (log2 units).
 constexpr double kMinDensityRise = 1.0 / 1024.0;
 // The height model clamps its fitted slope to +-kMaxFitSlope (natural units) and so does the
 // program (from above; below it the float range suffices).
-/// Below this log factor (natural units) the sun column at the eye is used as it is; a blocked sun
-/// (factor >= 80) or a larger one is capped here: e^(40 + 40) still fits a float, and a column of
-/// e^40 H_i exp(-h/H_i) puts the sun out up to 100 km.
-constexpr double kMaxLogColumnFactor = 40.0;
 /// Added to a log2 exponent, makes EX2 give 0 (or +inf for a column, whose transmittance is
 /// then 0): no sun.
 constexpr double kBlocked = 1e30;
@@ -615,54 +537,6 @@ void write_in_scattering(ProgramWriter& w) {
 
 }  // namespace
 
-std::vector<ParameterRow> height_layout(ArbHeightFidelity fidelity) {
-    std::vector<ParameterRow> rows(std::begin(kSharedLayout), std::end(kSharedLayout));
-    if (fidelity == ArbHeightFidelity::full) {
-        rows.insert(rows.end(), std::begin(kFullLayout), std::end(kFullLayout));
-    } else {
-        rows.insert(rows.end(), std::begin(kLowerLayout), std::end(kLowerLayout));
-    }
-    return rows;
-}
-
-namespace {
-
-/// The change of the log2 sun column factors (Rayleigh, Mie) per metre of d = vertex - eye, to
-/// first order: d lf/d mu at the eye times d mu/d d = (sun - mu0 c/|c|)/|c|, c = eye + R up.
-std::array<glm::dvec3, 2> column_slopes(const Frame<float>& frame, bool eye_lit) {
-    if (!eye_lit) return {glm::dvec3(0), glm::dvec3(0)};
-    const glm::dvec3 up = frame.view.up, sun = frame.view.sun_dir;
-    const glm::dvec3 eye = frame.view.eye * frame.view.meters_per_unit;
-    const glm::dvec3 c = eye + double(frame.planet_radius_m) * up;
-    const double length = glm::length(c);
-    const glm::dvec3 zenith = c / length;
-    const double mu0 = glm::dot(zenith, sun);
-    const glm::dvec3 side = sun - mu0 * zenith;  // the sun's horizontal direction at the eye
-    const double side_length = glm::length(side);
-    const glm::dvec3 horizontal = side_length > 1e-9 ? side / side_length : glm::dvec3(0);
-    // The log factors of a sun at zenith cosine mu (same eye), by the model's own code.
-    const auto factors = [&](double mu) {
-        Frame<float> f = frame;
-        const double m = std::clamp(mu, -1.0, 1.0);
-        f.view.sun_dir = m * zenith + std::sqrt(std::max(0.0, 1.0 - m * m)) * horizontal;
-        f.sun_dir = glm::vec3(f.view.sun_dir);
-        const Frame<float> g = frame_with_eye(f, eye);
-        return glm::dvec2(g.eye_log_chapman_rayleigh, g.eye_log_chapman_mie);
-    };
-    const double step = 1e-3;
-    const double lo = std::max(mu0 - step, -1.0), hi = std::min(mu0 + step, 1.0);
-    glm::dvec2 derivative = (factors(hi) - factors(lo)) / (hi - lo);
-    const glm::dvec2 f_lo = factors(lo), f_hi = factors(hi);
-    if (f_lo.x >= kBlockedLogColumn || f_hi.x >= kBlockedLogColumn || f_lo.y >= kBlockedLogColumn ||
-        f_hi.y >= kBlockedLogColumn) {
-        derivative = glm::dvec2(0);
-    }
-    const glm::dvec3 dmu = (sun - mu0 * zenith) / length;
-    return {kLog2E * derivative.x * dmu, kLog2E * derivative.y * dmu};
-}
-
-}  // namespace
-
 // The height program. Per vertex, like height_model() in scattering.cpp (metres; d = p - eye,
 // s = |d|, the G channel drives the quadrature):
 //   h1 = n / (|p - centre| + R), n = |p|^2 + 2 R p.up (from the eye's n: no cancellation);
@@ -720,93 +594,6 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
     write_in_scattering(w);
     write_texcoords_and_end(w, o);
     return w.str();
-}
-
-Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& frame,
-                                                            const Display& display,
-                                                            ArbHeightFidelity fidelity) {
-    const bool full = fidelity == ArbHeightFidelity::full;
-    const glm::dvec3 up = frame.view.up;
-    const glm::dvec3 sun = frame.view.sun_dir;
-    const double mpu = frame.view.meters_per_unit;
-    const glm::dvec3 eye = frame.view.eye * mpu;  // metres
-    const double r = frame.planet_radius_m;
-    const double g = frame.mie_g;
-    const double exposure = display.exposure;
-    const glm::dvec3 centre = eye + r * up;  // from the planet centre to the eye
-    const double h0 = frame.eye_altitude_m;
-
-    // The sun column factors at the eye, capped (natural log units).
-    // `full` takes them as they are where the sun reaches the eye, and its eyealt.w says whether
-    // it does (the model's blocked value is kBlockedLogColumn for both components).
-    const bool eye_lit = double(frame.eye_log_chapman_rayleigh) < kBlockedLogColumn &&
-                         double(frame.eye_log_chapman_mie) < kBlockedLogColumn;
-    const double cap = full ? kBlockedLogColumn : kMaxLogColumnFactor;
-    double lf[2] = {std::min(double(frame.eye_log_chapman_rayleigh), cap),
-                    std::min(double(frame.eye_log_chapman_mie), cap)};
-    if (full && !eye_lit) lf[0] = lf[1] = 0.0;
-    // G extinction at the eye without the sag (the model's k_total), for the fitted profile.
-    const double beta_g[2] = {std::max(double(frame.rayleigh_scattering.y), 1e-30),
-                              std::max(double(frame.mie_extinction.y), 1e-30)};
-    const double k0_rayleigh =
-        double(frame.rayleigh_scattering.y) * std::exp(-h0 * frame.inv_rayleigh_scale_height);
-    const double k0_mie =
-        double(frame.mie_extinction.y) * std::exp(-h0 * frame.inv_mie_scale_height);
-    const double k0 = k0_rayleigh + k0_mie;
-    const double log2_k0 = std::log2(std::max(k0, 1e-300));
-
-    const double sign = g < 0.0 ? -1.0 : 1.0;
-    std::vector<std::array<double, 4>> p(full ? kHeightFullParameterCount : kHeightParameterCount);
-    // d = world * scale - eye: d.w = 0 - (-2^-20), whatever the world position's w.
-    p[kHeightEye] = {eye.x, eye.y, eye.z, -kEpsilon};
-    p[kHeightScale] = {mpu, mpu, mpu, 0.0};
-    p[kHeightSun] = {sign * sun.x, sign * sun.y, sign * sun.z, 0.0};
-    p[kHeightCentre] = {2.0 * centre.x, 2.0 * centre.y, 2.0 * centre.z,
-                        glm::dot(eye, eye) + 2.0 * r * glm::dot(eye, up)};
-    p[kHeightPlanet] = {r * r, r, frame.min_altitude_m, 1.0 / mpu};
-    p[kHeightEyeAltitude] = {h0, 1.0 / (12.0 * r), 1.0 / (2.0 * r), full && eye_lit ? 1.0 : 0.0};
-    const double inv_r = frame.inv_rayleigh_scale_height, inv_m = frame.inv_mie_scale_height;
-    p[kHeightInverseScaleHeights] = {-kLog2E * inv_r, -kLog2E * inv_m, kLog2E * inv_r,
-                                     kLog2E * inv_m};
-    const double rayleigh_constant = 3.0 / (16.0 * kPi);
-    const double mie_constant = (1.0 - g * g) / (4.0 * kPi);
-    for (std::size_t c = 0; c < 3; ++c) {
-        const int i = static_cast<int>(c);
-        // Strictly negative, so that an overflowing column gives -inf, never 0 * inf.
-        p[kHeightRayleighExtinction][c] = std::min(-kLog2E * frame.rayleigh_scattering[i], -1e-30);
-        p[kHeightMieExtinction][c] = std::min(-kLog2E * frame.mie_extinction[i], -1e-30);
-        const double light = kLog2E * kLog2E * exposure * frame.sun_irradiance_top[i];
-        p[kHeightRayleigh][c] = light * frame.rayleigh_scattering[i] * rayleigh_constant;
-        p[kHeightMie][c] = light * frame.mie_scattering[i] * mie_constant;
-    }
-    // The G extinction of each component at the eye (log2(e)^2 per metre), for the optical depth
-    // of the exact_optical_depth and full levels; in the w of two vectors whose w is otherwise
-    // unused.
-    p[kHeightRayleigh][3] = kLog2E * kLog2E * k0_rayleigh;
-    p[kHeightMie][3] = kLog2E * kLog2E * k0_mie;
-    const double abs_g = std::abs(g);
-    p[kHeightPhase] = {abs_g, 0.25, (1.0 - abs_g) * (1.0 - abs_g), -1.0};
-    p[kHeightSunColumn] = {kLog2E * lf[0], kLog2E * lf[1],
-                           std::log2(beta_g[0]) - log2_k0 + kMinFitSlope,
-                           std::log2(beta_g[1]) - log2_k0 + kMinFitSlope};
-    if (!full) {
-        const std::array<glm::dvec3, 2> slope = column_slopes(frame, eye_lit);
-        p[kHeightRayleighSlope] = {slope[0].x, slope[0].y, slope[0].z, 0.0};
-        p[kHeightMieSlope] = {slope[1].x, slope[1].y, slope[1].z, 0.0};
-    }
-    if (full) {
-        const double hr = frame.rayleigh_scale_height_m, hm = frame.mie_scale_height_m;
-        const double root = std::sqrt(0.5 * kPi);
-        p[kHeightTrueSun] = {sun.x, sun.y, sun.z, glm::dot(centre, sun)};
-        p[kHeightChapmanX] = {1.0 / hr, 1.0 / hm, r / hr, r / hm};
-        p[kHeightChapmanH] = {root * hr, root * hm, 2.0 * root * hr, 2.0 * root * hm};
-        // The model's k_end takes exp(min(-rise/H_i, kMaxExponent)): the same bound on the exponent
-        // of sky.zw's fitted end, log2(beta_i/k0) + eps + (80 - h0/H_i) log2(e).
-        p[kHeightFitClamp] = {p[kHeightSunColumn][2] + (kMaxExponent - h0 * inv_r) * kLog2E,
-                              p[kHeightSunColumn][3] + (kMaxExponent - h0 * inv_m) * kLog2E, 0.0,
-                              0.0};
-    }
-    return to_float_parameters(p);
 }
 
 }  // namespace aerial::detail::arb

@@ -40,8 +40,7 @@ int material_frame(const engine_camera* camera, engine_mesh* meshes, size_t mesh
     memcpy(view.sun_dir, camera->sun_dir, sizeof view.sun_dir);
     view.meters_per_unit = camera->meters_per_unit;
     if (aerial_context_set_view(air, &view) != AERIAL_OK ||
-        aerial_arb_parameters(air, &options, NULL, vectors, MAX_PARAMETERS, &count) !=
-            AERIAL_OK) {
+        aerial_arb_parameters(air, &options, NULL, vectors, MAX_PARAMETERS, &count) != AERIAL_OK) {
         return 0;
     }
     for (i = 0; i < count; ++i) { /* program.local[parameter_base + i], once per frame */

@@ -135,7 +135,8 @@ int main(int argc, char** argv) {
     app.add_option("--preset", preset, "Atmosphere preset: earth, hazy, foggy, hp2002, mars")
         ->capture_default_str();
     app.add_option("--model", model_text,
-                   "Model that sets the accuracy: hoffman-preetham, height, reference (cpu only)")
+                   "Model that sets the accuracy: hoffman-preetham, height, single-scattering, "
+                   "reference (cpu only)")
         ->capture_default_str();
     app.add_option("--backend", backend_text, "cpu (colours from aerial::shade_into) or arb (GPU)")
         ->capture_default_str();
@@ -210,7 +211,7 @@ int main(int argc, char** argv) {
     if (*backend == aerial::scene::Backend::arb && *path != aerial::gl::Path::automatic) {
         return fail("--path: only with --backend cpu");
     }
-    if (*backend == aerial::scene::Backend::arb && *model == aerial::Model::reference) {
+    if (*backend == aerial::scene::Backend::arb && aerial::is_numerical(*model)) {
         return fail("--model: the arb backend has programs for hoffman-preetham and height only");
     }
     auto gl_backend = aerial::headless::parse_platform(gl_text);

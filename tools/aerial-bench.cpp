@@ -195,8 +195,9 @@ int main(int argc, char** argv) {
     }
     const auto model = aerial::parse_model(model_text);
     if (!model) return aerial::tools::fail(kTool, "--model: " + model.error().message);
-    if (*model == aerial::Model::reference) {
-        return aerial::tools::fail(kTool, "--model: reference has no SIMD kernel to measure");
+    if (aerial::is_numerical(*model)) {
+        return aerial::tools::fail(kTool, "--model: " + std::string(aerial::model_name(*model)) +
+                                              " has no SIMD kernel to measure");
     }
     const auto atmosphere = aerial::atmosphere_preset(preset);
     if (!atmosphere) return aerial::tools::fail(kTool, "--preset: " + atmosphere.error().message);

@@ -27,12 +27,18 @@ constexpr const char* kDescription =
     "  x,y,z,fex_r,fex_g,fex_b,lin_r,lin_g,lin_b,esun_r,esun_g,esun_b\n"
     "esun is the sun irradiance reaching the point in that model. Vector flags take X,Y,Z; write\n"
     "--eye=X,Y,Z when a value is negative. Exit status: 0 on success, 2 on bad input.\n"
+    "--model: hoffman-preetham (the 2002 model), height (the default), single-scattering (single\n"
+    "scattering integrated numerically, ozone included) or reference (single-scattering plus "
+    "every\n"
+    "higher order of scattering and the ground's reflection, from tables computed for the\n"
+    "atmosphere: each run takes seconds more).\n"
     "--print-arb-program prints the ARB vertex program of --model (hoffman-preetham, the default\n"
     "here, or height) exactly as it is handed to glProgramStringARB (no other flag is needed) and\n"
-    "exits; reference has no program. --arb-height-fidelity spec-minimum|exact-optical-depth|full\n"
-    "(with --print-arb-program; implies --model height) chooses how much of the height model the\n"
-    "program computes; the levels beyond spec-minimum are checked against 256 instructions (the\n"
-    "native limit of Direct3D 9-class hardware) instead of the spec's 128.\n"
+    "exits; single-scattering and reference have no program.\n"
+    "--arb-height-fidelity spec-minimum|exact-optical-depth|full (with --print-arb-program;\n"
+    "implies --model height) chooses how much of the height model the program computes; the\n"
+    "levels beyond spec-minimum are checked against 256 instructions (the native limit of\n"
+    "Direct3D 9-class hardware) instead of the spec's 128.\n"
     "--export-shader-tests DIR writes those programs (hoffman-preetham and each height level) as\n"
     "piglit shader_test files, for the presets earth and hazy at noon and at a low sun, with\n"
     "probes computed by the CPU executor of the same text, prints the files' paths and exits\n"
@@ -54,7 +60,8 @@ int main(int argc, char** argv) {
     auto* sun_opt =
         app.add_option("--sun", sun_text, "Direction towards the sun X,Y,Z (normalised; required)");
     auto* model_opt =
-        app.add_option("--model", model_text, "hoffman-preetham, height (default) or reference");
+        app.add_option("--model", model_text,
+                       "hoffman-preetham, height (default), single-scattering or reference");
     bool print_arb_program = false;
     auto* print_opt =
         app.add_flag("--print-arb-program", print_arb_program,
@@ -107,10 +114,11 @@ int main(int argc, char** argv) {
         if (model_opt->count() > 0) {
             auto model = parse_model(model_text);
             if (!model) return tools::fail(kTool, "--model: " + model.error().message);
-            if (*model == Model::reference) {
+            if (is_numerical(*model)) {
                 return tools::fail(kTool,
                                    "--model: the ARB vertex program exists for hoffman-preetham "
-                                   "and height, got 'reference'");
+                                   "and height, got '" +
+                                       std::string(model_name(*model)) + "'");
             }
             if (fidelity_opt->count() > 0 && *model != Model::height) {
                 return tools::fail(kTool,

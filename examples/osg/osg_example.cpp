@@ -283,7 +283,7 @@ int main(int argc, char** argv) {
     auto backend = aerial::osg_adapter::parse_backend(backend_text);
     if (!backend) return aerial::tools::fail(kTool, "--backend: " + backend.error().message);
     auto model = aerial::parse_model(model_text);
-    if (!model || *model == aerial::Model::reference) {
+    if (!model || aerial::is_numerical(*model)) {
         return aerial::tools::fail(
             kTool, "--model: '" + model_text + "' is not one of hoffman-preetham, height");
     }

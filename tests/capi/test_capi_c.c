@@ -50,6 +50,13 @@ int main(void) {
     check(aerial_context_create(&zero_atmosphere, AERIAL_MODEL_HEIGHT, &context) == AERIAL_OK,
           "a context from a zero atmosphere");
     check(aerial_validate_atmosphere(&zero_atmosphere) == AERIAL_OK, "zero atmosphere is valid");
+    check(earth.ground_albedo[1] == 0.1 && earth.ozone_absorption[1] == 1.881e-6 &&
+              earth.ozone_center_altitude_m == 25000.0 && earth.ozone_width_m == 30000.0,
+          "earth's ground albedo and ozone layer");
+    zero_atmosphere.zero_fields = AERIAL_ZERO_GROUND_ALBEDO | AERIAL_ZERO_OZONE_ABSORPTION |
+                                  AERIAL_ZERO_OZONE_CENTER_ALTITUDE;
+    check(aerial_validate_atmosphere(&zero_atmosphere) == AERIAL_OK,
+          "no ozone and a black ground are valid");
 
     view.eye[2] = 100.0;
     view.sun_dir[1] = 0.6;

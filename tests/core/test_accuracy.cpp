@@ -88,7 +88,7 @@ Worst worst_over_ground_set(Model m, const std::vector<double>& altitudes, doubl
                             double min_sun_deg) {
     Worst worst;
     ground_level_set(altitudes, max_distance_m, min_sun_deg, [&](const View& v, dvec3 p) {
-        const auto ref = aerial::evaluate(Atmosphere{}, v, Model::reference, p);
+        const auto ref = aerial::evaluate(Atmosphere{}, v, Model::single_scattering, p);
         const auto got = aerial::evaluate(Atmosphere{}, v, m, p);
         ASSERT_TRUE(ref.ok() && got.ok());
         worst.add(*got, *ref, describe(v, p));
@@ -145,7 +145,7 @@ TEST(Accuracy, FromTenKilometresLookingAtGroundFourteenKilometresAway) {
             v.eye = {0.0, 0.0, 10000.0};
             v.sun_dir = sun_from_degrees(elevation, azimuth);
             const dvec3 p{0.0, std::sqrt(14000.0 * 14000.0 - 10000.0 * 10000.0), 0.0};
-            const auto ref = *aerial::evaluate(a, v, Model::reference, p);
+            const auto ref = *aerial::evaluate(a, v, Model::single_scattering, p);
             height.add(*aerial::evaluate(a, v, Model::height, p), ref, describe(v, p));
             const auto h = *aerial::evaluate(a, v, Model::hoffman_preetham, p);
             hp.add(h, ref, describe(v, p));
@@ -182,7 +182,7 @@ TEST(Accuracy, HeightBeatsHoffmanPreethamOnEveryPreset) {
                             v.eye = {0.0, 0.0, eye_alt};
                             v.sun_dir = sun_from_degrees(elevation, azimuth);
                             const dvec3 p = point_on_sphere(a, d, target_alt);
-                            const auto ref = *aerial::evaluate(a, v, Model::reference, p);
+                            const auto ref = *aerial::evaluate(a, v, Model::single_scattering, p);
                             height.add(*aerial::evaluate(a, v, Model::height, p), ref,
                                        describe(v, p));
                             hp.add(*aerial::evaluate(a, v, Model::hoffman_preetham, p), ref,

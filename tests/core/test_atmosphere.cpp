@@ -2,6 +2,8 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -71,6 +73,81 @@ TEST(AtmosphereValidate, NamesEachBadFieldAndValue) {
     expect_rejected(a, "sun_irradiance[1]", "got -1");
 }
 
+TEST(AtmosphereValidate, NamesEachBadOzoneAndGroundField) {
+    Atmosphere a;
+    a.ozone_absorption.x = kNaN;
+    expect_rejected(a, "ozone_absorption[0]", "in [0, 1] 1/m, got nan");
+    a = {};
+    a.ozone_absorption.z = -1e-7;
+    expect_rejected(a, "ozone_absorption[2]", "got -1e-07");
+    a = {};
+    a.ozone_absorption.y = 2.0;
+    expect_rejected(a, "ozone_absorption[1]", "got 2");
+    a = {};
+    a.ozone_center_altitude_m = kNaN;
+    expect_rejected(a, "ozone_center_altitude_m", "in [0, 1e+06] m, got nan");
+    a.ozone_center_altitude_m = -1.0;
+    expect_rejected(a, "ozone_center_altitude_m", "got -1");
+    a.ozone_center_altitude_m = 2e6;
+    expect_rejected(a, "ozone_center_altitude_m", "got 2e+06");
+    a = {};
+    a.ozone_width_m = 0.0;
+    expect_rejected(a, "ozone_width_m", "in [1, 1e+06] m, got 0");
+    a.ozone_width_m = -30000.0;
+    expect_rejected(a, "ozone_width_m", "got -30000");
+    a.ozone_width_m = kInf;
+    expect_rejected(a, "ozone_width_m", "got inf");
+    a = {};
+    a.ground_albedo.y = 1.5;
+    expect_rejected(a, "ground_albedo[1]", "in [0, 1] (Lambertian albedo), got 1.5");
+    a.ground_albedo.y = -0.1;
+    expect_rejected(a, "ground_albedo[1]", "got -0.1");
+    a = {};
+    a.ground_albedo.z = kNaN;
+    expect_rejected(a, "ground_albedo[2]", "got nan");
+    // The bounds themselves are valid: no ozone, a layer centred at sea level, black and white
+    // ground, the narrowest and widest layers.
+    a = {};
+    a.ozone_absorption = glm::dvec3(0.0);
+    a.ozone_center_altitude_m = 0.0;
+    a.ozone_width_m = 1.0;
+    a.ground_albedo = glm::dvec3(0.0, 1.0, 0.0);
+    EXPECT_FALSE(aerial::validate(a).has_value());
+    a.ozone_center_altitude_m = 1e6;
+    a.ozone_width_m = 1e6;
+    EXPECT_FALSE(aerial::validate(a).has_value());
+}
+
+TEST(AtmosphereValidate, GroundAlbedoMessageWhole) {
+    Atmosphere a;
+    a.ground_albedo = {0.1, 1.5, 0.1};
+    const auto error = aerial::validate(a);
+    ASSERT_TRUE(error.has_value());
+    EXPECT_EQ(error->field, "ground_albedo[1]");
+    EXPECT_EQ(error->message,
+              "aerial::validate(): ground_albedo[1]: expected a value in [0, 1] (Lambertian "
+              "albedo), got 1.5");
+}
+
+TEST(AtmosphereEquality, ComparesEveryNewField) {
+    const Atmosphere a;
+    EXPECT_TRUE(a == Atmosphere{});
+    std::vector<std::pair<const char*, Atmosphere>> changed;
+    auto with = [&](const char* what, auto edit) {
+        Atmosphere b = a;
+        edit(b);
+        changed.emplace_back(what, b);
+    };
+    with("ozone_absorption", [](Atmosphere& x) { x.ozone_absorption.z = 0.086e-6; });
+    with("ozone_center_altitude_m", [](Atmosphere& x) { x.ozone_center_altitude_m += 1.0; });
+    with("ozone_width_m", [](Atmosphere& x) { x.ozone_width_m += 1.0; });
+    with("ground_albedo", [](Atmosphere& x) { x.ground_albedo.x = 0.2; });
+    for (const auto& [what, b] : changed) {
+        EXPECT_FALSE(a == b) << what;
+        EXPECT_TRUE(a != b) << what;
+    }
+}
+
 // The one message style, pinned whole: "aerial::FUNCTION(): FIELD: expected ..., got ...".
 TEST(AtmosphereValidate, MessageIsFunctionFieldExpectedGot) {
     Atmosphere a;
@@ -107,6 +184,54 @@ TEST(AtmospherePresets, EarthHasTheDesignValues) {
     EXPECT_DOUBLE_EQ(a->planet_radius_m, 6360e3);
     EXPECT_DOUBLE_EQ(a->atmosphere_radius_m, 6420e3);
     EXPECT_DOUBLE_EQ(a->sun_irradiance.z, 1.0);
+    // Bruneton 2017 (ozone also Hillaire 2020's): ground albedo 0.1, ozone from 10 to 40 km.
+    EXPECT_EQ(a->ground_albedo, glm::dvec3(0.1));
+    EXPECT_EQ(a->ozone_absorption, glm::dvec3(0.650e-6, 1.881e-6, 0.085e-6));
+    EXPECT_EQ(a->ozone_center_altitude_m, 25000.0);
+    EXPECT_EQ(a->ozone_width_m, 30000.0);
+    EXPECT_TRUE(*a == Atmosphere{}) << "the struct's defaults are the earth preset";
+}
+
+TEST(AtmospherePresets, EarthBasedPresetsKeepItsOzoneAndGround) {
+    const Atmosphere earth;
+    for (const char* name : {"hp2002", "hazy", "foggy"}) {
+        const auto a = aerial::atmosphere_preset(name);
+        ASSERT_TRUE(a.ok()) << name;
+        EXPECT_EQ(a->ozone_absorption, earth.ozone_absorption) << name;
+        EXPECT_EQ(a->ozone_center_altitude_m, earth.ozone_center_altitude_m) << name;
+        EXPECT_EQ(a->ozone_width_m, earth.ozone_width_m) << name;
+        EXPECT_EQ(a->ground_albedo, earth.ground_albedo) << name;
+    }
+}
+
+TEST(AtmospherePresets, MarsHasNoOzoneAndItsOwnGround) {
+    const auto a = aerial::atmosphere_preset("mars");
+    ASSERT_TRUE(a.ok());
+    EXPECT_EQ(a->ozone_absorption, glm::dvec3(0.0));
+    EXPECT_EQ(a->ground_albedo, glm::dvec3(0.25));
+}
+
+TEST(AtmosphereOzone, DensityIsATentAroundTheCentre) {
+    const Atmosphere a;  // earth: centre 25 km, width 30 km
+    EXPECT_EQ(a.ozone_density(25000.0), 1.0);
+    EXPECT_EQ(a.ozone_density(17500.0), 0.5);
+    EXPECT_EQ(a.ozone_density(32500.0), 0.5);
+    EXPECT_NEAR(a.ozone_density(24000.0), 1.0 - 1000.0 / 15000.0, 1e-15);
+    EXPECT_EQ(a.ozone_density(10000.0), 0.0) << "lower edge";
+    EXPECT_EQ(a.ozone_density(40000.0), 0.0) << "upper edge";
+    for (double h : {0.0, -500.0, 9999.0, 40001.0, 60000.0, 1e9, -kInf, kInf, kNaN}) {
+        EXPECT_EQ(a.ozone_density(h), 0.0) << h;
+    }
+    EXPECT_GT(a.ozone_density(10001.0), 0.0);
+    EXPECT_GT(a.ozone_density(39999.0), 0.0);
+    // A layer centred at sea level reaches the ground.
+    Atmosphere low;
+    low.ozone_center_altitude_m = 0.0;
+    low.ozone_width_m = 2000.0;
+    EXPECT_EQ(low.ozone_density(0.0), 1.0);
+    EXPECT_EQ(low.ozone_density(500.0), 0.5);
+    EXPECT_EQ(low.ozone_density(-500.0), 0.5);
+    EXPECT_EQ(low.ozone_density(1000.0), 0.0);
 }
 
 TEST(AtmospherePresets, UnknownNameListsTheKnownOnes) {
@@ -241,17 +366,64 @@ TEST(AtmosphereJson, RoundTripsEveryPreset) {
         EXPECT_EQ(back->mie_absorption, a->mie_absorption) << name;
         EXPECT_EQ(back->mie_g, a->mie_g) << name;
         EXPECT_EQ(back->mie_scale_height_m, a->mie_scale_height_m) << name;
+        EXPECT_EQ(back->ozone_absorption, a->ozone_absorption) << name;
+        EXPECT_EQ(back->ozone_center_altitude_m, a->ozone_center_altitude_m) << name;
+        EXPECT_EQ(back->ozone_width_m, a->ozone_width_m) << name;
         EXPECT_EQ(back->atmosphere_radius_m, a->atmosphere_radius_m) << name;
+        EXPECT_EQ(back->ground_albedo, a->ground_albedo) << name;
         EXPECT_EQ(back->sun_irradiance, a->sun_irradiance) << name;
+        EXPECT_TRUE(*back == *a) << name;
+        EXPECT_EQ(aerial::to_json(*back), aerial::to_json(*a)) << name;
     }
 }
 
-TEST(AtmosphereJson, MissingFieldsKeepEarthAndAbsorptionDefaultsToZero) {
+TEST(AtmosphereJson, RoundTripsOddValuesOfTheNewFields) {
+    Atmosphere a;
+    a.ground_albedo = {0.3, 1.0 / 3.0, 0.0};
+    a.ozone_absorption = {1.0 / 7.0 * 1e-6, 0.0, 2.5e-6};
+    a.ozone_center_altitude_m = 0.0;
+    a.ozone_width_m = 12345.678901234567;
+    const auto back = aerial::atmosphere_from_json(aerial::to_json(a));
+    ASSERT_TRUE(back.ok()) << back.error().message;
+    EXPECT_TRUE(*back == a) << aerial::to_json(*back);
+}
+
+TEST(AtmosphereJson, MissingFieldsKeepEarthAndAbsorbersAndGroundDefaultToZero) {
     const auto a = aerial::atmosphere_from_json(R"({"mie_g": 0.5})");
     ASSERT_TRUE(a.ok());
     EXPECT_EQ(a->mie_g, 0.5);
     EXPECT_EQ(a->rayleigh_scattering, Atmosphere{}.rayleigh_scattering);
     EXPECT_EQ(a->mie_absorption, glm::dvec3(0.0));
+    EXPECT_EQ(a->ozone_absorption, glm::dvec3(0.0)) << "no ozone unless the file gives it";
+    EXPECT_EQ(a->ground_albedo, glm::dvec3(0.0)) << "a black ground unless the file gives it";
+    // The layer's shape keeps earth's (it matters only once ozone_absorption is given).
+    EXPECT_EQ(a->ozone_center_altitude_m, 25000.0);
+    EXPECT_EQ(a->ozone_width_m, 30000.0);
+    const auto empty = aerial::atmosphere_from_json("{}");
+    ASSERT_TRUE(empty.ok());
+    EXPECT_EQ(empty->ozone_absorption, glm::dvec3(0.0));
+    EXPECT_EQ(empty->ground_albedo, glm::dvec3(0.0));
+}
+
+TEST(AtmosphereJson, ReadsTheNewFields) {
+    const auto grey = aerial::atmosphere_from_json(
+        R"({"ground_albedo": 0.3, "ozone_absorption": [0.65e-6, 1.881e-6, 0.085e-6],
+            "ozone_center_altitude_m": 22000, "ozone_width_m": 20000})");
+    ASSERT_TRUE(grey.ok()) << grey.error().message;
+    EXPECT_EQ(grey->ground_albedo, glm::dvec3(0.3)) << "a number is every channel";
+    EXPECT_EQ(grey->ozone_absorption, Atmosphere{}.ozone_absorption);
+    EXPECT_EQ(grey->ozone_center_altitude_m, 22000.0);
+    EXPECT_EQ(grey->ozone_width_m, 20000.0);
+    const auto coloured = aerial::atmosphere_from_json(R"({"ground_albedo": [0.2, 0.15, 0.1]})");
+    ASSERT_TRUE(coloured.ok()) << coloured.error().message;
+    EXPECT_EQ(coloured->ground_albedo, glm::dvec3(0.2, 0.15, 0.1));
+    const auto integer = aerial::atmosphere_from_json(R"({"ground_albedo": 1})");
+    ASSERT_TRUE(integer.ok()) << integer.error().message;
+    EXPECT_EQ(integer->ground_albedo, glm::dvec3(1.0));
+    // The preset written out reads back as the preset, ozone and ground included.
+    const auto earth = aerial::atmosphere_from_json(aerial::to_json(Atmosphere{}));
+    ASSERT_TRUE(earth.ok());
+    EXPECT_TRUE(*earth == Atmosphere{});
 }
 
 TEST(AtmosphereJson, ErrorsNameTheField) {
@@ -268,6 +440,21 @@ TEST(AtmosphereJson, ErrorsNameTheField) {
          "in [0, 1] 1/m, got -2e-06"},
         {R"({"mie_g": 1.0})", "mie_g", "|g| < 1"},
         {R"({"planet_radius_m": 7000000})", "atmosphere_radius_m", "above planet_radius_m"},
+        {R"({"ground_albedo": "grey"})", "ground_albedo",
+         "expected a number (every channel) or an array of 3 numbers (R, G, B), got \"grey\""},
+        {R"({"ground_albedo": [0.1, 0.2]})", "ground_albedo", "got [0.1,0.2]"},
+        {R"({"ground_albedo": {"r": 0.1}})", "ground_albedo", "an array of 3 numbers"},
+        {R"({"ground_albedo": true})", "ground_albedo", "got true"},
+        {R"({"ground_albedo": [0.1, null, 0.1]})", "ground_albedo[1]", "expected a number"},
+        {R"({"ground_albedo": 1.5})", "ground_albedo[0]", "in [0, 1] (Lambertian albedo), got 1.5"},
+        {R"({"ground_albedo": [0.1, 0.1, -0.2]})", "ground_albedo[2]", "got -0.2"},
+        {R"({"ozone_absorption": 1e-6})", "ozone_absorption", "array of 3"},
+        {R"({"ozone_absorption": [1e-6, -1e-6, 0]})", "ozone_absorption[1]",
+         "in [0, 1] 1/m, got -1e-06"},
+        {R"({"ozone_center_altitude_m": -10})", "ozone_center_altitude_m", "got -10"},
+        {R"({"ozone_center_altitude_m": "high"})", "ozone_center_altitude_m", "expected a number"},
+        {R"({"ozone_width_m": 0})", "ozone_width_m", "in [1, 1e+06] m, got 0"},
+        {R"({"ozone": 1})", "ozone", "not an atmosphere field"},
         {R"({"mie_g": 1e999})", "json", "number overflow"},
         {R"([1, 2, 3])", "json", "expected an object, got array"},
         {R"({"mie_g": 0.5,})", "json", "parse error"},

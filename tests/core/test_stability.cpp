@@ -94,7 +94,7 @@ TEST(Stability, HeightDoubleIsAlwaysPhysical) {
 }
 TEST(Stability, ReferenceIsAlwaysPhysical) {
     // The integrator is slow on purpose (converged, double): a smaller sweep of the same ranges.
-    sweep<double>(Model::reference, 5, 200, 5);
+    sweep<double>(Model::single_scattering, 5, 200, 5);
 }
 
 }  // namespace

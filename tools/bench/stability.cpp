@@ -1,5 +1,5 @@
-// The stability map: one parameter swept at a time, every method against the `reference` model
-// in 8-bit steps of what the fixed pipeline is handed, with the artefacts flagged. See
+// The stability map: one parameter swept at a time, every method against the `single-scattering`
+// model in 8-bit steps of what the fixed pipeline is handed, with the artefacts flagged. See
 // stability.hpp; docs/benchmarks.md ("Where methods fail") documents the CSV and the findings.
 #include "bench/stability.hpp"
 
@@ -273,7 +273,7 @@ Result<CaseResult> evaluate_case(const Case& c, const Programs& programs) {
     View view;
     view.eye = {0.0, 0.0, c.altitude_m};
     view.sun_dir = direction(c.sun_elevation_deg, 0.0);
-    auto reference = prepare_frame<double>(c.atmosphere, view, Model::reference);
+    auto reference = prepare_frame<double>(c.atmosphere, view, Model::single_scattering);
     if (!reference) return reference.error();
     auto hp = prepare_frame<float>(c.atmosphere, view, Model::hoffman_preetham);
     auto height = prepare_frame<float>(c.atmosphere, view, Model::height);

@@ -43,7 +43,7 @@ extern "C" {
 /* ---- Version ------------------------------------------------------------------------------ */
 
 #define AERIAL_VERSION_MAJOR 0
-#define AERIAL_VERSION_MINOR 1
+#define AERIAL_VERSION_MINOR 2
 #define AERIAL_VERSION_PATCH 0
 /* major * 10000 + minor * 100 + patch */
 #define AERIAL_VERSION \
@@ -95,10 +95,15 @@ const char* aerial_last_error_field(void);
 #define AERIAL_ZERO_MIE_SCATTERING 2u
 #define AERIAL_ZERO_MIE_G 4u
 #define AERIAL_ZERO_SUN_IRRADIANCE 8u
+#define AERIAL_ZERO_GROUND_ALBEDO 16u
+#define AERIAL_ZERO_OZONE_ABSORPTION 32u
+#define AERIAL_ZERO_OZONE_CENTER_ALTITUDE 64u
 
-/* Sea-level coefficients per metre, falling off as exp(-altitude / scale height). Channels are R,
- * G, B. A field that is 0 (a vector: all three 0) takes its default, the `earth` preset, unless
- * its bit is set in zero_fields. */
+/* Rayleigh and Mie coefficients per metre at sea level, falling off as exp(-altitude / scale
+ * height); ozone absorbs in a tent-shaped layer (density 1 at its centre, 0 at centre +- width/2
+ * and beyond). Channels are R, G, B. A field that is 0 (a vector: all three 0) takes its default,
+ * the `earth` preset, unless its bit is set in zero_fields (fields whose default is 0, or that
+ * cannot be 0, have no bit). The fields are aerial::Atmosphere's (aerial/atmosphere.hpp). */
 typedef struct aerial_atmosphere {
     double rayleigh_scattering[3];  /* 1/m, >= 0; default 5.802e-6, 13.558e-6, 33.1e-6 */
     double mie_scattering[3];       /* 1/m, >= 0; default 3.996e-6 on each channel */
@@ -106,8 +111,13 @@ typedef struct aerial_atmosphere {
     double mie_g;                   /* Henyey-Greenstein g, |g| < 1, > 0 forwards; default 0.8 */
     double rayleigh_scale_height_m; /* m, > 0; default 8000 */
     double mie_scale_height_m;      /* m, > 0; default 1200 */
+    /* at the ozone layer's peak, 1/m, >= 0; default 0.650e-6, 1.881e-6, 0.085e-6 */
+    double ozone_absorption[3];
+    double ozone_center_altitude_m; /* the layer's peak, m, in [0, 1e6]; default 25000 */
+    double ozone_width_m;           /* the layer's full width, m, in [1, 1e6]; default 30000 */
     double planet_radius_m;         /* m, > 0; default 6360e3 */
     double atmosphere_radius_m;     /* m, > planet_radius_m; default 6420e3 */
+    double ground_albedo[3];        /* Lambertian, each in [0, 1]; default 0.1 on each channel */
     double sun_irradiance[3];       /* E_sun0 at the top of the atmosphere, >= 0; default 1,1,1 */
     unsigned int zero_fields;       /* AERIAL_ZERO_* bits; default none */
 } aerial_atmosphere;
@@ -129,7 +139,9 @@ aerial_status aerial_validate_atmosphere(const aerial_atmosphere* atmosphere);
 typedef enum aerial_model {
     AERIAL_MODEL_HOFFMAN_PREETHAM = 0, /* the 2002 model: constant density, cheapest */
     AERIAL_MODEL_HEIGHT = 1,           /* exponential profiles, same cost class, per vertex */
-    AERIAL_MODEL_REFERENCE = 2         /* numerical ground truth, slow; no ARB program */
+    AERIAL_MODEL_REFERENCE = 2,        /* numerical ground truth, every order of scattering:
+                                          slowest (tables per atmosphere); no ARB program */
+    AERIAL_MODEL_SINGLE_SCATTERING = 3 /* the reference without the higher orders; slow */
 } aerial_model;
 
 /* What changes per frame. */

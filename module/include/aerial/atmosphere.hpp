@@ -9,10 +9,12 @@
 //   3. Edit fields freely, then call `validate(atmosphere)` once: it names the first bad field.
 //      Everything downstream assumes a validated atmosphere.
 //
-// All coefficients are per metre at sea level (altitude 0) and fall off exponentially with
-// altitude: beta(h) = beta(0) * exp(-h / scale_height).
+// The Rayleigh and Mie coefficients are per metre at sea level (altitude 0) and fall off
+// exponentially with altitude: beta(h) = beta(0) * exp(-h / scale_height). Ozone absorbs in a
+// tent-shaped layer aloft instead: ozone_absorption * ozone_density(h).
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -43,17 +45,45 @@ struct Atmosphere {
     double rayleigh_scale_height_m = 8000.0;
     /// Mie density scale height, m, > 0.
     double mie_scale_height_m = 1200.0;
+    /// Ozone absorption coefficient at the peak of the ozone layer, 1/m, each in [0, 1] (as every
+    /// coefficient). Ozone scatters nothing: its extinction is this times ozone_density(h).
+    /// `earth`: Bruneton 2017's values (also Hillaire 2020's): ozone's absorption cross sections
+    /// at 680, 550 and 440 nm times the peak number density of a 300 Dobson unit column spread
+    /// over earth's tent profile (the next two fields).
+    glm::dvec3 ozone_absorption{0.650e-6, 1.881e-6, 0.085e-6};
+    /// Altitude of the peak of the ozone layer's tent profile, m, in [0, 1e6] (not checked against
+    /// the atmosphere top). `earth`: 25000 (Bruneton 2017).
+    double ozone_center_altitude_m = 25000.0;
+    /// Full width of the ozone layer's tent profile, m, in [1, 1e6]: the density falls linearly
+    /// from 1 at ozone_center_altitude_m to 0 at ozone_center_altitude_m +- ozone_width_m / 2.
+    /// `earth`: 30000, i.e. ozone from 10 km to 40 km (Bruneton 2017's two linear layers).
+    double ozone_width_m = 30000.0;
     /// Radius of the planet (sea level), m, > 0.
     double planet_radius_m = 6360e3;
     /// Radius of the top of the atmosphere, m, > planet_radius_m. The `reference` model has no
     /// air above it; the other models ignore it except when computing sun transmittance.
     double atmosphere_radius_m = 6420e3;
+    /// Lambertian albedo of the ground (the sea-level sphere), each in [0, 1]. `earth`: 0.1 on
+    /// every channel, the value of Bruneton 2017's demo.
+    glm::dvec3 ground_albedo{0.1, 0.1, 0.1};
     /// Sun irradiance at the top of the atmosphere (E_sun0), linear RGB, each >= 0.
     glm::dvec3 sun_irradiance{1.0, 1.0, 1.0};
 
     glm::dvec3 mie_extinction() const { return mie_scattering + mie_absorption; }
-    /// Total extinction at sea level, 1/m.
+    /// Extinction at sea level (altitude 0), 1/m: Rayleigh plus Mie. It leaves out ozone, whose
+    /// density at sea level is 0 for `earth` (ozone_density(0) = 0 whenever the layer's lower edge,
+    /// ozone_center_altitude_m - ozone_width_m / 2, is at or above sea level); an atmosphere whose
+    /// ozone layer reaches the ground has ozone_absorption * ozone_density(0) more there.
     glm::dvec3 extinction() const { return rayleigh_scattering + mie_extinction(); }
+    /// Relative ozone density at `altitude_m` (m above sea level), in [0, 1]: the tent profile,
+    /// 1 at ozone_center_altitude_m falling linearly to 0 at ozone_center_altitude_m +-
+    /// ozone_width_m / 2, and 0 beyond (and for a NaN altitude). Multiply by ozone_absorption
+    /// for the ozone extinction there.
+    double ozone_density(double altitude_m) const {
+        const double density =
+            1.0 - std::abs(altitude_m - ozone_center_altitude_m) / (0.5 * ozone_width_m);
+        return density > 0.0 ? density : 0.0;
+    }
 };
 
 /// Every field equal (exact floating-point comparison): the one way caches decide whether the
@@ -62,7 +92,8 @@ bool operator==(const Atmosphere& a, const Atmosphere& b);
 inline bool operator!=(const Atmosphere& a, const Atmosphere& b) { return !(a == b); }
 
 /// The first bad field and why: non-finite values, negative coefficients, |g| >= 1,
-/// non-positive scale heights or radii, an atmosphere top not above the planet.
+/// non-positive scale heights or radii, an ozone layer centre outside [0, 1e6] m or width outside
+/// [1, 1e6] m, an atmosphere top not above the planet, a ground albedo outside [0, 1].
 std::optional<Error> validate(const Atmosphere& atmosphere);
 
 // ---- Presets ---------------------------------------------------------------------------------
@@ -140,11 +171,13 @@ Result<Atmosphere> atmosphere_with_air_pollution(double pollution, const Atmosph
 // ---- JSON ------------------------------------------------------------------------------------
 
 /// Parses the atmosphere JSON of docs/conventions.md, Interfaces: an object with any of
-/// `rayleigh_scattering` [3],
-/// `mie_scattering` [3], `mie_absorption` [3], `mie_g`, `rayleigh_scale_height_m`,
-/// `mie_scale_height_m`, `planet_radius_m`, `atmosphere_radius_m`, `sun_irradiance` [3].
-/// Missing fields keep the `earth` values (mie_absorption defaults to 0); unknown fields,
-/// malformed JSON and invalid values are errors naming the field. The result is validated.
+/// `rayleigh_scattering` [3], `mie_scattering` [3], `mie_absorption` [3], `mie_g`,
+/// `rayleigh_scale_height_m`, `mie_scale_height_m`, `ozone_absorption` [3],
+/// `ozone_center_altitude_m`, `ozone_width_m`, `planet_radius_m`, `atmosphere_radius_m`,
+/// `ground_albedo` (a number for every channel, or [3]), `sun_irradiance` [3].
+/// Missing fields keep the `earth` values, except mie_absorption, ozone_absorption and
+/// ground_albedo, which are 0 when missing; unknown fields, malformed JSON and invalid values
+/// are errors naming the field. The result is validated.
 Result<Atmosphere> atmosphere_from_json(std::string_view json_text);
 
 /// Reads and parses a file; errors name the path.

@@ -1,4 +1,4 @@
-// aerial/scattering.hpp — extinction F_ex and in-scattering L_in per vertex, three models.
+// aerial/scattering.hpp — extinction F_ex and in-scattering L_in per vertex, four models.
 //
 // How to use this:
 //   1. Validate the atmosphere once (atmosphere.hpp) and describe the frame in a `View`:
@@ -34,17 +34,28 @@ enum class Model {
     /// Exponential density profiles averaged along the eye->vertex segment in closed form, sun
     /// transmittance (Chapman approximation) at the altitude where the scattering happens.
     height,
-    /// Ground truth: single scattering integrated numerically in a spherical planet, double
-    /// precision, sun transmittance per sample, shadowed by the planet. Slow.
+    /// Single scattering integrated numerically in a spherical planet, double precision, sun
+    /// transmittance per sample, shadowed by the planet: the `reference` without the light
+    /// scattered more than once or reflected by the ground. Slow.
+    single_scattering,
+    /// Ground truth: every order of scattering (Rayleigh, Mie, ozone absorption, a Lambertian
+    /// ground) in a spherical planet, double precision. The first order is integrated per vertex
+    /// as in `single_scattering`; the higher orders come from tables computed once per atmosphere
+    /// (docs/models.md). Slowest.
     reference,
 };
 
-/// "hoffman-preetham", "height", "reference".
+/// "hoffman-preetham", "height", "single-scattering", "reference".
 std::string_view model_name(Model model);
 /// Inverse of model_name; the error lists the valid names.
 Result<Model> parse_model(std::string_view name);
 /// All models, cheapest first.
 const std::vector<Model>& all_models();
+/// Whether the model is integrated numerically per vertex (single-scattering, reference): no
+/// SIMD kernel, no ARB program, no skip bound; for tools and tests, not for frames.
+constexpr bool is_numerical(Model model) {
+    return model == Model::single_scattering || model == Model::reference;
+}
 
 /// What changes per frame.
 struct View {
@@ -94,7 +105,10 @@ struct Frame {
     /// Altitudes below this are treated as this for density: kMinAltitudeM, or higher when a
     /// scale height is so short that exp(-h/H) would leave float range (at most exp(40)).
     T min_altitude_m = T(kMinAltitudeM);
-    glm::vec<3, T> sun_irradiance_top{0};  ///< E_sun0
+    /// E_sun0 times the ozone layer's transmittance towards the sun from the eye
+    /// (ozone_transmittance): the sunlight above the Rayleigh and Mie columns for the `height`
+    /// model, exact for points below the ozone layer (10 km for earth). E_sun0 without ozone.
+    glm::vec<3, T> sun_irradiance_top{0};
     glm::vec<3, T> sun_irradiance_eye{0};  ///< E_sun0 * T_sun(eye), exact (2002 model's E_sun)
     /// log(H Ch) of each component at the eye for the `height` model's sun transmittance (see
     /// sun_transmittance_chapman); 80 or more when the planet blocks the sun there.
@@ -144,6 +158,12 @@ T altitude_above_sphere(const glm::vec<3, T>& position_m, const glm::vec<3, T>& 
 /// shadowed as if they were on the surface.
 glm::dvec3 sun_transmittance(const Atmosphere& atmosphere, double altitude_m, double cos_zenith);
 
+/// Transmittance of the ozone layer alone from a point at `altitude_m` towards a direction whose
+/// cosine with the local zenith is `cos_zenith` (1 without ozone). Where the planet blocks the
+/// direction it is taken at the horizon's cosine, where sunlight grazing the shadow comes from.
+/// The `height` model multiplies E_sun0 by it at the eye (Frame::sun_irradiance_top).
+glm::dvec3 ozone_transmittance(const Atmosphere& atmosphere, double altitude_m, double cos_zenith);
+
 /// Fast approximation of the same for the `height` model: per component
 /// tau = beta * H * exp(-h/H) * Ch(x, chi) with the asymptotic Chapman function of
 /// x = (R + h) / H, no truncation at the atmosphere top. Within 1 % in optical depth of
@@ -157,6 +177,41 @@ template <class T>
 Scattering<T> hoffman_preetham_closed_form(const Frame<T>& frame, T distance_m, T cos_theta,
                                            const glm::vec<3, T>& sun_irradiance);
 
+/// Resolution and stopping rule of the `reference` model's tables of the light scattered more
+/// than once (docs/models.md, "The reference"). The defaults are what `reference` uses; finer
+/// tables are for convergence studies. Every count is clamped to at least its minimum.
+struct MultipleScatteringSettings {
+    int altitudes = 32;            ///< table rows in altitude, denser towards the ground, >= 4
+    int sun_zenith_angles = 32;    ///< rows in sun zenith angle over 0 .. 108 degrees, >= 4
+    int view_zenith_angles = 33;   ///< rows in view zenith angle over 0 .. 180 degrees, >= 5
+    int azimuths = 16;             ///< rows in view azimuth from the sun's, 0 .. 180 deg, >= 3
+    int sky_directions = 16;       ///< incoming zenith cosines above the horizon (Gauss), >= 2
+    int ground_directions = 8;     ///< incoming zenith cosines below the horizon (Gauss), >= 2
+    int half_azimuths = 12;        ///< incoming azimuths over 0 .. 180 degrees (mirrored), >= 2
+    double steps_per_efold = 2.0;  ///< ray steps per e-fold of density or optical depth, >= 0.5
+    /// Stop when the geometric bound on the orders not summed is below this fraction of the sum.
+    double max_remainder = 1e-3;
+    int max_orders = 80;  ///< hard stop (the report then gives the remainder bound reached)
+};
+bool operator==(const MultipleScatteringSettings& a, const MultipleScatteringSettings& b);
+
+/// What computing the tables found and cost.
+struct MultipleScatteringReport {
+    int orders = 0;  ///< highest order summed (2 or more)
+    /// Bound on the share of the orders not summed, per channel: q/(1-q) times the last order's
+    /// share, q the ratio of the last two orders (infinite if they do not decrease).
+    glm::dvec3 remainder_bound{0.0};
+    /// Sum of each order's scattering density over the table, per channel, orders 2, 3, ...
+    std::vector<glm::dvec3> order_sums;
+    double seconds = 0.0;  ///< wall time to compute the tables
+};
+
+/// Computes (or finds in the cache) the tables `reference` uses for this atmosphere, and reports
+/// on them. The first call per atmosphere costs seconds (docs/models.md gives the figures);
+/// later calls and `reference` itself reuse the tables.
+Result<MultipleScatteringReport> reference_multiple_scattering(
+    const Atmosphere& atmosphere, const MultipleScatteringSettings& settings = {});
+
 /// Options of the reference integrator.
 struct ReferenceOptions {
     /// Use sea-level density everywhere (no exponential fall-off, no atmosphere top): with
@@ -167,9 +222,16 @@ struct ReferenceOptions {
     /// Integration steps per e-fold of density or of optical depth; 2 gives <= 1e-6 relative
     /// against the closed forms, larger is for convergence studies.
     double steps_per_efold = 2.0;
+    /// Add the light scattered more than once and the ground's reflection (the `reference`
+    /// model); off, the integrator is the `single_scattering` model. Needs the real profile
+    /// (constant_density off) and sun_attenuation on; ignored otherwise.
+    bool multiple_scattering = false;
+    /// The tables of the higher orders (defaults: those of the `reference` model).
+    MultipleScatteringSettings tables;
 };
 
-/// The `reference` model at one vertex (metres, world frame), with options.
+/// The `single_scattering` model at one vertex (metres, world frame), or with
+/// options.multiple_scattering the `reference` model.
 Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View& view,
                                         const glm::dvec3& vertex,
                                         const ReferenceOptions& options = {});

@@ -122,8 +122,16 @@ Atmosphere to_cpp(const aerial_atmosphere* c) {
     a.mie_g = (z & AERIAL_ZERO_MIE_G) ? 0.0 : scalar_field(c->mie_g, d.mie_g);
     a.rayleigh_scale_height_m = scalar_field(c->rayleigh_scale_height_m, d.rayleigh_scale_height_m);
     a.mie_scale_height_m = scalar_field(c->mie_scale_height_m, d.mie_scale_height_m);
+    a.ozone_absorption =
+        vector_field(c->ozone_absorption, z, AERIAL_ZERO_OZONE_ABSORPTION, d.ozone_absorption);
+    a.ozone_center_altitude_m =
+        (z & AERIAL_ZERO_OZONE_CENTER_ALTITUDE)
+            ? 0.0
+            : scalar_field(c->ozone_center_altitude_m, d.ozone_center_altitude_m);
+    a.ozone_width_m = scalar_field(c->ozone_width_m, d.ozone_width_m);
     a.planet_radius_m = scalar_field(c->planet_radius_m, d.planet_radius_m);
     a.atmosphere_radius_m = scalar_field(c->atmosphere_radius_m, d.atmosphere_radius_m);
+    a.ground_albedo = vector_field(c->ground_albedo, z, AERIAL_ZERO_GROUND_ALBEDO, d.ground_albedo);
     a.sun_irradiance =
         vector_field(c->sun_irradiance, z, AERIAL_ZERO_SUN_IRRADIANCE, d.sun_irradiance);
     return a;
@@ -138,13 +146,20 @@ aerial_atmosphere to_c(const Atmosphere& a) {
     c.mie_g = a.mie_g;
     c.rayleigh_scale_height_m = a.rayleigh_scale_height_m;
     c.mie_scale_height_m = a.mie_scale_height_m;
+    copy(a.ozone_absorption, c.ozone_absorption);
+    c.ozone_center_altitude_m = a.ozone_center_altitude_m;
+    c.ozone_width_m = a.ozone_width_m;
     c.planet_radius_m = a.planet_radius_m;
     c.atmosphere_radius_m = a.atmosphere_radius_m;
+    copy(a.ground_albedo, c.ground_albedo);
     copy(a.sun_irradiance, c.sun_irradiance);
     if (is_zero(c.rayleigh_scattering)) c.zero_fields |= AERIAL_ZERO_RAYLEIGH_SCATTERING;
     if (is_zero(c.mie_scattering)) c.zero_fields |= AERIAL_ZERO_MIE_SCATTERING;
     if (c.mie_g == 0.0) c.zero_fields |= AERIAL_ZERO_MIE_G;
     if (is_zero(c.sun_irradiance)) c.zero_fields |= AERIAL_ZERO_SUN_IRRADIANCE;
+    if (is_zero(c.ground_albedo)) c.zero_fields |= AERIAL_ZERO_GROUND_ALBEDO;
+    if (is_zero(c.ozone_absorption)) c.zero_fields |= AERIAL_ZERO_OZONE_ABSORPTION;
+    if (c.ozone_center_altitude_m == 0.0) c.zero_fields |= AERIAL_ZERO_OZONE_CENTER_ALTITUDE;
     return c;
 }
 
@@ -173,9 +188,11 @@ Model to_cpp_model(int model, const char* field) {
     static constexpr EnumValue<Model> kModels[] = {
         {AERIAL_MODEL_HOFFMAN_PREETHAM, Model::hoffman_preetham},
         {AERIAL_MODEL_HEIGHT, Model::height},
-        {AERIAL_MODEL_REFERENCE, Model::reference}};
+        {AERIAL_MODEL_REFERENCE, Model::reference},
+        {AERIAL_MODEL_SINGLE_SCATTERING, Model::single_scattering}};
     return to_cpp_enum(model, kModels, field,
-                       "AERIAL_MODEL_HOFFMAN_PREETHAM (0), _HEIGHT (1) or _REFERENCE (2)");
+                       "AERIAL_MODEL_HOFFMAN_PREETHAM (0), _HEIGHT (1), _REFERENCE (2) or "
+                       "_SINGLE_SCATTERING (3)");
 }
 
 const Frame<float>& current_frame(const aerial_context& context) {

@@ -21,6 +21,11 @@ constexpr double kMaxCoefficientPerM = 1.0;
 constexpr double kMinScaleHeightM = 1.0;
 constexpr double kMaxScaleHeightM = 1e6;
 constexpr double kMaxRadiusM = 1e9;
+/// The ozone layer's centre and width are checked on their own (JSON may give them before the
+/// radii), within bounds that keep every altitude and density finite.
+constexpr double kMaxOzoneAltitudeM = 1e6;
+constexpr double kMinOzoneWidthM = 1.0;
+constexpr double kMaxOzoneWidthM = 1e6;
 constexpr double kMaxSunIrradiance = 1e6;
 constexpr const char* kChannel[3] = {"[0]", "[1]", "[2]"};
 constexpr const char* kValidate = "validate";
@@ -53,8 +58,12 @@ bool operator==(const Atmosphere& a, const Atmosphere& b) {
     return a.rayleigh_scattering == b.rayleigh_scattering && a.mie_scattering == b.mie_scattering &&
            a.mie_absorption == b.mie_absorption && a.mie_g == b.mie_g &&
            a.rayleigh_scale_height_m == b.rayleigh_scale_height_m &&
-           a.mie_scale_height_m == b.mie_scale_height_m && a.planet_radius_m == b.planet_radius_m &&
-           a.atmosphere_radius_m == b.atmosphere_radius_m && a.sun_irradiance == b.sun_irradiance;
+           a.mie_scale_height_m == b.mie_scale_height_m &&
+           a.ozone_absorption == b.ozone_absorption &&
+           a.ozone_center_altitude_m == b.ozone_center_altitude_m &&
+           a.ozone_width_m == b.ozone_width_m && a.planet_radius_m == b.planet_radius_m &&
+           a.atmosphere_radius_m == b.atmosphere_radius_m && a.ground_albedo == b.ground_albedo &&
+           a.sun_irradiance == b.sun_irradiance;
 }
 
 std::optional<Error> validate(const Atmosphere& a) {
@@ -72,6 +81,15 @@ std::optional<Error> validate(const Atmosphere& a) {
                              kMaxScaleHeightM, "m")) {
         return e;
     }
+    if (auto e = check_coefficients("ozone_absorption", a.ozone_absorption)) return e;
+    if (auto e = check_range("ozone_center_altitude_m", a.ozone_center_altitude_m, 0.0,
+                             kMaxOzoneAltitudeM, "m")) {
+        return e;
+    }
+    if (auto e =
+            check_range("ozone_width_m", a.ozone_width_m, kMinOzoneWidthM, kMaxOzoneWidthM, "m")) {
+        return e;
+    }
     if (auto e = check_range("planet_radius_m", a.planet_radius_m, 1.0, kMaxRadiusM, "m")) {
         return e;
     }
@@ -80,6 +98,12 @@ std::optional<Error> validate(const Atmosphere& a) {
                        "a value above planet_radius_m (" + number(a.planet_radius_m) +
                            " m) and <= " + number(kMaxRadiusM) + " m",
                        number(a.atmosphere_radius_m));
+    }
+    for (int c = 0; c < 3; ++c) {
+        if (auto e = check_range(std::string("ground_albedo") + kChannel[c], a.ground_albedo[c],
+                                 0.0, 1.0, "(Lambertian albedo)")) {
+            return e;
+        }
     }
     for (int c = 0; c < 3; ++c) {
         if (auto e = check_range(std::string("sun_irradiance") + kChannel[c], a.sun_irradiance[c],
@@ -285,7 +309,8 @@ Result<Atmosphere> foggy() {
 /// Mars: CO2 Rayleigh (Earth's coefficients times 0.0192 = the surface number density ratio
 /// 2.07e23 / 2.55e25 times CO2's (n-1)^2 per molecule, 2.36x air's) and suspended dust with an
 /// optical depth of about 0.5, absorbing in blue (the butterscotch sky, blue sunsets), g = 0.63.
-/// Surface radius 3389.5 km, scale height 11.1 km, sun 1/1.52^2 of Earth's.
+/// Surface radius 3389.5 km, scale height 11.1 km, sun 1/1.52^2 of Earth's. No ozone (the
+/// layer's centre and width stay earth's, unused); ground albedo 0.25, Mars's mean albedo.
 Atmosphere mars() {
     Atmosphere a;
     a.rayleigh_scattering = Atmosphere{}.rayleigh_scattering * 0.0192;
@@ -299,6 +324,8 @@ Atmosphere mars() {
     a.planet_radius_m = 3389.5e3;
     a.atmosphere_radius_m = 3389.5e3 + 100e3;
     a.sun_irradiance = glm::dvec3(1.0 / (1.52 * 1.52));
+    a.ozone_absorption = glm::dvec3(0.0);
+    a.ground_albedo = glm::dvec3(0.25);
     return a;
 }
 

@@ -38,6 +38,19 @@ std::optional<Error> read_vector(const Json& j, const std::string& field, glm::d
     return std::nullopt;
 }
 
+/// A number for every channel, or an array of 3 (ground_albedo).
+std::optional<Error> read_grey_or_vector(const Json& j, const std::string& field, glm::dvec3& out) {
+    if (j.is_number()) {
+        out = glm::dvec3(j.get<double>());
+        return std::nullopt;
+    }
+    if (!j.is_array() || j.size() != 3) {
+        return invalid(kFromJson, field,
+                       "a number (every channel) or an array of 3 numbers (R, G, B)", j.dump());
+    }
+    return read_vector(j, field, out);
+}
+
 }  // namespace
 
 Result<Atmosphere> atmosphere_from_json(std::string_view json_text) {
@@ -46,6 +59,9 @@ Result<Atmosphere> atmosphere_from_json(std::string_view json_text) {
     const Json& root = parsed.value();
     if (!root.is_object()) return invalid(kFromJson, "json", "an object", type_of(root));
     Atmosphere a;
+    // Absorbers and the ground are 0 unless the file gives them (mie_absorption is 0 in `earth`).
+    a.ozone_absorption = glm::dvec3(0.0);
+    a.ground_albedo = glm::dvec3(0.0);
     for (const auto& [key, value] : root.items()) {
         std::optional<Error> e;
         if (key == "rayleigh_scattering")
@@ -60,18 +76,27 @@ Result<Atmosphere> atmosphere_from_json(std::string_view json_text) {
             e = read_number(value, key, a.rayleigh_scale_height_m);
         else if (key == "mie_scale_height_m")
             e = read_number(value, key, a.mie_scale_height_m);
+        else if (key == "ozone_absorption")
+            e = read_vector(value, key, a.ozone_absorption);
+        else if (key == "ozone_center_altitude_m")
+            e = read_number(value, key, a.ozone_center_altitude_m);
+        else if (key == "ozone_width_m")
+            e = read_number(value, key, a.ozone_width_m);
         else if (key == "planet_radius_m")
             e = read_number(value, key, a.planet_radius_m);
         else if (key == "atmosphere_radius_m")
             e = read_number(value, key, a.atmosphere_radius_m);
+        else if (key == "ground_albedo")
+            e = read_grey_or_vector(value, key, a.ground_albedo);
         else if (key == "sun_irradiance")
             e = read_vector(value, key, a.sun_irradiance);
         else {
             return detail::error(kFromJson, key,
                                  "not an atmosphere field (known: rayleigh_scattering, "
                                  "mie_scattering, mie_absorption, mie_g, rayleigh_scale_height_m, "
-                                 "mie_scale_height_m, planet_radius_m, atmosphere_radius_m, "
-                                 "sun_irradiance)");
+                                 "mie_scale_height_m, ozone_absorption, ozone_center_altitude_m, "
+                                 "ozone_width_m, planet_radius_m, atmosphere_radius_m, "
+                                 "ground_albedo, sun_irradiance)");
         }
         if (e) return *e;
     }
@@ -99,8 +124,12 @@ std::string to_json(const Atmosphere& a) {
     out += "  \"mie_g\": " + number(a.mie_g) + ",\n";
     out += "  \"rayleigh_scale_height_m\": " + number(a.rayleigh_scale_height_m) + ",\n";
     out += "  \"mie_scale_height_m\": " + number(a.mie_scale_height_m) + ",\n";
+    out += "  \"ozone_absorption\": " + vec(a.ozone_absorption) + ",\n";
+    out += "  \"ozone_center_altitude_m\": " + number(a.ozone_center_altitude_m) + ",\n";
+    out += "  \"ozone_width_m\": " + number(a.ozone_width_m) + ",\n";
     out += "  \"planet_radius_m\": " + number(a.planet_radius_m) + ",\n";
     out += "  \"atmosphere_radius_m\": " + number(a.atmosphere_radius_m) + ",\n";
+    out += "  \"ground_albedo\": " + vec(a.ground_albedo) + ",\n";
     out += "  \"sun_irradiance\": " + vec(a.sun_irradiance) + "\n";
     out += "}\n";
     return out;

@@ -193,8 +193,7 @@ std::size_t shade_range_codes(const Plan& plan, std::size_t first, std::size_t l
     if (plan.one_pass_rgba8) return shade_range_rgba8(plan, first, last);
     const Positions& pos = plan.positions;
     const BatchOutputs& out = plan.out;
-    const bool simd =
-        plan.frame.model != Model::reference && plan.settings.kernel != Kernel::scalar;
+    const bool simd = !is_numerical(plan.frame.model) && plan.settings.kernel != Kernel::scalar;
     const detail::KernelPrecision precision = plan.settings.kernel == Kernel::simd_fast
                                                   ? detail::KernelPrecision::fast
                                                   : detail::KernelPrecision::accurate;

@@ -658,7 +658,7 @@ double max_change_lsb(const PreparedShadingKey& before, const PreparedShadingKey
     if (!same_except_eye_and_sun(before.key, key)) return kInfinity;
     if (same_key(before.key, key)) return 0.0;
     if (bounds.radius < 0.0) return 0.0;  // no finite vertex: every output is constant
-    if (key.model == Model::reference) return kInfinity;
+    if (is_numerical(key.model)) return kInfinity;
     if (!finite(bounds.centre) || !std::isfinite(bounds.radius)) return kInfinity;
 
     const Frame<double>& a = before.frame;

@@ -1,6 +1,8 @@
-// The `reference` model: single scattering integrated numerically along the eye->vertex segment
-// in a spherical planet with exponential Rayleigh and Mie profiles truncated at the atmosphere
-// top, sun transmittance integrated per sample and zero where the planet shadows the sample.
+// The `single_scattering` and `reference` models: single scattering integrated numerically along
+// the eye->vertex segment in a spherical planet with exponential Rayleigh and Mie profiles and the
+// ozone layer, truncated at the atmosphere top, sun transmittance integrated per sample and zero
+// where the planet shadows the sample; `reference` adds, at the same samples, the scattering
+// density of every higher order from its table (multiple_scattering.hpp).
 //
 // Integration: the segment is cut into steps short enough that neither the density (one step per
 // 1/steps_per_efold of a scale height of altitude change, with the curvature term near tangent
@@ -11,11 +13,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 
 #include <glm/geometric.hpp>
 
 #include "aerial/phase.hpp"
 #include "aerial/scattering.hpp"
+#include "multiple_scattering.hpp"
 
 namespace aerial {
 namespace {
@@ -46,6 +50,7 @@ struct Medium {
     dvec3 rayleigh;
     dvec3 mie_extinction;
     dvec3 mie_scattering;
+    dvec3 ozone;
 
     Medium(const Atmosphere& a, bool constant, double steps)
         : atmosphere(a),
@@ -54,35 +59,49 @@ struct Medium {
           min_altitude_m(min_density_altitude_m(a)),
           rayleigh(a.rayleigh_scattering),
           mie_extinction(a.mie_extinction()),
-          mie_scattering(a.mie_scattering) {}
+          mie_scattering(a.mie_scattering),
+          ozone(a.ozone_absorption) {}
 
-    /// Relative densities (1 at sea level) at a point.
-    void density(const dvec3& x, double& rho_r, double& rho_m) const {
+    /// Relative densities (1 at sea level) at a point; rho_o is the ozone layer's (1 at its peak).
+    void density(const dvec3& x, double& rho_r, double& rho_m, double& rho_o) const {
         if (constant_density) {
             rho_r = rho_m = 1.0;
+            rho_o = atmosphere.ozone_density(0.0);
             return;
         }
         const double r = glm::length(x);
         if (r > atmosphere.atmosphere_radius_m) {
-            rho_r = rho_m = 0.0;
+            rho_r = rho_m = rho_o = 0.0;
             return;
         }
         const double h = std::max(r - atmosphere.planet_radius_m, min_altitude_m);
         rho_r = std::exp(-h / atmosphere.rayleigh_scale_height_m);
         rho_m = std::exp(-h / atmosphere.mie_scale_height_m);
+        rho_o = atmosphere.ozone_density(h);
+    }
+
+    void density(const dvec3& x, double& rho_r, double& rho_m) const {
+        double rho_o;
+        density(x, rho_r, rho_m, rho_o);
     }
 
     dvec3 extinction(const dvec3& x) const {
-        double rho_r, rho_m;
-        density(x, rho_r, rho_m);
-        return rayleigh * rho_r + mie_extinction * rho_m;
+        double rho_r, rho_m, rho_o;
+        density(x, rho_r, rho_m, rho_o);
+        return rayleigh * rho_r + mie_extinction * rho_m + ozone * rho_o;
+    }
+
+    bool has_ozone() const { return ozone != dvec3(0.0); }
+    double ozone_top_m() const {
+        return atmosphere.ozone_center_altitude_m + 0.5 * atmosphere.ozone_width_m;
     }
 
     /// Whether an optical depth hides everything behind it: every channel that has any
     /// extinction at all is beyond kOpaqueDepth.
     bool opaque(const dvec3& tau) const {
         for (int c = 0; c < 3; ++c) {
-            if (tau[c] <= kOpaqueDepth && rayleigh[c] + mie_extinction[c] > 0.0) return false;
+            if (tau[c] <= kOpaqueDepth && rayleigh[c] + mie_extinction[c] + ozone[c] > 0.0)
+                return false;
         }
         return true;
     }
@@ -91,15 +110,18 @@ struct Medium {
     /// it goes outwards (so density only falls) and the local extinction times the length is tiny.
     bool negligible_beyond(const dvec3& x, const dvec3& dir, double remaining) const {
         if (constant_density || glm::dot(x, dir) < 0.0) return false;
+        // Below the ozone layer's top the ozone density can still rise.
+        if (has_ozone() && glm::length(x) - atmosphere.planet_radius_m < ozone_top_m())
+            return false;
         const dvec3 k = extinction(x);
         return std::max({k.x, k.y, k.z}) * remaining < kNegligibleDepth;
     }
 
     /// Length of the next integration step from x along unit direction dir; at least min_step.
     double step(const dvec3& x, const dvec3& dir, double remaining, double min_step) const {
-        double rho_r, rho_m;
-        density(x, rho_r, rho_m);
-        const dvec3 k = rayleigh * rho_r + mie_extinction * rho_m;
+        double rho_r, rho_m, rho_o;
+        density(x, rho_r, rho_m, rho_o);
+        const dvec3 k = rayleigh * rho_r + mie_extinction * rho_m + ozone * rho_o;
         const double k_max = std::max({k.x, k.y, k.z});
         double dt = remaining;
         if (k_max > 0.0) dt = std::min(dt, 1.0 / (steps_per_efold * k_max));
@@ -112,6 +134,11 @@ struct Medium {
             if (k_m > kNegligibleFraction * k_r) {
                 h = h > 0.0 ? std::min(h, atmosphere.mie_scale_height_m)
                             : atmosphere.mie_scale_height_m;
+            }
+            // The ozone tent changes over half its width (its kinks cost the 8th order there).
+            if (has_ozone()) {
+                const double half = 0.5 * atmosphere.ozone_width_m;
+                h = h > 0.0 ? std::min(h, half) : half;
             }
             if (h > 0.0) {
                 const double r = glm::length(x);
@@ -195,6 +222,18 @@ glm::dvec3 sun_transmittance(const Atmosphere& atmosphere, double altitude_m, do
     return sun_transmittance_at(real, x, dir);
 }
 
+glm::dvec3 ozone_transmittance(const Atmosphere& atmosphere, double altitude_m, double cos_zenith) {
+    if (atmosphere.ozone_absorption == dvec3(0.0)) return dvec3(1.0);
+    Atmosphere ozone_only = atmosphere;
+    ozone_only.rayleigh_scattering = ozone_only.mie_scattering = ozone_only.mie_absorption =
+        dvec3(0.0);
+    const double ratio =
+        atmosphere.planet_radius_m / (atmosphere.planet_radius_m + std::max(altitude_m, 0.0));
+    const double horizon = -std::sqrt(std::max(0.0, 1.0 - ratio * ratio));
+    // Just above the horizon's cosine: the grazing ray itself counts as blocked.
+    return sun_transmittance(ozone_only, altitude_m, std::max(cos_zenith, horizon + 1e-9));
+}
+
 Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View& view,
                                         const glm::dvec3& vertex, const ReferenceOptions& options) {
     const Medium medium(atmosphere, options.constant_density, options.steps_per_efold);
@@ -202,6 +241,9 @@ Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View
     const dvec3 up = glm::normalize(view.up);
     const dvec3 sun = glm::normalize(view.sun_dir);
     const dvec3 centre_offset = up * atmosphere.planet_radius_m;
+    std::shared_ptr<const detail::MultipleScatteringTable> higher_orders;
+    if (options.multiple_scattering && options.sun_attenuation && !options.constant_density)
+        higher_orders = detail::multiple_scattering_table(atmosphere, options.tables);
     const dvec3 eye = view.eye * view.meters_per_unit + centre_offset;
     const dvec3 target = vertex * view.meters_per_unit + centre_offset;
 
@@ -259,7 +301,9 @@ Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View
                 const dvec3 angular =
                     medium.rayleigh * (rho_r * phase_r) + medium.mie_scattering * (rho_m * phase_m);
                 const dvec3 tau_j = tau + medium.optical_depth_step(eye, dir, t, tj);
-                radiance += (kGaussWeights[j] * half) * angular * sunlight(xj) * glm::exp(-tau_j);
+                dvec3 source = angular * sunlight(xj);
+                if (higher_orders) source += higher_orders->density(xj, dir, sun);
+                radiance += (kGaussWeights[j] * half) * source * glm::exp(-tau_j);
             }
             tau += medium.optical_depth_step(eye, dir, t, t + dt);
             t += dt;

@@ -32,8 +32,9 @@ using detail::height::kMaxFitSlope;
 
 }  // namespace
 
-constexpr detail::NameTable<Model, 3> kModelNames{{{Model::hoffman_preetham, "hoffman-preetham"},
+constexpr detail::NameTable<Model, 4> kModelNames{{{Model::hoffman_preetham, "hoffman-preetham"},
                                                    {Model::height, "height"},
+                                                   {Model::single_scattering, "single-scattering"},
                                                    {Model::reference, "reference"}}};
 
 std::string_view model_name(Model model) { return detail::name_in(kModelNames, model); }
@@ -348,6 +349,8 @@ void set_frame_eye(Frame<T>& f, const glm::dvec3& eye_m, bool exact_sun_irradian
         f.sun_irradiance_eye = Vec3<T>(atmosphere.sun_irradiance *
                                        sun_transmittance(atmosphere, eye_altitude, eye_cos_zenith));
     }
+    f.sun_irradiance_top = Vec3<T>(atmosphere.sun_irradiance *
+                                   ozone_transmittance(atmosphere, eye_altitude, eye_cos_zenith));
     const T min_h = f.min_altitude_m;
     f.eye_log_chapman_rayleigh =
         log_chapman_factor(f.eye_altitude_m, T(eye_cos_zenith), f.planet_radius_m,
@@ -386,8 +389,6 @@ Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, M
     f.rayleigh_scale_height_m = T(atmosphere.rayleigh_scale_height_m);
     f.mie_scale_height_m = T(atmosphere.mie_scale_height_m);
     f.min_altitude_m = T(min_density_altitude_m(atmosphere));
-    f.sun_irradiance_top = Vec3<T>(atmosphere.sun_irradiance);
-
     set_frame_eye(f, eye_m, true);
     return f;
 }
@@ -415,11 +416,15 @@ Scattering<T> scatter(const Frame<T>& f, const Vec3<T>& vertex) {
         }
         case Model::height:
             return height_model(f, p_m);
+        case Model::single_scattering:
         case Model::reference: {
             View view = f.view;
             view.meters_per_unit = 1.0;
             view.eye = view.eye * f.view.meters_per_unit;
-            const Scattering<double> r = reference_scattering(f.atmosphere, view, glm::dvec3(p_m));
+            ReferenceOptions options;
+            options.multiple_scattering = f.model == Model::reference;
+            const Scattering<double> r =
+                reference_scattering(f.atmosphere, view, glm::dvec3(p_m), options);
             return Scattering<T>{Vec3<T>(r.extinction), Vec3<T>(r.in_scattering),
                                  Vec3<T>(r.sun_irradiance)};
         }

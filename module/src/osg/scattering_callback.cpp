@@ -98,11 +98,11 @@ std::optional<Error> validate(const Settings& s) {
                        number(s.texture_units));
     }
     if (s.backend == Backend::arb) {
-        if (s.model == Model::reference) {
+        if (is_numerical(s.model)) {
             return invalid(kFunction, "model",
                            "hoffman-preetham or height (the models the arb backend has "
                            "programs for)",
-                           "reference");
+                           std::string(model_name(s.model)));
         }
         if (s.display.tone != ToneCurve::clamp) {
             return invalid(kFunction, "display.tone",

@@ -169,10 +169,10 @@ Result<FrameInputs> prepare_frame_inputs(const Node& root, const Camera& camera,
         return invalid(kRender, "error_target_lsb", "a value >= 0",
                        number(settings.error_target_lsb));
     }
-    if (backend == Backend::arb && settings.model == Model::reference) {
+    if (backend == Backend::arb && is_numerical(settings.model)) {
         return invalid(kRender, "model",
                        "hoffman-preetham or height (the models the arb backend has programs for)",
-                       "reference");
+                       std::string(model_name(settings.model)));
     }
     if (backend == Backend::arb && settings.display.tone != ToneCurve::clamp) {
         return invalid(kRender, "display.tone", "clamp (the only tone curve of the arb backend)",
@@ -298,6 +298,7 @@ Method method_of(Model model) {
             return Method::hoffman_preetham;
         case Model::height:
             return Method::height;
+        case Model::single_scattering:
         case Model::reference:
             return Method::reference;
     }

@@ -362,9 +362,11 @@ std::optional<Error> read_scene(const Json& root, SceneFile& s) {
     }
     if (const Json* v = o.get("model")) {
         if (auto e = read_name(*v, "model", parse_model, s.model)) return e;
-        if (s.model == Model::reference)
-            return invalid("model", "hoffman-preetham or height (reference is too slow to render)",
-                           "reference");
+        if (is_numerical(s.model))
+            return invalid("model",
+                           "hoffman-preetham or height (the numerical models are too slow to "
+                           "render)",
+                           std::string(model_name(s.model)));
     }
     if (const Json* v = o.get("display")) {
         if (auto e = read_display(*v, s.display)) return e;

@@ -1,0 +1,321 @@
+// The `reference` model's higher orders, checked against what does not depend on them: energy
+// closure in conservative atmospheres over a black ground, the closed forms of the scattering
+// step (a uniform radiance L scatters beta_s L; a uniform sky L gives a ground irradiance pi L),
+// the single-scattering limit, and the convergence report.
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include "aerial/aerial.hpp"
+#include "multiple_scattering.hpp"
+
+namespace {
+
+using aerial::Atmosphere;
+using aerial::Model;
+using aerial::View;
+using glm::dvec3;
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// Gauss–Legendre on [0, 1].
+void gauss(int n, std::vector<double>& x, std::vector<double>& w) {
+    for (int i = 0; i < n; ++i) {
+        double z = std::cos(kPi * (i + 0.75) / (n + 0.5)), d = 1.0;
+        for (int it = 0; it < 100; ++it) {
+            double p0 = 1.0, p1 = z;
+            for (int k = 2; k <= n; ++k) {
+                const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
+                p0 = p1;
+                p1 = p2;
+            }
+            d = n * (z * p1 - p0) / (z * z - 1.0);
+            const double dz = p1 / d;
+            z -= dz;
+            if (std::abs(dz) < 1e-15) break;
+        }
+        x.push_back(0.5 + 0.5 * z);
+        w.push_back(1.0 / ((1.0 - z * z) * d * d));
+    }
+}
+
+/// A conservative atmosphere (no absorption, no ozone) over a black ground on a planet 100 times
+/// Earth's radius: nearly plane-parallel, so that what enters at the top must leave through the
+/// top or reach the ground at every place.
+Atmosphere conservative(double mie_per_m) {
+    Atmosphere a;
+    a.mie_scattering = dvec3(mie_per_m);
+    a.mie_absorption = a.ozone_absorption = a.ground_albedo = dvec3(0.0);
+    a.planet_radius_m *= 100.0;
+    a.atmosphere_radius_m = a.planet_radius_m + 60e3;
+    return a;
+}
+
+struct Fluxes {
+    dvec3 direct, diffuse_down, up;
+    /// (direct + diffuse down + up) / (mu0 E0): 1 when energy is conserved.
+    dvec3 closure(double mu0) const { return (direct + diffuse_down + up) / mu0; }
+};
+
+/// The fluxes through the ground and the top for a sun at `zenith_rad`, radiances from `model`:
+/// hemispheres integrated in coordinates centred on the sun (Gauss in the angle from the sun,
+/// midpoints in azimuth around it, mirrored), so that the Mie aureole is resolved.
+Fluxes fluxes(const Atmosphere& a, Model model, double zenith_rad) {
+    aerial::ReferenceOptions options;
+    options.multiple_scattering = model == Model::reference;
+    View view;
+    view.sun_dir = dvec3(std::sin(zenith_rad), 0.0, std::cos(zenith_rad));
+    const dvec3 across(std::cos(zenith_rad), 0.0, -std::sin(zenith_rad)), side(0.0, 1.0, 0.0);
+    const double top = a.atmosphere_radius_m - a.planet_radius_m;
+    std::vector<double> x, w;
+    gauss(48, x, w);
+    const int azimuths = 16;
+    Fluxes f{};
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        const double angle = x[i] * kPi;
+        for (int m = 0; m < azimuths; ++m) {
+            const double phi = (m + 0.5) * kPi / azimuths;
+            const double weight = w[i] * kPi * std::sin(angle) * 2.0 * kPi / azimuths;
+            const dvec3 d = across * (std::sin(angle) * std::cos(phi)) +
+                            side * (std::sin(angle) * std::sin(phi)) +
+                            view.sun_dir * std::cos(angle);
+            if (d.z > 0.0) {  // sky seen from the ground
+                view.eye = dvec3(0.0);
+                f.diffuse_down +=
+                    aerial::reference_scattering(a, view, d * 1e7, options).in_scattering *
+                    (d.z * weight);
+            } else {  // the air seen from the top, down to the (black) ground
+                view.eye = dvec3(0.0, 0.0, top);
+                const double r = a.planet_radius_m + top;
+                const double b = -r * d.z;
+                const double disc = b * b - (r * r - a.planet_radius_m * a.planet_radius_m);
+                const double length = disc > 0.0 ? b - std::sqrt(disc) : 1e7;
+                f.up += aerial::reference_scattering(a, view, view.eye + d * length, options)
+                            .in_scattering *
+                        (-d.z * weight);
+            }
+        }
+    }
+    f.direct = aerial::sun_transmittance(a, 0.0, std::cos(zenith_rad)) * std::cos(zenith_rad);
+    return f;
+}
+
+TEST(MultipleScattering, EnergyClosesInConservativeAtmospheresOverABlackGround) {
+    // Clear air (earth's Mie) and haze (2e-4 /m of Mie, a 20 km visibility), sun 0-75 degrees from
+    // the zenith: the reference's fluxes account for what the sun brings within 1 % per channel;
+    // single scattering loses up to 6.5 % (clear) and 40 % (haze) of it.
+    for (double mie : {3.996e-6, 2e-4}) {
+        const Atmosphere a = conservative(mie);
+        const auto report = aerial::reference_multiple_scattering(a);
+        ASSERT_TRUE(report.ok());
+        std::printf("mie %.3g /m: %d orders, remainder bound %.1e %.1e %.1e, %.1f s\n", mie,
+                    report->orders, report->remainder_bound.x, report->remainder_bound.y,
+                    report->remainder_bound.z, report->seconds);
+        for (double zenith_deg : {0.0, 30.0, 60.0, 75.0}) {
+            const double zenith = zenith_deg * kPi / 180.0;
+            const dvec3 all = fluxes(a, Model::reference, zenith).closure(std::cos(zenith));
+            const dvec3 single =
+                fluxes(a, Model::single_scattering, zenith).closure(std::cos(zenith));
+            EXPECT_LT(single.z, 0.94) << "single scattering loses blue light";
+            std::printf(
+                "  sun %2.0f deg: closure reference %.4f %.4f %.4f, single %.4f %.4f %.4f\n",
+                zenith_deg, all.x, all.y, all.z, single.x, single.y, single.z);
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(all[c], 1.0, 0.01)
+                    << "mie " << mie << " sun " << zenith_deg << " c " << c;
+                EXPECT_GT(std::abs(1.0 - single[c]), std::abs(1.0 - all[c]))
+                    << "single scattering closes the balance better than the reference";
+            }
+        }
+    }
+}
+
+TEST(MultipleScattering, UniformRadianceScattersBetaTimesIt) {
+    // Bruneton 2017's closed form: in a uniform radiance field L every view direction gets a
+    // scattering density beta_s L, whatever the phase function. The shares of the incoming
+    // directions sum to 1 for every view, at every altitude, for forward and backward Mie.
+    const aerial::MultipleScatteringSettings settings;
+    for (double g : {0.0, 0.8, -0.5, 0.95}) {
+        Atmosphere a;
+        a.mie_g = g;
+        for (double h : {0.0, 3000.0, 59000.0}) {
+            const auto directions = aerial::detail::incoming_directions(a, settings, h);
+            std::vector<double> rayleigh(directions.size()), mie(directions.size());
+            for (const dvec3& view : {dvec3(0, 0, 1), glm::normalize(dvec3(1, 0.3, -0.2)),
+                                      glm::normalize(dvec3(-0.2, 0.9, 0.05))}) {
+                aerial::detail::scattering_shares(view, directions, g, rayleigh.data(), mie.data());
+                double sum_r = 0.0, sum_m = 0.0;
+                for (std::size_t k = 0; k < directions.size(); ++k) {
+                    EXPECT_GE(rayleigh[k], 0.0);
+                    EXPECT_GE(mie[k], 0.0);
+                    sum_r += rayleigh[k];
+                    sum_m += mie[k];
+                }
+                EXPECT_NEAR(sum_r, 1.0, 1e-12) << "g " << g << " h " << h;
+                EXPECT_NEAR(sum_m, 1.0, 1e-12) << "g " << g << " h " << h;
+            }
+            // Before the scaling the quadrature alone is close: the solid angles sum to 4 pi.
+            double solid_angle = 0.0;
+            for (const auto& d : directions) solid_angle += d.weight;
+            EXPECT_NEAR(solid_angle, 4.0 * kPi, 1e-9) << "h " << h;
+        }
+    }
+}
+
+TEST(MultipleScattering, UniformSkyRadianceGivesAGroundIrradianceOfPiTimesIt) {
+    const Atmosphere a;
+    const auto directions = aerial::detail::incoming_directions(a, {}, 0.0);
+    const dvec3 radiance(0.25, 1.0, 3.0);
+    const dvec3 e = aerial::detail::horizontal_irradiance(
+        directions, std::vector<dvec3>(directions.size(), radiance));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(e[c], kPi * radiance[c], 1e-12 * radiance[c]);
+}
+
+/// (reference - single-scattering) / single-scattering of L_in (G) at a few views.
+double higher_order_share(const Atmosphere& a) {
+    View v;
+    v.eye = dvec3(0, 0, 100);
+    v.sun_dir = glm::normalize(dvec3(0, 0.6, 0.8));
+    double worst = 0.0;
+    for (const dvec3& p : {dvec3(0, 20000, 100), dvec3(15000, 0, 3000), dvec3(0, -5000, 40000)}) {
+        const auto all = aerial::evaluate(a, v, Model::reference, p);
+        const auto single = aerial::evaluate(a, v, Model::single_scattering, p);
+        EXPECT_TRUE(all.ok() && single.ok());
+        worst = std::max(worst, all->in_scattering.y / single->in_scattering.y - 1.0);
+    }
+    return worst;
+}
+
+TEST(MultipleScattering, HigherOrdersVanishWithTheOpticalDepth) {
+    // Scaling every coefficient by k scales the second order's share of L_in by k: the orders
+    // >= 2 vanish in the single-scattering limit, linearly.
+    Atmosphere thin;
+    thin.ground_albedo = dvec3(0.0);
+    double previous = 0.0;
+    for (double k : {1.0, 0.1, 0.01}) {
+        Atmosphere a = thin;
+        a.rayleigh_scattering *= k;
+        a.mie_scattering *= k;
+        a.ozone_absorption *= k;
+        const double share = higher_order_share(a);
+        std::printf("coefficients x %.2f: higher orders add %.4f %% of L_in (G)\n", k,
+                    100.0 * share);
+        EXPECT_GT(share, 0.0) << "k " << k;
+        if (previous > 0.0) {
+            EXPECT_NEAR(share / previous, 0.1, 0.03) << "k " << k;
+        }
+        previous = share;
+    }
+    EXPECT_LT(previous, 5e-3);
+}
+
+TEST(MultipleScattering, TheReportGivesOrdersAndABoundBelowItsTarget) {
+    const auto report = aerial::reference_multiple_scattering(Atmosphere{});
+    ASSERT_TRUE(report.ok());
+    EXPECT_GE(report->orders, 3);
+    EXPECT_EQ(report->order_sums.size(), std::size_t(report->orders - 1));
+    for (int c = 0; c < 3; ++c) EXPECT_LT(report->remainder_bound[c], 1e-3) << c;
+    // Each order holds less light than the one before it.
+    for (std::size_t n = 1; n < report->order_sums.size(); ++n) {
+        for (int c = 0; c < 3; ++c)
+            EXPECT_LT(report->order_sums[n][c], report->order_sums[n - 1][c]) << n;
+    }
+    // Bad input is an error naming the field.
+    Atmosphere bad;
+    bad.ground_albedo.y = -0.5;
+    const auto refused = aerial::reference_multiple_scattering(bad);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field, "ground_albedo[1]");
+}
+
+TEST(MultipleScattering, GroundReflectionBrightensTheSkyAndTheReferenceIsBrighterThanSingle) {
+    View v;
+    v.eye = dvec3(0, 0, 100);
+    v.sun_dir = glm::normalize(dvec3(0, 0.6, 0.8));
+    Atmosphere black;
+    black.ground_albedo = dvec3(0.0);
+    Atmosphere bright;
+    bright.ground_albedo = dvec3(0.8);
+    const dvec3 p(0, -5000, 40000);
+    const auto single = *aerial::evaluate(black, v, Model::single_scattering, p);
+    const auto on_black = *aerial::evaluate(black, v, Model::reference, p);
+    const auto on_bright = *aerial::evaluate(bright, v, Model::reference, p);
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_GT(on_black.in_scattering[c], single.in_scattering[c]) << c;
+        EXPECT_GT(on_bright.in_scattering[c], on_black.in_scattering[c]) << c;
+        EXPECT_EQ(on_black.extinction[c], single.extinction[c]) << c;
+    }
+}
+
+}  // namespace
+
+namespace {
+
+/// G channel of L_in from the eye at 100 m to `target`, for a sun at `elevation_deg`.
+double lin_g(const Atmosphere& a, Model model, double elevation_deg, const dvec3& target) {
+    View v;
+    v.eye = dvec3(0, 0, 100);
+    const double e = elevation_deg * kPi / 180.0;
+    v.sun_dir = dvec3(0.0, std::cos(e), std::sin(e));
+    const auto s = aerial::evaluate(a, v, model, target);
+    EXPECT_TRUE(s.ok());
+    return s.ok() ? s->in_scattering.y : 0.0;
+}
+
+TEST(MultipleScattering, ShareOfTheHigherOrdersPerPresetAndSunElevation) {
+    // The table of docs/models.md: the part of L_in (G) that the orders >= 2 and the ground add,
+    // for terrain 20 km away towards the sun's azimuth (at 100 m) and the zenith sky.
+    std::printf("| preset | view | 90 deg | 30 deg | 10 deg | 2 deg | 0 deg | -4 deg |\n");
+    for (const std::string& name : aerial::atmosphere_preset_names()) {
+        const Atmosphere a = *aerial::atmosphere_preset(name);
+        for (const auto& [view, target] :
+             {std::pair<const char*, dvec3>{"terrain 20 km", {0, 20000, 100}},
+              std::pair<const char*, dvec3>{"zenith sky", {0, 0, 2e5}}}) {
+            std::printf("| `%s` | %s |", name.c_str(), view);
+            for (double elevation : {90.0, 30.0, 10.0, 2.0, 0.0, -4.0}) {
+                const double all = lin_g(a, Model::reference, elevation, target);
+                const double single = lin_g(a, Model::single_scattering, elevation, target);
+                EXPECT_GE(all, single) << name << " " << view << " " << elevation;
+                if (all > 0.0) {
+                    std::printf(" %.0f %% |", 100.0 * (all - single) / all);
+                } else {
+                    std::printf(" - |");
+                }
+                // Below the horizon only the higher orders light the air under the shadow.
+                if (elevation > 1.0) {
+                    EXPECT_LT(all - single, all) << name << " " << view;
+                }
+            }
+            std::printf("\n");
+        }
+    }
+}
+
+TEST(MultipleScattering, OzoneTurnsTheZenithSkyBlueAtSunset) {
+    // With the sun on the horizon the sunlight lighting the zenith crosses the ozone layer
+    // edgewise; ozone absorbs green and red (Chappuis band) and leaves blue, so the zenith's blue
+    // to red ratio rises (the blue hour) and its green falls.
+    Atmosphere with;
+    Atmosphere without;
+    without.ozone_absorption = dvec3(0.0);
+    View v;
+    v.eye = dvec3(0, 0, 100);
+    for (double elevation : {0.0, -2.0}) {
+        const double e = elevation * kPi / 180.0;
+        v.sun_dir = dvec3(0.0, std::cos(e), std::sin(e));
+        const dvec3 z1 = aerial::evaluate(with, v, Model::reference, {0, 0, 2e5})->in_scattering;
+        const dvec3 z0 = aerial::evaluate(without, v, Model::reference, {0, 0, 2e5})->in_scattering;
+        std::printf(
+            "sun %.0f deg: zenith L_in with ozone %.4g %.4g %.4g, without %.4g %.4g %.4g "
+            "(B/R %.2f vs %.2f)\n",
+            elevation, z1.x, z1.y, z1.z, z0.x, z0.y, z0.z, z1.z / z1.x, z0.z / z0.x);
+        EXPECT_GT(z1.z / z1.x, 1.1 * z0.z / z0.x) << elevation;
+        EXPECT_LT(z1.y, 0.8 * z0.y) << elevation;
+    }
+}
+
+}  // namespace

@@ -22,27 +22,6 @@ using glm::dvec3;
 
 constexpr double kPi = 3.14159265358979323846;
 
-/// Gauss–Legendre on [0, 1].
-void gauss(int n, std::vector<double>& x, std::vector<double>& w) {
-    for (int i = 0; i < n; ++i) {
-        double z = std::cos(kPi * (i + 0.75) / (n + 0.5)), d = 1.0;
-        for (int it = 0; it < 100; ++it) {
-            double p0 = 1.0, p1 = z;
-            for (int k = 2; k <= n; ++k) {
-                const double p2 = ((2.0 * k - 1.0) * z * p1 - (k - 1.0) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            d = n * (z * p1 - p0) / (z * z - 1.0);
-            const double dz = p1 / d;
-            z -= dz;
-            if (std::abs(dz) < 1e-15) break;
-        }
-        x.push_back(0.5 + 0.5 * z);
-        w.push_back(1.0 / ((1.0 - z * z) * d * d));
-    }
-}
-
 /// A conservative atmosphere (no absorption, no ozone) over a black ground on a planet 100 times
 /// Earth's radius: nearly plane-parallel, so that what enters at the top must leave through the
 /// top or reach the ground at every place.
@@ -72,7 +51,7 @@ Fluxes fluxes(const Atmosphere& a, Model model, double zenith_rad) {
     const dvec3 across(std::cos(zenith_rad), 0.0, -std::sin(zenith_rad)), side(0.0, 1.0, 0.0);
     const double top = a.atmosphere_radius_m - a.planet_radius_m;
     std::vector<double> x, w;
-    gauss(48, x, w);
+    aerial::detail::gauss_legendre(48, 0.0, 1.0, x, w);
     const int azimuths = 16;
     Fluxes f{};
     for (std::size_t i = 0; i < x.size(); ++i) {
@@ -230,6 +209,36 @@ TEST(MultipleScattering, TheReportGivesOrdersAndABoundBelowItsTarget) {
     const auto refused = aerial::reference_multiple_scattering(bad);
     ASSERT_FALSE(refused.ok());
     EXPECT_EQ(refused.error().field, "ground_albedo[1]");
+}
+
+TEST(MultipleScattering, SettingsOutOfRangeAreErrorsNamingTheFieldAndClampedInTheIntegrator) {
+    aerial::MultipleScatteringSettings s;
+    EXPECT_FALSE(aerial::validate(s));
+    s.altitudes = 100000;  // would ask for gigabytes
+    auto e = aerial::validate(s);
+    ASSERT_TRUE(e);
+    EXPECT_EQ(e->message,
+              "aerial::validate(): altitudes: expected a count in [4, 256], got 100000");
+    s = {};
+    s.steps_per_efold = std::nan("");
+    EXPECT_EQ(aerial::validate(s)->field, "steps_per_efold");
+    s = {};
+    s.max_remainder = 0.0;
+    EXPECT_EQ(aerial::validate(s)->field, "max_remainder");
+    s = {};
+    s.half_azimuths = 1;
+    const auto refused = aerial::reference_multiple_scattering(Atmosphere{}, s);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().field, "half_azimuths");
+    // The integrator has no error channel: it clamps (here to the smallest tables) and stays
+    // finite.
+    aerial::ReferenceOptions options;
+    options.multiple_scattering = true;
+    options.tables = {1, -3, 0, 0, 0, 0, 0, std::nan(""), -1.0, 0};
+    View v;
+    v.eye = dvec3(0, 0, 100);
+    const auto r = aerial::reference_scattering(Atmosphere{}, v, dvec3(0, 5000, 100), options);
+    for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(r.in_scattering[c]) && r.in_scattering[c] > 0);
 }
 
 TEST(MultipleScattering, GroundReflectionBrightensTheSkyAndTheReferenceIsBrighterThanSingle) {

@@ -179,7 +179,8 @@ Scattering<T> hoffman_preetham_closed_form(const Frame<T>& frame, T distance_m, 
 
 /// Resolution and stopping rule of the `reference` model's tables of the light scattered more
 /// than once (docs/models.md, "The reference"). The defaults are what `reference` uses; finer
-/// tables are for convergence studies. Every count is clamped to at least its minimum.
+/// tables are for convergence studies. `validate` names a field out of its range;
+/// reference_scattering clamps such fields into range instead.
 struct MultipleScatteringSettings {
     int altitudes = 32;            ///< table rows in altitude, denser towards the ground, >= 4
     int sun_zenith_angles = 32;    ///< rows in sun zenith angle over 0 .. 108 degrees, >= 4
@@ -194,6 +195,10 @@ struct MultipleScatteringSettings {
     int max_orders = 80;  ///< hard stop (the report then gives the remainder bound reached)
 };
 bool operator==(const MultipleScatteringSettings& a, const MultipleScatteringSettings& b);
+/// The first field outside its range: the minimums above, at most 256 rows per table axis and
+/// 128 incoming directions per axis (the tables' memory grows with their product), steps per
+/// e-fold at most 64, max_remainder in (0, 0.5], max_orders at most 1000.
+std::optional<Error> validate(const MultipleScatteringSettings& settings);
 
 /// What computing the tables found and cost.
 struct MultipleScatteringReport {
@@ -207,7 +212,7 @@ struct MultipleScatteringReport {
 };
 
 /// Computes (or finds in the cache) the tables `reference` uses for this atmosphere, and reports
-/// on them. The first call per atmosphere costs seconds (docs/models.md gives the figures);
+/// on them; an invalid atmosphere or settings is an error naming the field. The first call per atmosphere costs seconds (docs/models.md gives the figures);
 /// later calls and `reference` itself reuse the tables.
 Result<MultipleScatteringReport> reference_multiple_scattering(
     const Atmosphere& atmosphere, const MultipleScatteringSettings& settings = {});

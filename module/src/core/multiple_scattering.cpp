@@ -23,22 +23,65 @@ bool operator==(const MultipleScatteringSettings& a, const MultipleScatteringSet
            a.max_remainder == b.max_remainder && a.max_orders == b.max_orders;
 }
 
+namespace {
+
+/// One row per field: its range. The one source of the limits for validate and clamped.
+struct CountField {
+    const char* name;
+    int MultipleScatteringSettings::*field;
+    int min, max;
+};
+constexpr CountField kCountFields[] = {
+    {"altitudes", &MultipleScatteringSettings::altitudes, 4, 256},
+    {"sun_zenith_angles", &MultipleScatteringSettings::sun_zenith_angles, 4, 256},
+    {"view_zenith_angles", &MultipleScatteringSettings::view_zenith_angles, 5, 257},
+    {"azimuths", &MultipleScatteringSettings::azimuths, 3, 256},
+    {"sky_directions", &MultipleScatteringSettings::sky_directions, 2, 128},
+    {"ground_directions", &MultipleScatteringSettings::ground_directions, 2, 128},
+    {"half_azimuths", &MultipleScatteringSettings::half_azimuths, 2, 128},
+    {"max_orders", &MultipleScatteringSettings::max_orders, 2, 1000},
+};
+constexpr double kMinStepsPerEfold = 0.5, kMaxStepsPerEfold = 64.0;
+constexpr double kMaxRemainder = 0.5;
+constexpr const char* kValidateSettings = "validate";
+
+}  // namespace
+
+std::optional<Error> validate(const MultipleScatteringSettings& s) {
+    using detail::invalid;
+    using detail::number;
+    for (const CountField& f : kCountFields) {
+        const int v = s.*(f.field);
+        if (v < f.min || v > f.max) {
+            return invalid(kValidateSettings, f.name,
+                           "a count in [" + number(f.min) + ", " + number(f.max) + "]", number(v));
+        }
+    }
+    if (!(s.steps_per_efold >= kMinStepsPerEfold && s.steps_per_efold <= kMaxStepsPerEfold)) {
+        return invalid(kValidateSettings, "steps_per_efold",
+                       "a value in [" + number(kMinStepsPerEfold) + ", " +
+                           number(kMaxStepsPerEfold) + "]",
+                       number(s.steps_per_efold));
+    }
+    if (!(s.max_remainder > 0.0 && s.max_remainder <= kMaxRemainder)) {
+        return invalid(kValidateSettings, "max_remainder",
+                       "a fraction in (0, " + number(kMaxRemainder) + "]", number(s.max_remainder));
+    }
+    return std::nullopt;
+}
+
 namespace detail {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
 MultipleScatteringSettings clamped(MultipleScatteringSettings s) {
-    s.altitudes = std::max(s.altitudes, 4);
-    s.sun_zenith_angles = std::max(s.sun_zenith_angles, 4);
-    s.view_zenith_angles = std::max(s.view_zenith_angles, 5);
-    s.azimuths = std::max(s.azimuths, 3);
-    s.sky_directions = std::max(s.sky_directions, 2);
-    s.ground_directions = std::max(s.ground_directions, 2);
-    s.half_azimuths = std::max(s.half_azimuths, 2);
-    if (!(s.steps_per_efold >= 0.5)) s.steps_per_efold = 0.5;
-    if (!(s.max_remainder > 0.0)) s.max_remainder = 1e-3;
-    s.max_orders = std::max(s.max_orders, 2);
+    for (const CountField& f : kCountFields) s.*(f.field) = std::clamp(s.*(f.field), f.min, f.max);
+    s.steps_per_efold = std::isnan(s.steps_per_efold)
+                            ? MultipleScatteringSettings{}.steps_per_efold
+                            : std::clamp(s.steps_per_efold, kMinStepsPerEfold, kMaxStepsPerEfold);
+    if (!(s.max_remainder > 0.0 && s.max_remainder <= kMaxRemainder))
+        s.max_remainder = MultipleScatteringSettings{}.max_remainder;
     return s;
 }
 
@@ -188,6 +231,7 @@ std::shared_ptr<const MultipleScatteringTable> multiple_scattering_table(
 Result<MultipleScatteringReport> reference_multiple_scattering(
     const Atmosphere& atmosphere, const MultipleScatteringSettings& settings) {
     if (auto e = validate(atmosphere)) return detail::from("reference_multiple_scattering", *e);
+    if (auto e = validate(settings)) return detail::from("reference_multiple_scattering", *e);
     return detail::multiple_scattering_table(atmosphere, settings)->report();
 }
 

@@ -84,6 +84,10 @@ struct IncomingDirection {
     bool sky;       ///< above the horizon (the ray reaches the top; else the ground)
 };
 
+/// Gauss–Legendre nodes and weights of order n on [lo, hi], appended to nodes and weights.
+void gauss_legendre(int n, double lo, double hi, std::vector<double>& nodes,
+                    std::vector<double>& weights);
+
 /// The quadrature of a point at `altitude_m`: Gauss–Legendre in the zenith cosine above and below
 /// the horizon, midpoints in azimuth over [0, pi]. The weights sum to 4 pi; the sky part's
 /// weights times the zenith cosine sum to pi at the ground.

@@ -39,29 +39,6 @@ void parallel_rows(int rows, const Body& body) {
     for (auto& thread : pool) thread.join();
 }
 
-/// Gauss–Legendre nodes and weights on [lo, hi] (Newton's iteration on P_n).
-void gauss_legendre(int n, double lo, double hi, std::vector<double>& nodes,
-                    std::vector<double>& weights) {
-    for (int i = 0; i < n; ++i) {
-        double x = std::cos(kPi * (i + 0.75) / (n + 0.5));
-        double derivative = 1.0;
-        for (int iteration = 0; iteration < 100; ++iteration) {
-            double p0 = 1.0, p1 = x;
-            for (int k = 2; k <= n; ++k) {
-                const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-                p0 = p1;
-                p1 = p2;
-            }
-            derivative = n * (x * p1 - p0) / (x * x - 1.0);
-            const double dx = p1 / derivative;
-            x -= dx;
-            if (std::abs(dx) < 1e-15) break;
-        }
-        nodes.push_back(0.5 * (lo + hi) + 0.5 * (hi - lo) * x);
-        weights.push_back((hi - lo) / ((1.0 - x * x) * derivative * derivative));
-    }
-}
-
 /// The air: densities, extinction and scattering at an altitude (ozone included).
 struct Air {
     const Atmosphere& a;
@@ -420,6 +397,29 @@ class Solver {
 };
 
 }  // namespace
+
+/// Newton's iteration on the Legendre polynomial P_n from Chebyshev-like first guesses.
+void gauss_legendre(int n, double lo, double hi, std::vector<double>& nodes,
+                    std::vector<double>& weights) {
+    for (int i = 0; i < n; ++i) {
+        double x = std::cos(kPi * (i + 0.75) / (n + 0.5));
+        double derivative = 1.0;
+        for (int iteration = 0; iteration < 100; ++iteration) {
+            double p0 = 1.0, p1 = x;
+            for (int k = 2; k <= n; ++k) {
+                const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+                p0 = p1;
+                p1 = p2;
+            }
+            derivative = n * (x * p1 - p0) / (x * x - 1.0);
+            const double dx = p1 / derivative;
+            x -= dx;
+            if (std::abs(dx) < 1e-15) break;
+        }
+        nodes.push_back(0.5 * (lo + hi) + 0.5 * (hi - lo) * x);
+        weights.push_back((hi - lo) / ((1.0 - x * x) * derivative * derivative));
+    }
+}
 
 std::vector<IncomingDirection> incoming_directions(const Atmosphere& atmosphere,
                                                    const MultipleScatteringSettings& settings,

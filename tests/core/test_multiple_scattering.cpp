@@ -238,7 +238,8 @@ TEST(MultipleScattering, SettingsOutOfRangeAreErrorsNamingTheFieldAndClampedInTh
     View v;
     v.eye = dvec3(0, 0, 100);
     const auto r = aerial::reference_scattering(Atmosphere{}, v, dvec3(0, 5000, 100), options);
-    for (int c = 0; c < 3; ++c) EXPECT_TRUE(std::isfinite(r.in_scattering[c]) && r.in_scattering[c] > 0);
+    for (int c = 0; c < 3; ++c)
+        EXPECT_TRUE(std::isfinite(r.in_scattering[c]) && r.in_scattering[c] > 0);
 }
 
 TEST(MultipleScattering, GroundReflectionBrightensTheSkyAndTheReferenceIsBrighterThanSingle) {

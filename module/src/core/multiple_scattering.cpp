@@ -58,10 +58,10 @@ std::optional<Error> validate(const MultipleScatteringSettings& s) {
         }
     }
     if (!(s.steps_per_efold >= kMinStepsPerEfold && s.steps_per_efold <= kMaxStepsPerEfold)) {
-        return invalid(kValidateSettings, "steps_per_efold",
-                       "a value in [" + number(kMinStepsPerEfold) + ", " +
-                           number(kMaxStepsPerEfold) + "]",
-                       number(s.steps_per_efold));
+        return invalid(
+            kValidateSettings, "steps_per_efold",
+            "a value in [" + number(kMinStepsPerEfold) + ", " + number(kMaxStepsPerEfold) + "]",
+            number(s.steps_per_efold));
     }
     if (!(s.max_remainder > 0.0 && s.max_remainder <= kMaxRemainder)) {
         return invalid(kValidateSettings, "max_remainder",
@@ -152,12 +152,14 @@ double MultipleScatteringTable::view_zenith_rad(int a) const {
     return kPi * a / (settings_.view_zenith_angles - 1);
 }
 
+// Azimuth rows are evenly spaced in sin(phi / 2): as fine as evenly spaced angles would be twice
+// over near the sun's azimuth, where the Mie lobe of the second order sits, coarser behind.
 double MultipleScatteringTable::azimuth_coordinate(double cos_azimuth) const {
-    return std::acos(std::clamp(cos_azimuth, -1.0, 1.0)) / kPi * (settings_.azimuths - 1);
+    return std::sqrt(0.5 * (1.0 - std::clamp(cos_azimuth, -1.0, 1.0))) * (settings_.azimuths - 1);
 }
 
 double MultipleScatteringTable::azimuth_rad(int b) const {
-    return kPi * b / (settings_.azimuths - 1);
+    return 2.0 * std::asin(double(b) / (settings_.azimuths - 1));
 }
 
 glm::dvec3 MultipleScatteringTable::interpolate(const std::vector<glm::dvec3>& table, double u_r,

@@ -46,6 +46,8 @@ class MultipleScatteringTable {
     const MultipleScatteringReport& report() const { return report_; }
 
     /// Table coordinates (in cells) of an altitude and of the three angles; public for the solver.
+    /// Rows: altitudes evenly spaced in the distance to the horizon, sun and view zenith angles
+    /// evenly spaced in angle, azimuths evenly spaced in sin(azimuth / 2).
     double altitude_coordinate(double altitude_m) const;
     double sun_zenith_coordinate(double cos_sun_zenith) const;
     double view_zenith_coordinate(double cos_view_zenith) const;

@@ -42,7 +42,12 @@ constexpr const char* kDescription =
     "--export-shader-tests DIR writes those programs (hoffman-preetham and each height level) as\n"
     "piglit shader_test files, for the presets earth and hazy at noon and at a low sun, with\n"
     "probes computed by the CPU executor of the same text, prints the files' paths and exits\n"
-    "(no other flag; docs/arb-program.md).";
+    "(no other flag; docs/arb-program.md).\n"
+    "--reference-tables computes the reference model's tables of the higher orders for the\n"
+    "atmosphere (--preset or --atmosphere, nothing else), prints one line\n"
+    "  orders=N remainder_bound=R,G,B seconds=S\n"
+    "then each order's share of the higher orders' light (G channel) as order=N share=F, and\n"
+    "exits (docs/models.md, The reference).";
 
 }  // namespace
 
@@ -78,6 +83,10 @@ int main(int argc, char** argv) {
         app.add_option("--up", up_text, "World up axis X,Y,Z (normalised; default 0,0,1)");
     auto* points_opt =
         app.add_option("--points", points_file, "File of points x,y,z (default: stdin)");
+    bool reference_tables = false;
+    auto* tables_opt = app.add_flag("--reference-tables", reference_tables,
+                                    "Compute the reference's tables, report orders, bound and "
+                                    "time, and exit");
     if (auto status = tools::parse_command_line(app, argc, argv, kTool)) return *status;
 
     if (export_opt->count() > 0) {
@@ -141,8 +150,20 @@ int main(int argc, char** argv) {
     if (fidelity_opt->count() > 0) {
         return tools::fail(kTool, "--arb-height-fidelity: only with --print-arb-program");
     }
-    if (eye_opt->count() == 0) return tools::fail(kTool, "--eye is required (see --help)");
-    if (sun_opt->count() == 0) return tools::fail(kTool, "--sun is required (see --help)");
+    if (reference_tables) {
+        for (const CLI::Option* other :
+             {eye_opt, sun_opt, model_opt, fidelity_opt, up_opt, points_opt}) {
+            if (other->count() > 0) {
+                return tools::fail(kTool,
+                                   "--reference-tables: takes only --preset or "
+                                   "--atmosphere, got " +
+                                       other->get_name());
+            }
+        }
+    } else {
+        if (eye_opt->count() == 0) return tools::fail(kTool, "--eye is required (see --help)");
+        if (sun_opt->count() == 0) return tools::fail(kTool, "--sun is required (see --help)");
+    }
 
     Atmosphere atmosphere;
     if (preset_opt->count() == 0 && file_opt->count() == 0) {
@@ -156,6 +177,21 @@ int main(int argc, char** argv) {
         auto a = load_atmosphere_json(atmosphere_file);
         if (!a) return tools::fail(kTool, "--atmosphere " + a.error().message);
         atmosphere = *a;
+    }
+    if (reference_tables) {
+        const auto report = reference_multiple_scattering(atmosphere);
+        if (!report) return tools::fail(kTool, report.error().message);
+        const glm::dvec3& bound = report->remainder_bound;
+        std::printf("orders=%d remainder_bound=%.3g,%.3g,%.3g seconds=%.2f\n", report->orders,
+                    bound.x, bound.y, bound.z, report->seconds);
+        double all = 0.0;
+        for (const glm::dvec3& sum : report->order_sums) all += sum.y;
+        for (std::size_t n = 0; n < report->order_sums.size(); ++n) {
+            std::printf("order=%zu share=%.4f\n", n + 2,
+                        all > 0.0 ? report->order_sums[n].y / all : 0.0);
+        }
+        if (std::fflush(stdout) != 0) return tools::fail(kTool, "cannot write output");
+        return 0;
     }
     auto model = parse_model(model_text);
     if (!model) return tools::fail(kTool, "--model: " + model.error().message);

@@ -5,6 +5,7 @@
 // input exit status 2, empty stdout and exactly one stderr line naming the culprit.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <initializer_list>
 #include <sstream>
@@ -406,6 +407,41 @@ TEST_F(AerialEval, PrintsTheArbProgramOfTheChosenModel) {
                   "height, got '" +
                       model + "'\n");
     }
+}
+
+TEST_F(AerialEval, ReportsTheReferenceTablesOrdersBoundAndShares) {
+    const RunResult result = run({"--preset", "mars", "--reference-tables"});
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    EXPECT_EQ(result.err, "");
+    int orders = 0;
+    double r = 0, g = 0, b = 0, seconds = -1;
+    ASSERT_EQ(std::sscanf(result.out.c_str(), "orders=%d remainder_bound=%lf,%lf,%lf seconds=%lf",
+                          &orders, &r, &g, &b, &seconds),
+              5)
+        << result.out;
+    EXPECT_GE(orders, 3);
+    EXPECT_LT(std::max({r, g, b}), 1e-3);
+    EXPECT_GT(seconds, 0.0);
+    // One line per order from 2, shares falling and summing to 1.
+    double sum = 0.0, previous = 1.0;
+    int lines = 0;
+    std::istringstream in(result.out);
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+        int order = 0;
+        double share = 0.0;
+        ASSERT_EQ(std::sscanf(line.c_str(), "order=%d share=%lf", &order, &share), 2) << line;
+        EXPECT_EQ(order, lines + 2);
+        EXPECT_LT(share, previous);
+        previous = share;
+        sum += share;
+        ++lines;
+    }
+    EXPECT_EQ(lines, orders - 1);
+    EXPECT_NEAR(sum, 1.0, 1e-3);
+    EXPECT_TRUE(rejected_naming(run({"--preset", "mars", "--reference-tables", "--eye=0,0,1"}),
+                                {"--reference-tables", "--eye"}));
 }
 
 TEST_F(AerialEval, RejectsMissingEyeNamingTheFlag) {

@@ -159,10 +159,15 @@ T altitude_above_sphere(const glm::vec<3, T>& position_m, const glm::vec<3, T>& 
 glm::dvec3 sun_transmittance(const Atmosphere& atmosphere, double altitude_m, double cos_zenith);
 
 /// Transmittance of the ozone layer alone from a point at `altitude_m` towards a direction whose
-/// cosine with the local zenith is `cos_zenith` (1 without ozone). Where the planet blocks the
-/// direction it is taken at the horizon's cosine, where sunlight grazing the shadow comes from.
-/// The `height` model multiplies E_sun0 by it at the eye (Frame::sun_irradiance_top).
+/// cosine with the local zenith is `cos_zenith` (1 without ozone), in closed form (about 0.1 us).
+/// Where the planet blocks the direction it is taken at the horizon's cosine, where sunlight
+/// grazing the shadow comes from. The `height` and 2002 models multiply E_sun0 by it at the eye
+/// (Frame::sun_irradiance_top).
 glm::dvec3 ozone_transmittance(const Atmosphere& atmosphere, double altitude_m, double cos_zenith);
+
+/// The ozone layer's column along that direction up to the atmosphere's top (not stopped by the
+/// planet), m of peak density: ozone_absorption times it is the optical depth.
+double ozone_column_m(const Atmosphere& atmosphere, double altitude_m, double cos_zenith);
 
 /// Fast approximation of the same for the `height` model: per component
 /// tau = beta * H * exp(-h/H) * Ch(x, chi) with the asymptotic Chapman function of

@@ -50,7 +50,6 @@ struct Medium {
     dvec3 rayleigh;
     dvec3 mie_extinction;
     dvec3 mie_scattering;
-    dvec3 ozone;
 
     Medium(const Atmosphere& a, bool constant, double steps)
         : atmosphere(a),
@@ -59,49 +58,52 @@ struct Medium {
           min_altitude_m(min_density_altitude_m(a)),
           rayleigh(a.rayleigh_scattering),
           mie_extinction(a.mie_extinction()),
-          mie_scattering(a.mie_scattering),
-          ozone(a.ozone_absorption) {}
+          mie_scattering(a.mie_scattering) {}
 
-    /// Relative densities (1 at sea level) at a point; rho_o is the ozone layer's (1 at its peak).
-    void density(const dvec3& x, double& rho_r, double& rho_m, double& rho_o) const {
+    /// Relative densities (1 at sea level) at a point.
+    void density(const dvec3& x, double& rho_r, double& rho_m) const {
         if (constant_density) {
             rho_r = rho_m = 1.0;
-            rho_o = atmosphere.ozone_density(0.0);
             return;
         }
         const double r = glm::length(x);
         if (r > atmosphere.atmosphere_radius_m) {
-            rho_r = rho_m = rho_o = 0.0;
+            rho_r = rho_m = 0.0;
             return;
         }
         const double h = std::max(r - atmosphere.planet_radius_m, min_altitude_m);
         rho_r = std::exp(-h / atmosphere.rayleigh_scale_height_m);
         rho_m = std::exp(-h / atmosphere.mie_scale_height_m);
-        rho_o = atmosphere.ozone_density(h);
     }
 
-    void density(const dvec3& x, double& rho_r, double& rho_m) const {
-        double rho_o;
-        density(x, rho_r, rho_m, rho_o);
-    }
-
+    /// Rayleigh and Mie extinction (integrated numerically; ozone's is in closed form).
     dvec3 extinction(const dvec3& x) const {
-        double rho_r, rho_m, rho_o;
-        density(x, rho_r, rho_m, rho_o);
-        return rayleigh * rho_r + mie_extinction * rho_m + ozone * rho_o;
+        double rho_r, rho_m;
+        density(x, rho_r, rho_m);
+        return rayleigh * rho_r + mie_extinction * rho_m;
     }
 
-    bool has_ozone() const { return ozone != dvec3(0.0); }
-    double ozone_top_m() const {
-        return atmosphere.ozone_center_altitude_m + 0.5 * atmosphere.ozone_width_m;
+    /// Ozone's optical depth along origin + t dir for t in [a, b], in closed form: the column
+    /// from a point to the top minus the column from b on (ozone_column_m). With
+    /// constant_density, the sea-level ozone density over the length.
+    dvec3 ozone_depth(const dvec3& origin, const dvec3& dir, double a, double b) const {
+        const dvec3& k = atmosphere.ozone_absorption;
+        if (k == dvec3(0.0) || !(b > a)) return dvec3(0.0);
+        if (constant_density) return k * (atmosphere.ozone_density(0.0) * (b - a));
+        auto column_from = [&](double t) {
+            const dvec3 x = origin + dir * t;
+            const double r = glm::length(x);
+            return ozone_column_m(atmosphere, r - atmosphere.planet_radius_m,
+                                  r > 0.0 ? glm::dot(x, dir) / r : 1.0);
+        };
+        return k * std::max(0.0, column_from(a) - column_from(b));
     }
 
     /// Whether an optical depth hides everything behind it: every channel that has any
     /// extinction at all is beyond kOpaqueDepth.
     bool opaque(const dvec3& tau) const {
         for (int c = 0; c < 3; ++c) {
-            if (tau[c] <= kOpaqueDepth && rayleigh[c] + mie_extinction[c] + ozone[c] > 0.0)
-                return false;
+            if (tau[c] <= kOpaqueDepth && rayleigh[c] + mie_extinction[c] > 0.0) return false;
         }
         return true;
     }
@@ -110,18 +112,15 @@ struct Medium {
     /// it goes outwards (so density only falls) and the local extinction times the length is tiny.
     bool negligible_beyond(const dvec3& x, const dvec3& dir, double remaining) const {
         if (constant_density || glm::dot(x, dir) < 0.0) return false;
-        // Below the ozone layer's top the ozone density can still rise.
-        if (has_ozone() && glm::length(x) - atmosphere.planet_radius_m < ozone_top_m())
-            return false;
         const dvec3 k = extinction(x);
         return std::max({k.x, k.y, k.z}) * remaining < kNegligibleDepth;
     }
 
     /// Length of the next integration step from x along unit direction dir; at least min_step.
     double step(const dvec3& x, const dvec3& dir, double remaining, double min_step) const {
-        double rho_r, rho_m, rho_o;
-        density(x, rho_r, rho_m, rho_o);
-        const dvec3 k = rayleigh * rho_r + mie_extinction * rho_m + ozone * rho_o;
+        double rho_r, rho_m;
+        density(x, rho_r, rho_m);
+        const dvec3 k = rayleigh * rho_r + mie_extinction * rho_m;
         const double k_max = std::max({k.x, k.y, k.z});
         double dt = remaining;
         if (k_max > 0.0) dt = std::min(dt, 1.0 / (steps_per_efold * k_max));
@@ -134,11 +133,6 @@ struct Medium {
             if (k_m > kNegligibleFraction * k_r) {
                 h = h > 0.0 ? std::min(h, atmosphere.mie_scale_height_m)
                             : atmosphere.mie_scale_height_m;
-            }
-            // The ozone tent changes over half its width (its kinks cost the 8th order there).
-            if (has_ozone()) {
-                const double half = 0.5 * atmosphere.ozone_width_m;
-                h = h > 0.0 ? std::min(h, half) : half;
             }
             if (h > 0.0) {
                 const double r = glm::length(x);
@@ -162,9 +156,10 @@ struct Medium {
         return sum * half;
     }
 
-    /// Optical depth along origin + t dir for t in [a, b], adaptively stepped.
+    /// Optical depth along origin + t dir for t in [a, b]: Rayleigh and Mie adaptively stepped,
+    /// ozone in closed form.
     dvec3 optical_depth(const dvec3& origin, const dvec3& dir, double a, double b) const {
-        dvec3 tau(0.0);
+        dvec3 tau = ozone_depth(origin, dir, a, b);
         const double min_step = (b - a) / kMaxSteps;
         double t = a;
         while (t < b && !opaque(tau) && !negligible_beyond(origin + dir * t, dir, b - t)) {
@@ -222,18 +217,6 @@ glm::dvec3 sun_transmittance(const Atmosphere& atmosphere, double altitude_m, do
     return sun_transmittance_at(real, x, dir);
 }
 
-glm::dvec3 ozone_transmittance(const Atmosphere& atmosphere, double altitude_m, double cos_zenith) {
-    if (atmosphere.ozone_absorption == dvec3(0.0)) return dvec3(1.0);
-    Atmosphere ozone_only = atmosphere;
-    ozone_only.rayleigh_scattering = ozone_only.mie_scattering = ozone_only.mie_absorption =
-        dvec3(0.0);
-    const double ratio =
-        atmosphere.planet_radius_m / (atmosphere.planet_radius_m + std::max(altitude_m, 0.0));
-    const double horizon = -std::sqrt(std::max(0.0, 1.0 - ratio * ratio));
-    // Just above the horizon's cosine: the grazing ray itself counts as blocked.
-    return sun_transmittance(ozone_only, altitude_m, std::max(cos_zenith, horizon + 1e-9));
-}
-
 Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View& view,
                                         const glm::dvec3& vertex, const ReferenceOptions& options) {
     const Medium medium(atmosphere, options.constant_density, options.steps_per_efold);
@@ -284,7 +267,7 @@ Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View
         }
     }
 
-    dvec3 tau(0.0);       // optical depth from the eye to t
+    dvec3 tau(0.0);       // Rayleigh and Mie optical depth from the eye to t
     dvec3 radiance(0.0);  // in-scattered radiance per unit E_sun0
     const double min_step = (t1 - t0) / kMaxSteps;
     double t = t0;
@@ -300,7 +283,8 @@ Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View
                 medium.density(xj, rho_r, rho_m);
                 const dvec3 angular =
                     medium.rayleigh * (rho_r * phase_r) + medium.mie_scattering * (rho_m * phase_m);
-                const dvec3 tau_j = tau + medium.optical_depth_step(eye, dir, t, tj);
+                const dvec3 tau_j = tau + medium.optical_depth_step(eye, dir, t, tj) +
+                                    medium.ozone_depth(eye, dir, t0, tj);
                 dvec3 source = angular * sunlight(xj);
                 if (higher_orders) source += higher_orders->density(xj, dir, sun);
                 radiance += (kGaussWeights[j] * half) * source * glm::exp(-tau_j);
@@ -309,7 +293,7 @@ Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View
             t += dt;
         }
     }
-    out.extinction = glm::exp(-tau);
+    out.extinction = glm::exp(-tau - medium.ozone_depth(eye, dir, t0, t1));
     out.in_scattering = radiance * atmosphere.sun_irradiance;
     return out;
 }

@@ -40,12 +40,16 @@ struct Fluxes {
     dvec3 closure(double mu0) const { return (direct + diffuse_down + up) / mu0; }
 };
 
+dvec3 in_scattering(const Atmosphere& a, const View& view, Model model, const dvec3& p) {
+    const auto s = aerial::evaluate(a, view, model, p);
+    EXPECT_TRUE(s.ok());
+    return s.ok() ? s->in_scattering : dvec3(0.0);
+}
+
 /// The fluxes through the ground and the top for a sun at `zenith_rad`, radiances from `model`:
 /// hemispheres integrated in coordinates centred on the sun (Gauss in the angle from the sun,
 /// midpoints in azimuth around it, mirrored), so that the Mie aureole is resolved.
 Fluxes fluxes(const Atmosphere& a, Model model, double zenith_rad) {
-    aerial::ReferenceOptions options;
-    options.multiple_scattering = model == Model::reference;
     View view;
     view.sun_dir = dvec3(std::sin(zenith_rad), 0.0, std::cos(zenith_rad));
     const dvec3 across(std::cos(zenith_rad), 0.0, -std::sin(zenith_rad)), side(0.0, 1.0, 0.0);
@@ -64,18 +68,14 @@ Fluxes fluxes(const Atmosphere& a, Model model, double zenith_rad) {
                             view.sun_dir * std::cos(angle);
             if (d.z > 0.0) {  // sky seen from the ground
                 view.eye = dvec3(0.0);
-                f.diffuse_down +=
-                    aerial::reference_scattering(a, view, d * 1e7, options).in_scattering *
-                    (d.z * weight);
+                f.diffuse_down += in_scattering(a, view, model, d * 1e7) * (d.z * weight);
             } else {  // the air seen from the top, down to the (black) ground
                 view.eye = dvec3(0.0, 0.0, top);
                 const double r = a.planet_radius_m + top;
                 const double b = -r * d.z;
                 const double disc = b * b - (r * r - a.planet_radius_m * a.planet_radius_m);
                 const double length = disc > 0.0 ? b - std::sqrt(disc) : 1e7;
-                f.up += aerial::reference_scattering(a, view, view.eye + d * length, options)
-                            .in_scattering *
-                        (-d.z * weight);
+                f.up += in_scattering(a, view, model, view.eye + d * length) * (-d.z * weight);
             }
         }
     }
@@ -100,9 +100,21 @@ TEST(MultipleScattering, EnergyClosesInConservativeAtmospheresOverABlackGround) 
             const dvec3 single =
                 fluxes(a, Model::single_scattering, zenith).closure(std::cos(zenith));
             EXPECT_LT(single.z, 0.94) << "single scattering loses blue light";
+            // `height` has no term for the higher orders yet: in clear air it closes as single
+            // scattering does, within its own error; in haze its three nodes lose 16-20 % more
+            // (docs/benchmarks.md, where methods fail). It never creates light.
+            const dvec3 height = fluxes(a, Model::height, zenith).closure(std::cos(zenith));
             std::printf(
-                "  sun %2.0f deg: closure reference %.4f %.4f %.4f, single %.4f %.4f %.4f\n",
-                zenith_deg, all.x, all.y, all.z, single.x, single.y, single.z);
+                "  sun %2.0f deg: closure reference %.4f %.4f %.4f, single %.4f %.4f %.4f, "
+                "height %.4f %.4f %.4f\n",
+                zenith_deg, all.x, all.y, all.z, single.x, single.y, single.z, height.x, height.y,
+                height.z);
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_LT(height[c], single[c] + 0.005) << c;
+                if (mie < 1e-5) {
+                    EXPECT_NEAR(height[c], single[c], 0.02) << c;
+                }
+            }
             for (int c = 0; c < 3; ++c) {
                 EXPECT_NEAR(all[c], 1.0, 0.01)
                     << "mie " << mie << " sun " << zenith_deg << " c " << c;

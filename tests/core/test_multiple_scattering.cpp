@@ -66,9 +66,12 @@ Fluxes fluxes(const Atmosphere& a, Model model, double zenith_rad) {
             const dvec3 d = across * (std::sin(angle) * std::cos(phi)) +
                             side * (std::sin(angle) * std::sin(phi)) +
                             view.sun_dir * std::cos(angle);
-            if (d.z > 0.0) {  // sky seen from the ground
+            if (d.z > 0.0) {  // sky seen from the ground, up to the atmosphere's top
                 view.eye = dvec3(0.0);
-                f.diffuse_down += in_scattering(a, view, model, d * 1e7) * (d.z * weight);
+                const double ground = a.planet_radius_m, b = ground * d.z;
+                const double length = -b + std::sqrt(b * b + (a.atmosphere_radius_m - ground) *
+                                                                 (a.atmosphere_radius_m + ground));
+                f.diffuse_down += in_scattering(a, view, model, d * length) * (d.z * weight);
             } else {  // the air seen from the top, down to the (black) ground
                 view.eye = dvec3(0.0, 0.0, top);
                 const double r = a.planet_radius_m + top;
@@ -100,9 +103,8 @@ TEST(MultipleScattering, EnergyClosesInConservativeAtmospheresOverABlackGround) 
             const dvec3 single =
                 fluxes(a, Model::single_scattering, zenith).closure(std::cos(zenith));
             EXPECT_LT(single.z, 0.94) << "single scattering loses blue light";
-            // `height` has no term for the higher orders yet: in clear air it closes as single
-            // scattering does, within its own error; in haze its three nodes lose 16-20 % more
-            // (docs/benchmarks.md, where methods fail). It never creates light.
+            // `height` has no term for the higher orders yet: it closes as single scattering does,
+            // within its own error (0.3 % in clear air, 2.4 % in haze).
             const dvec3 height = fluxes(a, Model::height, zenith).closure(std::cos(zenith));
             std::printf(
                 "  sun %2.0f deg: closure reference %.4f %.4f %.4f, single %.4f %.4f %.4f, "
@@ -110,10 +112,7 @@ TEST(MultipleScattering, EnergyClosesInConservativeAtmospheresOverABlackGround) 
                 zenith_deg, all.x, all.y, all.z, single.x, single.y, single.z, height.x, height.y,
                 height.z);
             for (int c = 0; c < 3; ++c) {
-                EXPECT_LT(height[c], single[c] + 0.005) << c;
-                if (mie < 1e-5) {
-                    EXPECT_NEAR(height[c], single[c], 0.02) << c;
-                }
+                EXPECT_NEAR(height[c], single[c], mie < 1e-5 ? 0.005 : 0.03) << c;
             }
             for (int c = 0; c < 3; ++c) {
                 EXPECT_NEAR(all[c], 1.0, 0.01)

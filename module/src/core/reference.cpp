@@ -224,9 +224,7 @@ Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View
     const dvec3 up = glm::normalize(view.up);
     const dvec3 sun = glm::normalize(view.sun_dir);
     const dvec3 centre_offset = up * atmosphere.planet_radius_m;
-    std::shared_ptr<const detail::MultipleScatteringTable> higher_orders;
-    if (options.multiple_scattering && options.sun_attenuation && !options.constant_density)
-        higher_orders = detail::multiple_scattering_table(atmosphere, options.tables);
+
     const dvec3 eye = view.eye * view.meters_per_unit + centre_offset;
     const dvec3 target = vertex * view.meters_per_unit + centre_offset;
 
@@ -241,6 +239,9 @@ Scattering<double> reference_scattering(const Atmosphere& atmosphere, const View
     const double s = glm::length(segment);
     if (!(s > 0.0)) return out;
     const dvec3 dir = segment / s;
+    std::shared_ptr<const detail::MultipleScatteringTable> higher_orders;
+    if (options.multiple_scattering && options.sun_attenuation && !options.constant_density)
+        higher_orders = detail::multiple_scattering_table(atmosphere, options.tables);
     const double cos_theta = glm::dot(dir, sun);
     const double phase_r = rayleigh_phase(cos_theta);
     const double phase_m = henyey_greenstein_phase(cos_theta, atmosphere.mie_g);

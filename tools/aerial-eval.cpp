@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
 
     if (export_opt->count() > 0) {
         for (const CLI::Option* other : {preset_opt, file_opt, eye_opt, sun_opt, model_opt,
-                                         print_opt, fidelity_opt, up_opt, points_opt}) {
+                                         print_opt, fidelity_opt, up_opt, points_opt, tables_opt}) {
             if (other->count() > 0) {
                 return tools::fail(
                     kTool, "--export-shader-tests: takes no other flag, got " + other->get_name());
@@ -107,6 +107,9 @@ int main(int argc, char** argv) {
     }
 
     if (print_arb_program) {
+        if (reference_tables) {
+            return tools::fail(kTool, "--reference-tables: not with --print-arb-program");
+        }
         Model program_model = Model::hoffman_preetham;
         std::optional<ArbHeightFidelity> program_fidelity;
         if (fidelity_opt->count() > 0) {

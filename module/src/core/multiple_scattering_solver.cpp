@@ -364,24 +364,35 @@ class Solver {
 
     /// J_{n+1} of row i at every sun row and view from the row's radiance of order n.
     void scatter_row(int i, std::vector<dvec3>& next) const {
+        static_assert(sizeof(dvec3) == 3 * sizeof(double), "radiances are read as doubles");
         const Row& row = rows_[i];
         const double h = t_.altitude_m(i);
         const dvec3 beta_r = a_.rayleigh_scattering * air_.rayleigh_density(h);
         const dvec3 beta_m = a_.mie_scattering * air_.mie_density(h);
         const std::size_t n = row.directions.size();
         const int n_sun = s_.sun_zenith_angles;
-        std::vector<dvec3> incoming(n);
-        for (int j = 0; j < n_sun; ++j) {
-            for (std::size_t k = 0; k < n; ++k) incoming[k] = row.radiance[k * n_sun + j];
-            for (int a = 0; a < s_.view_zenith_angles; ++a) {
-                for (int b = 0; b < s_.azimuths; ++b) {
-                    const std::size_t base = std::size_t(a * s_.azimuths + b) * n;
-                    dvec3 sum_r(0.0), sum_m(0.0);
-                    for (std::size_t k = 0; k < n; ++k) {
-                        sum_r += row.rayleigh[base + k] * incoming[k];
-                        sum_m += row.mie[base + k] * incoming[k];
+        // The row's radiances as a matrix: direction k, then sun row and channel (3 n_sun wide),
+        // so that each view's sums run over contiguous memory.
+        const std::size_t width = 3 * std::size_t(n_sun);
+        const double* radiance = &row.radiance[0].x;
+        std::vector<double> sum_r(width), sum_m(width);
+        for (int a = 0; a < s_.view_zenith_angles; ++a) {
+            for (int b = 0; b < s_.azimuths; ++b) {
+                const std::size_t base = std::size_t(a * s_.azimuths + b) * n;
+                std::fill(sum_r.begin(), sum_r.end(), 0.0);
+                std::fill(sum_m.begin(), sum_m.end(), 0.0);
+                for (std::size_t k = 0; k < n; ++k) {
+                    const double share_r = row.rayleigh[base + k], share_m = row.mie[base + k];
+                    const double* from = radiance + k * width;
+                    for (std::size_t x = 0; x < width; ++x) {
+                        sum_r[x] += share_r * from[x];
+                        sum_m[x] += share_m * from[x];
                     }
-                    next[t_.index(i, j, a, b)] = beta_r * sum_r + beta_m * sum_m;
+                }
+                for (int j = 0; j < n_sun; ++j) {
+                    const dvec3 r(sum_r[3 * j], sum_r[3 * j + 1], sum_r[3 * j + 2]);
+                    const dvec3 m(sum_m[3 * j], sum_m[3 * j + 1], sum_m[3 * j + 2]);
+                    next[t_.index(i, j, a, b)] = beta_r * r + beta_m * m;
                 }
             }
         }

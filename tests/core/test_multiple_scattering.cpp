@@ -214,6 +214,20 @@ TEST(MultipleScattering, TheReportGivesOrdersAndABoundBelowItsTarget) {
         for (int c = 0; c < 3; ++c)
             EXPECT_LT(report->order_sums[n][c], report->order_sums[n - 1][c]) << n;
     }
+    // Stopped by max_orders before two orders could be compared, the bound is unknown; with two,
+    // it is finite but above the target.
+    aerial::MultipleScatteringSettings stopped;
+    stopped.max_orders = 2;
+    const auto one_order = aerial::reference_multiple_scattering(Atmosphere{}, stopped);
+    ASSERT_TRUE(one_order.ok());
+    EXPECT_EQ(one_order->orders, 2);
+    EXPECT_TRUE(std::isinf(one_order->remainder_bound.y));
+    stopped.max_orders = 3;
+    const auto two_orders = aerial::reference_multiple_scattering(Atmosphere{}, stopped);
+    ASSERT_TRUE(two_orders.ok());
+    EXPECT_EQ(two_orders->orders, 3);
+    EXPECT_GT(two_orders->remainder_bound.y, 1e-3);
+    EXPECT_LT(two_orders->remainder_bound.y, 1.0);
     // Bad input is an error naming the field.
     Atmosphere bad;
     bad.ground_albedo.y = -0.5;

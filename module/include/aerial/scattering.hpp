@@ -209,7 +209,8 @@ std::optional<Error> validate(const MultipleScatteringSettings& settings);
 struct MultipleScatteringReport {
     int orders = 0;  ///< highest order summed (2 or more)
     /// Bound on the share of the orders not summed, per channel: q/(1-q) times the last order's
-    /// share, q the ratio of the last two orders (infinite if they do not decrease).
+    /// share, q the ratio of the last two orders (infinite if they do not decrease, or if
+    /// max_orders stopped the sum before two orders could be compared); 0 without scattering.
     glm::dvec3 remainder_bound{0.0};
     /// Sum of each order's scattering density over the table, per channel, orders 2, 3, ...
     std::vector<glm::dvec3> order_sums;
@@ -217,8 +218,9 @@ struct MultipleScatteringReport {
 };
 
 /// Computes (or finds in the cache) the tables `reference` uses for this atmosphere, and reports
-/// on them; an invalid atmosphere or settings is an error naming the field. The first call per atmosphere costs seconds (docs/models.md gives the figures);
-/// later calls and `reference` itself reuse the tables.
+/// on them; an invalid atmosphere or settings is an error naming the field. The first call per
+/// atmosphere costs seconds (docs/models.md gives the figures); later calls and `reference` itself
+/// reuse the tables.
 Result<MultipleScatteringReport> reference_multiple_scattering(
     const Atmosphere& atmosphere, const MultipleScatteringSettings& settings = {});
 

@@ -166,12 +166,13 @@ class Solver {
     }
 
     void run(std::vector<dvec3>& total, MultipleScatteringReport& report) {
-        const auto start = std::chrono::steady_clock::now();
         const int n_sun = s_.sun_zenith_angles;
         std::vector<dvec3> ground_previous(n_sun, dvec3(0.0));  // unused for order 1
         std::vector<dvec3> density;                             // J_n, n >= 2
         std::vector<dvec3> next(t_.size());
         dvec3 sum_all(0.0), previous_sum(0.0);
+        // Stopped by max_orders before two orders could be compared: the bound is unknown.
+        report.remainder_bound = dvec3(std::numeric_limits<double>::infinity());
         for (int order = 1; order < s_.max_orders; ++order) {
             // Radiance of this order along every direction of every row and sun row.
             std::vector<dvec3> ground(n_sun, dvec3(0.0));
@@ -206,8 +207,6 @@ class Solver {
             if (order >= 2 && converged(sum, previous_sum, sum_all, report)) break;
             previous_sum = sum;
         }
-        report.seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
 
   private:

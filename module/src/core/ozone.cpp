@@ -55,7 +55,11 @@ double ozone_column_m(const Atmosphere& a, double altitude_m, double mu) {
             if (t > 0.0) cuts[n++] = t;
         }
     }
-    std::sort(cuts.begin(), cuts.begin() + n);
+    // At most seven cuts: an insertion sort (std::sort's unrolled threshold of 16 makes GCC warn
+    // about the fixed array).
+    for (int i = 1; i < n; ++i) {
+        for (int j = i; j > 0 && cuts[j] < cuts[j - 1]; --j) std::swap(cuts[j], cuts[j - 1]);
+    }
     double column = 0.0;
     for (int i = 0; i + 1 < n; ++i) {
         const double t0 = cuts[i], t1 = cuts[i + 1];

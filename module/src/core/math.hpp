@@ -60,4 +60,11 @@ T erfcx(T y) {
     return T(kInvSqrtPi) / y * (T(1) - inv2 * (T(0.5) - inv2 * (T(0.75) - inv2 * T(1.875))));
 }
 
+/// Cosine of the zenith angle of the planet's horizon seen from `altitude_m` (<= 0; 0 at and
+/// below the ground): directions below it meet the planet.
+inline double horizon_cosine(double planet_radius_m, double altitude_m) {
+    const double ratio = planet_radius_m / (planet_radius_m + std::max(altitude_m, 0.0));
+    return -std::sqrt(std::max(0.0, 1.0 - ratio * ratio));
+}
+
 }  // namespace aerial::detail

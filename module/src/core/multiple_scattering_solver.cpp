@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "aerial/phase.hpp"
+#include "math.hpp"
 #include "multiple_scattering.hpp"
 
 namespace aerial::detail {
@@ -119,10 +120,7 @@ class SunTable {
         const double u = double(i) / (altitudes_ - 1);
         return top() * u * u;
     }
-    double horizon_cosine(double h) const {
-        const double ratio = a_.planet_radius_m / (a_.planet_radius_m + h);
-        return -std::sqrt(std::max(0.0, 1.0 - ratio * ratio));
-    }
+    double horizon_cosine(double h) const { return detail::horizon_cosine(a_.planet_radius_m, h); }
 
     const Atmosphere& a_;
     const int altitudes_;  // rows in altitude (squared spacing) and in cosine
@@ -434,9 +432,7 @@ void gauss_legendre(int n, double lo, double hi, std::vector<double>& nodes,
 std::vector<IncomingDirection> incoming_directions(const Atmosphere& atmosphere,
                                                    const MultipleScatteringSettings& settings,
                                                    double altitude_m) {
-    const double r = atmosphere.planet_radius_m + std::max(altitude_m, 0.0);
-    const double ratio = atmosphere.planet_radius_m / r;
-    const double horizon = -std::sqrt(std::max(0.0, 1.0 - ratio * ratio));
+    const double horizon = horizon_cosine(atmosphere.planet_radius_m, altitude_m);
     std::vector<double> mu, weight;
     gauss_legendre(settings.sky_directions, horizon, 1.0, mu, weight);
     gauss_legendre(settings.ground_directions, -1.0, horizon, mu, weight);

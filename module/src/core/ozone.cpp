@@ -9,6 +9,7 @@
 #include <glm/exponential.hpp>
 
 #include "aerial/scattering.hpp"
+#include "math.hpp"
 
 namespace aerial {
 namespace {
@@ -79,8 +80,7 @@ double ozone_column_m(const Atmosphere& a, double altitude_m, double mu) {
 glm::dvec3 ozone_transmittance(const Atmosphere& atmosphere, double altitude_m, double cos_zenith) {
     if (atmosphere.ozone_absorption == glm::dvec3(0.0)) return glm::dvec3(1.0);
     const double h = std::max(altitude_m, 0.0);
-    const double ratio = atmosphere.planet_radius_m / (atmosphere.planet_radius_m + h);
-    const double horizon = -std::sqrt(std::max(0.0, 1.0 - ratio * ratio));
+    const double horizon = detail::horizon_cosine(atmosphere.planet_radius_m, h);
     // A blocked sun: the column at the horizon's cosine, where sunlight grazing the shadow comes
     // from.
     const double mu = std::clamp(std::max(cos_zenith, horizon), -1.0, 1.0);

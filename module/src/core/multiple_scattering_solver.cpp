@@ -2,7 +2,6 @@
 // (method: multiple_scattering.hpp). Everything is double precision; the work is split over
 // the machine's cores by altitude row.
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -14,6 +13,7 @@
 #include "aerial/phase.hpp"
 #include "math.hpp"
 #include "multiple_scattering.hpp"
+#include "worker_pool.hpp"
 
 namespace aerial::detail {
 namespace {
@@ -26,21 +26,18 @@ constexpr double kOpaqueDepth = 40.0;
 /// Most steps along one ray (a guard; ordinary atmospheres need well under a hundred).
 constexpr int kMaxRaySteps = 400;
 
-/// Runs body(row) for row in [0, rows) on every core.
+/// Runs body(row) for row in [0, rows) on every core, through the batch shading's worker pool.
 template <class Body>
 void parallel_rows(int rows, const Body& body) {
-    const int threads = std::max(1, std::min<int>(rows, int(std::thread::hardware_concurrency())));
-    std::atomic<int> next{0};
-    auto work = [&] {
-        for (int row = next++; row < rows; row = next++) body(row);
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < threads; ++t) pool.emplace_back(work);
-    work();
-    for (auto& thread : pool) thread.join();
+    static const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+    WorkerPool::instance().run(hardware, std::size_t(rows), 1,
+                               [&](std::size_t first, std::size_t last) {
+                                   for (std::size_t row = first; row < last; ++row) body(int(row));
+                               });
 }
 
-/// The air: densities, extinction and scattering at an altitude (ozone included).
+/// The air: densities and the Rayleigh and Mie extinction at an altitude (ozone's optical depth
+/// comes from its closed-form column, as in the integrator).
 struct Air {
     const Atmosphere& a;
     dvec3 mie_extinction;
@@ -58,8 +55,7 @@ struct Air {
         return std::exp(-std::max(h, min_altitude_m) / a.mie_scale_height_m);
     }
     dvec3 extinction(double h) const {
-        return a.rayleigh_scattering * rayleigh_density(h) + mie_extinction * mie_density(h) +
-               a.ozone_absorption * a.ozone_density(h);
+        return a.rayleigh_scattering * rayleigh_density(h) + mie_extinction * mie_density(h);
     }
     /// Scale height (m) of the fastest-changing part of the extinction that matters at h.
     double changing_scale_m(double h) const {
@@ -68,7 +64,7 @@ struct Air {
             rayleigh_density(h);
         const double k_m =
             std::max({mie_extinction.x, mie_extinction.y, mie_extinction.z}) * mie_density(h);
-        double scale = a.ozone_width_m / 2.0;
+        double scale = std::max(a.rayleigh_scale_height_m, a.mie_scale_height_m);
         if (k_r > 1e-6 * k_m) scale = std::min(scale, a.rayleigh_scale_height_m);
         if (k_m > 1e-6 * k_r) scale = std::min(scale, a.mie_scale_height_m);
         return scale;
@@ -254,7 +250,17 @@ class Solver {
             ray.hits_ground = true;
         }
         const double spe = s_.steps_per_efold;
-        dvec3 tau(0.0);
+        // Ozone's optical depth from the origin to t: the column to the top from the origin
+        // minus the column from there on (ozone_column_m).
+        const double column_from_origin = ozone_column_m(a_, r - ground, w.z);
+        auto ozone_to = [&](double t) {
+            const dvec3 y = x + w * t;
+            const double ry = glm::length(y);
+            return a_.ozone_absorption *
+                   std::max(0.0, column_from_origin -
+                                     ozone_column_m(a_, ry - ground, glm::dot(y, w) / ry));
+        };
+        dvec3 tau(0.0);  // Rayleigh and Mie
         double t = 0.0;
         while (t < length && int(ray.samples.size()) < kMaxRaySteps) {
             const dvec3 y = x + w * t;
@@ -275,7 +281,7 @@ class Solver {
             const dvec3 km = air_.extinction(hm);
             Sample sample;
             sample.up = ym / rm;
-            sample.weight = glm::exp(-(tau + 0.5 * dt * km)) * dt;
+            sample.weight = glm::exp(-(tau + 0.5 * dt * km + ozone_to(t + 0.5 * dt))) * dt;
             sample.u_r = t_.altitude_coordinate(hm);
             sample.u_a = t_.view_zenith_coordinate(glm::dot(w, sample.up));
             sample.rho_r = air_.rayleigh_density(hm);
@@ -291,7 +297,7 @@ class Solver {
         }
         if (ray.hits_ground) {
             ray.ground_up = glm::normalize(x + w * length);
-            ray.ground_transmittance = glm::exp(-tau);
+            ray.ground_transmittance = glm::exp(-tau - ozone_to(length));
         }
         return ray;
     }

@@ -94,10 +94,6 @@ void split(double u, int n, int& cell, double& fraction) {
 
 }  // namespace
 
-void run_multiple_scattering_solver(MultipleScatteringTable& table, const Atmosphere& atmosphere,
-                                    std::vector<glm::dvec3>& density,
-                                    MultipleScatteringReport& report);
-
 MultipleScatteringTable::MultipleScatteringTable(const Atmosphere& atmosphere,
                                                  const MultipleScatteringSettings& settings)
     : atmosphere_(atmosphere), settings_(clamped(settings)) {

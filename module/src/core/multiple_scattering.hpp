@@ -73,9 +73,13 @@ class MultipleScatteringTable {
     double horizon_distance_m_;  // sqrt(top^2 - ground^2)
     std::vector<glm::dvec3> density_;
     MultipleScatteringReport report_;
-
-    friend class MultipleScatteringSolver;
 };
+
+/// Fills `density` (laid out as `table`) with J_ms by successive orders and `report` with what
+/// it found (multiple_scattering_solver.cpp); the table's constructor calls it.
+void run_multiple_scattering_solver(const MultipleScatteringTable& table,
+                                    const Atmosphere& atmosphere, std::vector<glm::dvec3>& density,
+                                    MultipleScatteringReport& report);
 
 /// One incoming direction of a table row's quadrature, in the row's frame (zenith +z, the sun in
 /// the x-z half plane with x >= 0). The radiance field is symmetric about that plane, so each

@@ -145,7 +145,7 @@ struct Ray {
 
 class Solver {
   public:
-    Solver(MultipleScatteringTable& table, const Atmosphere& atmosphere)
+    Solver(const MultipleScatteringTable& table, const Atmosphere& atmosphere)
         : t_(table),
           s_(table.settings()),
           a_(atmosphere),
@@ -401,7 +401,7 @@ class Solver {
         }
     }
 
-    MultipleScatteringTable& t_;
+    const MultipleScatteringTable& t_;
     const MultipleScatteringSettings& s_;
     const Atmosphere& a_;
     Air air_;
@@ -484,8 +484,8 @@ dvec3 horizontal_irradiance(const std::vector<IncomingDirection>& directions,
     return sum;
 }
 
-void run_multiple_scattering_solver(MultipleScatteringTable& table, const Atmosphere& atmosphere,
-                                    std::vector<glm::dvec3>& density,
+void run_multiple_scattering_solver(const MultipleScatteringTable& table,
+                                    const Atmosphere& atmosphere, std::vector<glm::dvec3>& density,
                                     MultipleScatteringReport& report) {
     const auto start = std::chrono::steady_clock::now();
     std::vector<dvec3> total;

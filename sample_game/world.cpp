@@ -260,12 +260,9 @@ aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& s,
         haze.visibility_in_layer_m = 1200.0;
         haze.layer_thickness_m = 500.0;
         haze.visibility_aloft_m = 15000.0;
-        // Real fog looks bright from every side because light scatters many times in it; a
-        // single-scattering model with the droplets' g = 0.85 leaves it dark away from the sun.
-        // The sample lowers g to 0.5 in its fog, a stand-in for that multiple scattering.
-        aerial::Atmosphere base = settings.atmosphere;
-        base.mie_g = 0.5;
-        auto foggy = aerial::atmosphere_with_ground_haze(haze, base);
+        // Real fog looks bright from every side because light scatters many times in it: the
+        // height model's higher orders carry that (docs/models.md), with the droplets' own g.
+        auto foggy = aerial::atmosphere_with_ground_haze(haze, settings.atmosphere);
         if (!foggy) return foggy.error();
         settings.atmosphere = *foggy;
     }

@@ -118,7 +118,8 @@ int main(int argc, char** argv) {
         "kernels on one thread and on all, against a loop that only reads the same\n"
         "positions and writes the same bytes (stream, the memory limit; stream_threads:\n"
         "the same on all hardware threads); best of several repetitions, the variants\n"
-        "interleaved, all in one run.\n"
+        "interleaved, all in one run; for the height model also its SIMD kernel without\n"
+        "the higher orders of scattering (simd_without).\n"
         "--out DIR: speed against accuracy. Every method (gl-fog, fg-fog, cpu-hp, arb-hp,\n"
         "cpu-height, arb-height, lut-texture, perpixel-reference; the per-vertex ones on\n"
         "uniform and adaptive meshes of several sizes) renders each scene of --scenes on\n"
@@ -215,13 +216,19 @@ int main(int argc, char** argv) {
     out.extinction_rgba8 = extinction.data();
     out.in_scattering_rgba8 = in_scattering.data();
 
-    auto batch = [&](aerial::Kernel kernel, unsigned threads) {
-        return [&, kernel, threads] {
+    // The height model without its higher orders (Frame::multiple_scattering reset): their
+    // per-vertex cost, side by side in the same run.
+    aerial::Frame<float> single = *frame;
+    single.multiple_scattering.reset();
+    auto batch = [&](aerial::Kernel kernel, unsigned threads,
+                     const aerial::Frame<float>* shaded = nullptr) {
+        return [&, kernel, threads, shaded] {
             aerial::BatchSettings settings;
             settings.kernel = kernel;
             settings.threads = threads;
             settings.display.exposure = 20.0f;
-            const auto stats = aerial::shade_into(*frame, positions, out, settings);
+            const auto stats =
+                aerial::shade_into(shaded ? *shaded : *frame, positions, out, settings);
             if (!stats) std::fprintf(stderr, "%s\n", stats.error().message.c_str());
         };
     };
@@ -260,7 +267,8 @@ int main(int argc, char** argv) {
                                                          batch(aerial::Kernel::simd_fast, 1),
                                                          batch(aerial::Kernel::simd, 0),
                                                          batch(aerial::Kernel::simd_fast, 0),
-                                                         stream_threads_loop};
+                                                         stream_threads_loop,
+                                                         batch(aerial::Kernel::simd, 1, &single)};
     const std::vector<double> best = best_of_interleaved(repetitions, variants);
     const double mverts = double(vertices) / 1e6;
     const double stream = mverts / best[0];
@@ -285,5 +293,10 @@ int main(int argc, char** argv) {
         "memory: stream_threads=%.1f ratio_stream_threads_stream=%.2f "
         "ratio_simd_threads_stream_threads=%.2f\n",
         stream_threads, stream_threads / stream, simd_threads / stream_threads);
+    if (frame->multiple_scattering) {
+        const double single_simd = mverts / best[7];
+        std::printf("higher orders: simd=%.1f simd_without=%.1f ratio_with_without=%.2f\n", simd,
+                    single_simd, simd / single_simd);
+    }
     return 0;
 }

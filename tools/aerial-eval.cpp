@@ -35,10 +35,11 @@ constexpr const char* kDescription =
     "--print-arb-program prints the ARB vertex program of --model (hoffman-preetham, the default\n"
     "here, or height) exactly as it is handed to glProgramStringARB (no other flag is needed) and\n"
     "exits; single-scattering and reference have no program.\n"
-    "--arb-height-fidelity spec-minimum|exact-optical-depth|full (with --print-arb-program;\n"
-    "implies --model height) chooses how much of the height model the program computes; the\n"
-    "levels beyond spec-minimum are checked against 256 instructions (the native limit of\n"
-    "Direct3D 9-class hardware) instead of the spec's 128.\n"
+    "--arb-height-fidelity spec-minimum|exact-optical-depth|full|multiple-scattering (with\n"
+    "--print-arb-program; implies --model height) chooses how much of the height model the\n"
+    "program computes; exact-optical-depth and full are checked against 256 instructions (the\n"
+    "native limit of Direct3D 9-class hardware) instead of the spec's 128, multiple-scattering\n"
+    "against 512 instructions, 32 temporaries and 256 parameters (Mesa's limits are higher).\n"
     "--export-shader-tests DIR writes those programs (hoffman-preetham and each height level) as\n"
     "piglit shader_test files, for the presets earth and hazy at noon and at a low sun, with\n"
     "probes computed by the CPU executor of the same text, prints the files' paths and exits\n"
@@ -74,7 +75,8 @@ int main(int argc, char** argv) {
     std::string fidelity_text;
     auto* fidelity_opt = app.add_option(
         "--arb-height-fidelity", fidelity_text,
-        "With --print-arb-program: spec-minimum (default), exact-optical-depth or full");
+        "With --print-arb-program: spec-minimum (default), exact-optical-depth, full or "
+        "multiple-scattering");
     std::string export_dir;
     auto* export_opt =
         app.add_option("--export-shader-tests", export_dir,
@@ -117,7 +119,7 @@ int main(int argc, char** argv) {
             if (!fidelity || *fidelity == ArbHeightFidelity::automatic) {
                 return tools::fail(kTool,
                                    "--arb-height-fidelity: expected spec-minimum, "
-                                   "exact-optical-depth or full, got '" +
+                                   "exact-optical-depth, full or multiple-scattering, got '" +
                                        fidelity_text + "'");
             }
             program_model = Model::height;

@@ -6,7 +6,7 @@
 
 #include "engine.h"
 
-#define MAX_PARAMETERS 32
+#define MAX_PARAMETERS 256 /* every level: the highest reads 190 */
 
 static aerial_context* air;
 static aerial_gl* gl;
@@ -14,7 +14,7 @@ static aerial_arb_options options;
 static unsigned int program;
 
 int material_init(aerial_gl_load_function load, void* user) {
-    static char text[16384];
+    static char text[32768]; /* the highest level: about 19 000 bytes */
     aerial_arb_info info;
     memset(&options, 0, sizeof options);
     options.model = AERIAL_MODEL_HEIGHT; /* height fidelity AUTOMATIC: the best that fits */

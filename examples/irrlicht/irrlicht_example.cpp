@@ -28,7 +28,8 @@ namespace {
 constexpr const char* kTool = "aerial-irrlicht-example";
 constexpr const char* kUsage =
     "usage: aerial-irrlicht-example --out FILE.png [--path arb|cpu]\n"
-    "         [--fidelity spec-minimum|exact-optical-depth|full] [--width N] [--height N]\n"
+    "         [--fidelity spec-minimum|exact-optical-depth|full|multiple-scattering]\n"
+    "         [--width N] [--height N]\n"
     "         [--buffers client|vbo] [--l-in-material engine|none]\n"
     "--buffers vbo: the terrain in Irrlicht's hardware buffers (EHM_STATIC), re-uploaded once\n"
     "after aerial_shade; client (default): Irrlicht's client arrays (EHM_NEVER).\n"
@@ -39,7 +40,7 @@ constexpr const char* kUsage =
 struct Options {
     std::string out;
     bool arb = true;
-    aerial_height_fidelity fidelity = AERIAL_HEIGHT_FIDELITY_FULL;
+    aerial_height_fidelity fidelity = AERIAL_HEIGHT_FIDELITY_MULTIPLE_SCATTERING;
     int width = 320, height = 240;
     bool vbo = false;
     bool engine_l_in_material = false;  ///< the misuse --l-in-material engine demonstrates
@@ -65,18 +66,20 @@ bool parse_flag(const std::string& flag, const std::string& value, Options& o, s
         }
         o.arb = value == "arb";
     } else if (flag == "--fidelity") {
-        const char* names[] = {"spec-minimum", "exact-optical-depth", "full"};
-        const aerial_height_fidelity levels[] = {AERIAL_HEIGHT_FIDELITY_SPEC_MINIMUM,
-                                                 AERIAL_HEIGHT_FIDELITY_EXACT_OPTICAL_DEPTH,
-                                                 AERIAL_HEIGHT_FIDELITY_FULL};
-        for (int i = 0; i < 3; ++i) {
+        const char* names[] = {"spec-minimum", "exact-optical-depth", "full",
+                               "multiple-scattering"};
+        const aerial_height_fidelity levels[] = {
+            AERIAL_HEIGHT_FIDELITY_SPEC_MINIMUM, AERIAL_HEIGHT_FIDELITY_EXACT_OPTICAL_DEPTH,
+            AERIAL_HEIGHT_FIDELITY_FULL, AERIAL_HEIGHT_FIDELITY_MULTIPLE_SCATTERING};
+        for (int i = 0; i < 4; ++i) {
             if (value == names[i]) {
                 o.fidelity = levels[i];
                 return true;
             }
         }
         error =
-            "main(): --fidelity: expected one of spec-minimum, exact-optical-depth, full, got '" +
+            "main(): --fidelity: expected one of spec-minimum, exact-optical-depth, full, "
+            "multiple-scattering, got '" +
             value + "'";
         return false;
     } else if (flag == "--buffers") {
@@ -296,7 +299,8 @@ class ArbConstants : public video::IShaderConstantSetCallBack {
 
 /// Prints the program's level, resources and parameter layout.
 void describe(const aerial_arb_info& info, const aerial_arb_options& options) {
-    const char* levels[] = {"automatic", "spec-minimum", "exact-optical-depth", "full"};
+    const char* levels[] = {"automatic", "spec-minimum", "exact-optical-depth", "full",
+                            "multiple-scattering"};
     std::printf(
         "%s: ARB program: height model, fidelity %s, %d instructions, %d temporaries, "
         "%d parameter vectors from program.local[%d]\n",

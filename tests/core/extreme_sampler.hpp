@@ -13,6 +13,26 @@
 
 namespace aerial::testing {
 
+/// prepare_frame for an extreme atmosphere: without the atmosphere's own table of the higher
+/// orders (tabulating scale heights of metres takes minutes), but for `height` with the `earth`
+/// preset's slice for the same view attached, so that the higher orders' path of the models and
+/// kernels runs on extreme inputs too (any slice is valid data for it).
+template <class T>
+Result<Frame<T>> extreme_frame(const Atmosphere& a, const View& v, Model model) {
+    FrameOptions without;
+    without.multiple_scattering = false;
+    auto frame = prepare_frame<T>(a, v, model, without);
+    if (!frame.ok() || model != Model::height) return frame;
+    View earth_view = v;
+    earth_view.eye = glm::dvec3(0.0, 0.0, 300.0);
+    earth_view.meters_per_unit = 1.0;
+    earth_view.up = glm::dvec3(0.0, 0.0, 1.0);
+    const auto earth = prepare_frame<T>(Atmosphere{}, earth_view, model);
+    Frame<T> out = *frame;
+    if (earth.ok()) out.multiple_scattering = earth->multiple_scattering;
+    return out;
+}
+
 using aerial::Atmosphere;
 using aerial::View;
 using glm::dvec3;

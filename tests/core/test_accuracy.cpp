@@ -84,11 +84,17 @@ std::string describe(const View& v, dvec3 p) {
     return buffer;
 }
 
+/// What a model is measured against: `height`, which has the higher orders of scattering,
+/// against the `reference`; the 2002 model, which has none, against `single-scattering`.
+Model truth_for(Model m) {
+    return m == Model::height ? Model::reference : Model::single_scattering;
+}
+
 Worst worst_over_ground_set(Model m, const std::vector<double>& altitudes, double max_distance_m,
                             double min_sun_deg) {
     Worst worst;
     ground_level_set(altitudes, max_distance_m, min_sun_deg, [&](const View& v, dvec3 p) {
-        const auto ref = aerial::evaluate(Atmosphere{}, v, Model::single_scattering, p);
+        const auto ref = aerial::evaluate(Atmosphere{}, v, truth_for(m), p);
         const auto got = aerial::evaluate(Atmosphere{}, v, m, p);
         ASSERT_TRUE(ref.ok() && got.ok());
         worst.add(*got, *ref, describe(v, p));
@@ -124,7 +130,9 @@ TEST(Accuracy, HeightModelAtGroundLevel) {
     const Worst sea = worst_over_ground_set(Model::height, {0.0, 10.0}, 30000.0, 5.0);
     sea.print("sea level (<=10 m), rays <=30 km, sun >=5 deg", Model::height);
     EXPECT_LT(sea.extinction, 0.001);
-    EXPECT_LT(sea.in_scattering, 0.01) << sea.where_in_scattering;
+    // Against the reference with every order: 1.14 % measured (its higher orders from the
+    // coarser table and the slice cut at the eye; docs/models.md).
+    EXPECT_LT(sea.in_scattering, 0.015) << sea.where_in_scattering;
     const Worst low = worst_over_ground_set(Model::height, {0.0, 1000.0, 2000.0}, 30000.0, 5.0);
     low.print("eye and target <=2 km, rays <=30 km, sun >=5", Model::height);
     EXPECT_LT(low.extinction, 0.001);
@@ -146,7 +154,8 @@ TEST(Accuracy, FromTenKilometresLookingAtGroundFourteenKilometresAway) {
             v.sun_dir = sun_from_degrees(elevation, azimuth);
             const dvec3 p{0.0, std::sqrt(14000.0 * 14000.0 - 10000.0 * 10000.0), 0.0};
             const auto ref = *aerial::evaluate(a, v, Model::single_scattering, p);
-            height.add(*aerial::evaluate(a, v, Model::height, p), ref, describe(v, p));
+            height.add(*aerial::evaluate(a, v, Model::height, p),
+                       *aerial::evaluate(a, v, Model::reference, p), describe(v, p));
             const auto h = *aerial::evaluate(a, v, Model::hoffman_preetham, p);
             hp.add(h, ref, describe(v, p));
             for (int c = 0; c < 3; ++c) {
@@ -182,7 +191,7 @@ TEST(Accuracy, HeightBeatsHoffmanPreethamOnEveryPreset) {
                             v.eye = {0.0, 0.0, eye_alt};
                             v.sun_dir = sun_from_degrees(elevation, azimuth);
                             const dvec3 p = point_on_sphere(a, d, target_alt);
-                            const auto ref = *aerial::evaluate(a, v, Model::single_scattering, p);
+                            const auto ref = *aerial::evaluate(a, v, Model::reference, p);
                             height.add(*aerial::evaluate(a, v, Model::height, p), ref,
                                        describe(v, p));
                             hp.add(*aerial::evaluate(a, v, Model::hoffman_preetham, p), ref,
@@ -201,3 +210,59 @@ TEST(Accuracy, HeightBeatsHoffmanPreethamOnEveryPreset) {
 }
 
 }  // namespace
+
+namespace {
+
+/// 8-bit steps of L_in at exposure 8 (GL's clamp) between two results, worst channel.
+double lin_steps(const aerial::Scattering<double>& a, const aerial::Scattering<double>& b) {
+    double worst = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        auto code = [](double l) { return 255.0 * std::min(1.0, 8.0 * l); };
+        worst = std::max(worst, std::abs(code(a.in_scattering[c]) - code(b.in_scattering[c])));
+    }
+    return worst;
+}
+
+}  // namespace
+
+TEST(Accuracy, HeightWithItsHigherOrdersIsWithinTwoStepsOfTheReferenceOnTerrain) {
+    // Terrain 1-30 km from an eye at 300 m, the sun from 60 deg to 6 deg below the horizon at
+    // three azimuths, exposure 8: L_in of `height` against `reference` in 8-bit steps, with its
+    // higher orders and without them (Frame::multiple_scattering reset).
+    // Bounds: earth within 2 steps (the target); hazy a regression bound of what is measured
+    // (6.4 steps at a 20 deg sun), where the 3-node sunlight quadrature itself errs in turbid air.
+    const struct {
+        const char* preset;
+        double max_steps;
+    } presets[] = {{"earth", 2.0}, {"hazy", 8.0}};
+    for (const auto& preset : presets) {
+        const Atmosphere a = *aerial::atmosphere_preset(preset.preset);
+        for (double elevation : {60.0, 20.0, 5.0, 2.0, -2.0, -6.0}) {
+            double with = 0.0, without = 0.0;
+            for (double azimuth : {0.0, 90.0, 180.0}) {
+                View v;
+                v.eye = {0.0, 0.0, 300.0};
+                v.sun_dir = sun_from_degrees(elevation, azimuth);
+                const auto height = *aerial::prepare_frame<double>(a, v, Model::height);
+                auto single = height;
+                single.multiple_scattering.reset();
+                const auto reference = *aerial::prepare_frame<double>(a, v, Model::reference);
+                for (double d : {1000.0, 3000.0, 10000.0, 30000.0}) {
+                    for (double view_azimuth : {0.0, 45.0, 90.0, 180.0}) {
+                        const double t = view_azimuth * aerial::kPi / 180.0;
+                        const dvec3 on_ground = point_on_sphere(a, d, 0.0);
+                        const dvec3 p(on_ground.y * std::sin(t), on_ground.y * std::cos(t),
+                                      on_ground.z);
+                        const auto ref = aerial::scatter(reference, p);
+                        with = std::max(with, lin_steps(aerial::scatter(height, p), ref));
+                        without = std::max(without, lin_steps(aerial::scatter(single, p), ref));
+                    }
+                }
+            }
+            std::printf("| %-6s | %5.1f deg | %5.1f | %5.1f |\n", preset.preset, elevation, with,
+                        without);
+            EXPECT_LE(with, preset.max_steps) << preset.preset << " sun " << elevation;
+            EXPECT_LT(with, without + 0.5) << preset.preset << " sun " << elevation;
+        }
+    }
+}

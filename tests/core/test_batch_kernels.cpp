@@ -280,7 +280,7 @@ void sweep(Model model, unsigned seed, int frames, int points) {
     for (int f = 0; f < frames; ++f) {
         const Atmosphere a = sampler.atmosphere();
         const View v = sampler.view(a);
-        const auto frame = aerial::prepare_frame<float>(a, v, model);
+        const auto frame = aerial::testing::extreme_frame<float>(a, v, model);
         ASSERT_TRUE(frame.ok()) << "frame " << f << ": " << frame.error().message;
         Vertices vertices;
         for (int p = 0; p < points; ++p) vertices.push(glm::vec3(sampler.point(v)));

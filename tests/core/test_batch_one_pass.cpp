@@ -42,7 +42,7 @@ struct Scene {
 bool make_scene(ExtremeSampler& random, Model model, std::size_t points, Scene* out) {
     const aerial::Atmosphere a = random.atmosphere();
     const aerial::View view = random.view(a);
-    const auto frame = aerial::prepare_frame<float>(a, view, model);
+    const auto frame = aerial::testing::extreme_frame<float>(a, view, model);
     if (!frame.ok()) return false;
     out->frame = *frame;
     out->v.resize(points);

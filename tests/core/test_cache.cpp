@@ -318,6 +318,12 @@ TEST(ShadingCache, TypicalFrameToFrameMovesNeedNoUpdate) {
                 const double bound = aerial::max_change_lsb(scene.key, next, scene.bounds);
                 const double actual = actual_change_lsb(scene.key, next, scene.mesh);
                 stats.add(bound, actual);
+                // In fog with a low sun the bound of the higher orders (shape's slopes over its
+                // whole table) is loose: 1.8 and 1.0 steps at 0.1 and 0.3 rad, so those frames
+                // are shaded again (docs/models.md, "When shading can be skipped").
+                const bool loose =
+                    model == Model::height && std::string(atmosphere) == "foggy" && elevation < 0.5;
+                if (loose) continue;
                 EXPECT_FALSE(cache.needs_update(next))
                     << atmosphere << " " << aerial::model_name(model) << " sun elevation "
                     << elevation << ": bound " << bound << " steps for 1 cm and 1e-5 rad";

@@ -86,6 +86,11 @@ Fluxes fluxes(const Atmosphere& a, Model model, double zenith_rad) {
     return f;
 }
 
+/// How far `height`'s fluxes may be from closing: regression bounds, not targets (measured: at
+/// most 0.22 % over in clear air; 2.4-9.1 % over in haze, where the shape of the light field cut
+/// at the eye, at the top or at the ground here, is carried along rays through the whole haze).
+constexpr double kHeightClosureClear = 0.005, kHeightClosureHaze = 0.1;
+
 TEST(MultipleScattering, EnergyClosesInConservativeAtmospheresOverABlackGround) {
     // Clear air (earth's Mie) and haze (2e-4 /m of Mie, a 20 km visibility), sun 0-75 degrees from
     // the zenith: the reference's fluxes account for what the sun brings within 1 % per channel;
@@ -103,8 +108,8 @@ TEST(MultipleScattering, EnergyClosesInConservativeAtmospheresOverABlackGround) 
             const dvec3 single =
                 fluxes(a, Model::single_scattering, zenith).closure(std::cos(zenith));
             EXPECT_LT(single.z, 0.94) << "single scattering loses blue light";
-            // `height` has no term for the higher orders yet: it closes as single scattering does,
-            // within its own error (0.3 % in clear air, 2.4 % in haze).
+            // `height` with its higher orders from the coarser table, cut at the eye
+            // (height_multiple_scattering.hpp): it closes nearly as the reference does.
             const dvec3 height = fluxes(a, Model::height, zenith).closure(std::cos(zenith));
             std::printf(
                 "  sun %2.0f deg: closure reference %.4f %.4f %.4f, single %.4f %.4f %.4f, "
@@ -112,7 +117,8 @@ TEST(MultipleScattering, EnergyClosesInConservativeAtmospheresOverABlackGround) 
                 zenith_deg, all.x, all.y, all.z, single.x, single.y, single.z, height.x, height.y,
                 height.z);
             for (int c = 0; c < 3; ++c) {
-                EXPECT_NEAR(height[c], single[c], mie < 1e-5 ? 0.005 : 0.03) << c;
+                EXPECT_NEAR(height[c], 1.0, mie < 1e-5 ? kHeightClosureClear : kHeightClosureHaze)
+                    << c;
             }
             for (int c = 0; c < 3; ++c) {
                 EXPECT_NEAR(all[c], 1.0, 0.01)

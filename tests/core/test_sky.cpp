@@ -44,10 +44,13 @@ struct Bound {
     double cubemap_lsb;                    // 64^2 RGBA8 cubemap of height-chained, bilinear
     double hp_mean_lsb;                    // the 2002 dome with the fitted radius
 };
+// Against the `reference` with every order: the chained pieces keep the eye's slice of the
+// higher orders (frame_with_eye), whose sun is 0.9 deg lower 100 km away; at a horizon sun that
+// costs 19 steps towards the horizon (docs/sky.md).
 constexpr Bound kBounds[] = {
-    {0.0, 0.08, 2.5, 16, 40, 175},
-    {10.0, 0.008, 0.6, 10, 7, 65},
-    {90.0, 0.006, 0.3, 3, 2.3, 28},
+    {0.0, 0.26, 20, 19.5, 40, 210},
+    {10.0, 0.031, 2.0, 10, 7, 90},
+    {90.0, 0.034, 0.6, 3.1, 4, 48},
 };
 
 TEST(Sky, EachMethodAgainstReferenceWithinItsPinnedBound) {
@@ -78,7 +81,7 @@ TEST(Sky, EachMethodAgainstReferenceWithinItsPinnedBound) {
         // top of the atmosphere is far off near the horizon.
         const aerial::validation::SkyError single = aerial::validation::measure_sky_method(
             *probe, sky_for(aerial::SkyMethod::dome_height, b.sun_deg));
-        EXPECT_GT(single.max_relative, 10.0 * c.max_relative) << "sun " << b.sun_deg;
+        EXPECT_GT(single.max_relative, 5.0 * c.max_relative) << "sun " << b.sun_deg;
         std::printf("sun %4.1f: chained %.4f/%g  dome %g  cubemap %g  hp mean %.1f  single %.2f\n",
                     b.sun_deg, c.max_relative, c.max_lsb, d.max_lsb, m.max_lsb, hp.mean_lsb,
                     single.max_relative);

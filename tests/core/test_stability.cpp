@@ -54,7 +54,7 @@ void sweep(Model model, unsigned seed, int full_frames, int points) {
     for (int f = 0; f < frames; ++f) {
         const Atmosphere a = sampler.atmosphere();
         const View v = sampler.view(a);
-        const auto frame = aerial::prepare_frame<T>(a, v, model);
+        const auto frame = aerial::testing::extreme_frame<T>(a, v, model);
         ASSERT_TRUE(frame.ok()) << "frame " << f << ": " << frame.error().message;
         for (int p = 0; p < points; ++p) {
             const dvec3 x = sampler.point(v);

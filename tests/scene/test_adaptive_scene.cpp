@@ -152,8 +152,20 @@ TEST_F(AdaptiveSceneTest, NewVerticesMorphInRatherThanPop) {
     const auto first = draw(renderer.value(), *root, nullptr);
     std::vector<std::uint8_t> settled;
     for (int i = 0; i < 4 * kMorphUpdates; ++i) settled = draw(renderer.value(), *root, nullptr);
-    const int first_to_base = aerial_test::compare_rgb(first, base).max_lsb;
-    const int settled_to_base = aerial_test::compare_rgb(settled, base).max_lsb;
+    // Colours only: where refinement moved the silhouette, terrain meets the black background.
+    auto colour_change = [&base](const std::vector<std::uint8_t>& image) {
+        int worst = 0;
+        for (std::size_t p = 0; 4 * p + 3 < std::min(image.size(), base.size()); ++p) {
+            const bool both = (image[4 * p] | image[4 * p + 1] | image[4 * p + 2]) != 0 &&
+                              (base[4 * p] | base[4 * p + 1] | base[4 * p + 2]) != 0;
+            for (std::size_t c = 0; both && c < 3; ++c) {
+                worst = std::max(worst, std::abs(int(image[4 * p + c]) - int(base[4 * p + c])));
+            }
+        }
+        return worst;
+    };
+    const int first_to_base = colour_change(first);
+    const int settled_to_base = colour_change(settled);
     EXPECT_GT(settled_to_base, 2) << "refinement changed nothing visible: the test shows nothing";
     EXPECT_LT(first_to_base, settled_to_base);
 }

@@ -109,7 +109,7 @@ TEST_F(AerialRender, ArbBackendNamesTheProgramItLoaded) {
     height["model"] = "height";
     r = render(height, "arb");
     ASSERT_EQ(r.exit_code, 0) << r.err;
-    EXPECT_NE(r.out.find(" program=height:full:"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(" program=height:multiple-scattering:"), std::string::npos) << r.out;
     r = render(valid_scene(), "perpixel");
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find(" program=- renderer="), std::string::npos) << r.out;

@@ -38,7 +38,7 @@ using Vec4 = std::array<float, 4>;
 
 constexpr const char* kBinary = AERIAL_EVAL_PATH;
 constexpr int kExitSkip = 77;  ///< CTest's SKIP_RETURN_CODE for the piglit run
-constexpr std::size_t kFiles = 16;
+constexpr std::size_t kFiles = 20;
 constexpr std::size_t kProbesPerFile = 128;
 /// The probes are printed with 6 decimals.
 constexpr double kPrintedTolerance = 1e-6;
@@ -138,6 +138,11 @@ struct Stated {
             // What --print-arb-program checks the levels beyond the spec minimum against.
             if (*level != aerial::ArbHeightFidelity::spec_minimum) {
                 s.options.limits.max_instructions = 256;
+            }
+            if (*level == aerial::ArbHeightFidelity::multiple_scattering) {
+                s.options.limits.max_instructions = 512;
+                s.options.limits.max_temporaries = 32;
+                s.options.limits.max_parameters = 256;
             }
         }
     }
@@ -304,8 +309,8 @@ TEST_F(ExportShaderTests, EveryFileIsTheGeneratedProgramWithTheExecutorsProbes) 
         EXPECT_GT(brightest[0], 0.9);
         EXPECT_GT(brightest[1], 0.3);
     }
-    // Four frames for each of the four programs.
-    EXPECT_EQ(programs.size(), 4u);
+    // Four frames for each of the five programs.
+    EXPECT_EQ(programs.size(), 5u);
     for (const auto& [flags, count] : programs) EXPECT_EQ(count, 4) << flags;
 }
 

@@ -391,13 +391,13 @@ std::optional<Error> render_frame(const headless::Context& context, const scene:
     return std::nullopt;
 }
 
-/// The per-pixel image of the `single-scattering` model on this mesh.
+/// The per-pixel image of the `reference` model on this mesh.
 Result<std::vector<std::uint8_t>> reference_image(const headless::Context& context,
                                                   const scene::SceneFile& scene,
                                                   const Matrices& matrices,
                                                   const scene::MeshData& mesh) {
     const gl::Api& api = context.api();
-    auto frame = prepare_frame<float>(scene.atmosphere, scene.view(), Model::single_scattering);
+    auto frame = prepare_frame<float>(scene.atmosphere, scene.view(), Model::reference);
     if (!frame) return frame.error();
     begin_frame(api, scene, matrices);
     draw_arrays(api, mesh);
@@ -409,13 +409,13 @@ Result<std::vector<std::uint8_t>> reference_image(const headless::Context& conte
     return pixels;
 }
 
-/// The per-pixel image of the `single-scattering` model on the sphere a sky dome stands for: each
+/// The per-pixel image of the `reference` model on the sphere a sky dome stands for: each
 /// pixel's ray from the eye (the dome's centre) to the sphere of `radius`; below the horizon
 /// (where the open dome draws nothing) the background. Independent of the dome's tessellation.
 Result<std::vector<std::uint8_t>> dome_reference_image(const scene::SceneFile& scene,
                                                        const Matrices& matrices, int w, int h,
                                                        double radius) {
-    auto frame = prepare_frame<float>(scene.atmosphere, scene.view(), Model::single_scattering);
+    auto frame = prepare_frame<float>(scene.atmosphere, scene.view(), Model::reference);
     if (!frame) return frame.error();
     const glm::dmat4 world_from_clip = glm::inverse(glm::dmat4(glm::mat4(matrices.projection)) *
                                                     glm::dmat4(glm::mat4(matrices.view)));

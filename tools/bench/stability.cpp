@@ -1,4 +1,4 @@
-// The stability map: one parameter swept at a time, every method against the `single-scattering`
+// The stability map: one parameter swept at a time, every method against the `reference`
 // model in 8-bit steps of what the fixed pipeline is handed, with the artefacts flagged. See
 // stability.hpp; docs/benchmarks.md ("Where methods fail") documents the CSV and the findings.
 #include "bench/stability.hpp"
@@ -273,7 +273,7 @@ Result<CaseResult> evaluate_case(const Case& c, const Programs& programs) {
     View view;
     view.eye = {0.0, 0.0, c.altitude_m};
     view.sun_dir = direction(c.sun_elevation_deg, 0.0);
-    auto reference = prepare_frame<double>(c.atmosphere, view, Model::single_scattering);
+    auto reference = prepare_frame<double>(c.atmosphere, view, Model::reference);
     if (!reference) return reference.error();
     auto hp = prepare_frame<float>(c.atmosphere, view, Model::hoffman_preetham);
     auto height = prepare_frame<float>(c.atmosphere, view, Model::height);
@@ -498,7 +498,7 @@ std::vector<Sweep> sweeps(bool quick) {
                  },
                  [](double v) { return v * 0.995; }});
     s.push_back({"mie_g",
-                 linear(0.0, 0.99, n(100, 7)),
+                 linear(0.0, 0.99, n(100, 3)),
                  [](double v) {
                      Case c;
                      c.atmosphere.mie_g = v;
@@ -506,11 +506,11 @@ std::vector<Sweep> sweeps(bool quick) {
                  },
                  {}});
     s.push_back({"turbidity",
-                 logarithmic(kMinTurbidity, 32.0, n(49, 6)),
+                 logarithmic(kMinTurbidity, 32.0, n(49, 3)),
                  [](double v) { return with_atmosphere(atmosphere_from_turbidity(v)); },
                  {}});
     s.push_back({"visibility_m",
-                 logarithmic(200.0, 200000.0, n(73, 7)),
+                 logarithmic(200.0, 200000.0, n(73, 3)),
                  [](double v) { return with_atmosphere(atmosphere_from_visibility(v)); },
                  {}});
     return s;

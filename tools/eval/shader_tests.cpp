@@ -24,6 +24,12 @@ ArbProgramOptions arb_program_options(Model model, std::optional<ArbHeightFideli
     if (fidelity) {
         options.height_fidelity = *fidelity;
         if (*fidelity != ArbHeightFidelity::spec_minimum) options.limits.max_instructions = 256;
+        if (*fidelity == ArbHeightFidelity::multiple_scattering) {
+            // Past Direct3D 9-class limits: what Mesa's drivers give.
+            options.limits.max_instructions = 512;
+            options.limits.max_temporaries = 32;
+            options.limits.max_parameters = 256;
+        }
     }
     return options;
 }
@@ -59,11 +65,12 @@ struct Program {
     Model model;
     std::optional<ArbHeightFidelity> fidelity;
 };
-const std::array<Program, 4> kPrograms{{
+const std::array<Program, 5> kPrograms{{
     {Model::hoffman_preetham, std::nullopt},
     {Model::height, ArbHeightFidelity::spec_minimum},
     {Model::height, ArbHeightFidelity::exact_optical_depth},
     {Model::height, ArbHeightFidelity::full},
+    {Model::height, ArbHeightFidelity::multiple_scattering},
 }};
 
 /// The probed pixels: 8 radii (1 to 120 pixels) in 8 directions around the eye.

@@ -23,6 +23,7 @@ static_assert(kArbApproxEx2 == kArbApproxBitEx2 && kArbApproxLg2 == kArbApproxBi
 namespace {
 
 struct Machine {
+    int address = 0;  ///< A0.x
     std::vector<Vec4> temps;
     std::vector<Vec4> params;
     std::array<Vec4, 1 + kArbMaxTexcoordUnits> attribs;
@@ -31,6 +32,8 @@ struct Machine {
 
 const Vec4& fetch(const Machine& m, File file, int index) {
     switch (file) {
+        case File::address:
+            break;
         case File::temp:
             return m.temps[static_cast<std::size_t>(index)];
         case File::attrib:
@@ -43,8 +46,17 @@ const Vec4& fetch(const Machine& m, File file, int index) {
     return kUndefined;  // outputs are write-only; the parser never produces this
 }
 
+/// The register a source reads: array[A0.x + n] resolved, undefined outside the array (as the
+/// spec leaves it).
+const Vec4& source_register(const Machine& m, const Source& s) {
+    if (!s.relative) return fetch(m, s.file, s.index);
+    const int slot = s.index + m.address;
+    if (slot < s.array_first || slot >= s.array_first + s.array_size) return kUndefined;
+    return fetch(m, s.file, slot);
+}
+
 Vec4 vector_load(const Machine& m, const Source& s) {
-    const Vec4& r = fetch(m, s.file, s.index);
+    const Vec4& r = source_register(m, s);
     Vec4 v;
     for (std::size_t i = 0; i < 4; ++i) {
         const float x = r[s.select[i]];
@@ -54,7 +66,7 @@ Vec4 vector_load(const Machine& m, const Source& s) {
 }
 
 float scalar_load(const Machine& m, const Source& s) {
-    const float x = fetch(m, s.file, s.index)[s.select[0]];
+    const float x = source_register(m, s)[s.select[0]];
     return s.negate ? -x : x;
 }
 
@@ -200,7 +212,7 @@ ArbResults run_arb_program(const ArbCpuProgram& program, const ArbMachine& machi
                 break;
             }
             case Opcode::swz: {
-                const Vec4 a = fetch(m, src[0].file, src[0].index);
+                const Vec4 a = source_register(m, src[0]);
                 for (std::size_t i = 0; i < 4; ++i) {
                     const std::uint8_t s = src[0].select[i];
                     const float x = s == kSelectZero ? 0.0f : s == kSelectOne ? 1.0f : a[s];
@@ -248,6 +260,21 @@ ArbResults run_arb_program(const ArbCpuProgram& program, const ArbMachine& machi
                 const float a = scalar_load(m, src[0]), b = scalar_load(m, src[1]);
                 r = splat(std::pow(a, b) * (1.0f + perturbation(kArbApproxPow)));
                 break;
+            }
+            case Opcode::flr:
+            case Opcode::frc: {
+                const Vec4 a = vector_load(m, src[0]);
+                for (std::size_t i = 0; i < 4; ++i) {
+                    const float f = std::floor(a[i]);
+                    r[i] = ins.info->opcode == Opcode::flr ? f : a[i] - f;
+                }
+                break;
+            }
+            case Opcode::arl: {
+                // floor(x); out of int range (or NaN) it indexes nothing: every read undefined.
+                const float f = std::floor(scalar_load(m, src[0]));
+                m.address = f > -1e6f && f < 1e6f ? static_cast<int>(f) : 1 << 30;
+                continue;
             }
         }
         if (ins.dst.file == File::temp) {

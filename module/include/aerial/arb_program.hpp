@@ -71,17 +71,24 @@ enum class ArbHeightFidelity {
     /// spec_minimum plus the weights' correction by the exact optical depth (and phi from its
     /// series near 0): 154 instructions.
     exact_optical_depth,
-    /// All of the CPU model: exact_optical_depth plus the sun's column factors at the vertex
-    /// (an erfcx fit and the below-horizon branch) interpolated along the segment as the model
-    /// does, the planet's shadow per sunlight point and the eye's or the vertex's blocked sun:
-    /// 249 instructions (252 with model_matrix), 12 temporaries and kArbHeightFullParameterCount
-    /// parameters: within 1 LSB of the CPU model. Needs a driver whose
+    /// All of the CPU model's single scattering: exact_optical_depth plus the sun's column
+    /// factors at the vertex (an erfcx fit and the below-horizon branch) interpolated along the
+    /// segment as the model does, the planet's shadow per sunlight point and the eye's or the
+    /// vertex's blocked sun: 249 instructions (252 with model_matrix), 12 temporaries and
+    /// kArbHeightFullParameterCount parameters: within 1 LSB of the CPU model without its
+    /// higher orders (Frame::multiple_scattering reset). Needs a driver whose
     /// MAX_PROGRAM_NATIVE_INSTRUCTIONS is at least that (256 on Direct3D 9-class hardware;
     /// Mesa's are far larger).
     full,
+    /// All of the CPU model: full plus the light scattered more than once (the frame's slice as
+    /// parameter arrays read through the address register): 327 instructions (330 with
+    /// model_matrix), 20 temporaries, kArbHeightMultipleParameterCount parameters: within 1 LSB
+    /// of the CPU model at all but 0.004 % of the test grid's vertices (2 LSB there). Mesa's
+    /// limits hold it; hardware limited to 256 instructions runs `full`.
+    multiple_scattering,
 };
 
-/// "automatic", "spec-minimum", "exact-optical-depth" or "full".
+/// "automatic", "spec-minimum", "exact-optical-depth", "full" or "multiple-scattering".
 const char* arb_height_fidelity_name(ArbHeightFidelity fidelity);
 /// The inverse of arb_height_fidelity_name; an error names the field "height_fidelity" and lists
 /// the known names.
@@ -147,6 +154,10 @@ inline constexpr int kArbHeightParameterCount = 15;
 /// How many frame parameter vectors the `full` height program reads: the 13 shared ones, then
 /// sunc, chx, chh, fitc (arb_parameter_layout).
 inline constexpr int kArbHeightFullParameterCount = 17;
+
+/// How many frame parameter vectors the `multiple_scattering` height program reads: full's 17,
+/// then msz, mss, msr, msm, the 16 rows of `lev` and the 153 of `shp` (arb_parameter_layout).
+inline constexpr int kArbHeightMultipleParameterCount = 190;
 
 /// kArbParameterCount or kArbHeightParameterCount (0 for a model without a program).
 constexpr int arb_parameter_count(Model model) {

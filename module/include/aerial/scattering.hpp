@@ -14,6 +14,7 @@
 // extinction <= 1, in_scattering >= 0.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -26,13 +27,19 @@
 
 namespace aerial {
 
+namespace detail {
+struct MultipleScatteringSlice;
+}
+
 /// The physics models (docs/conventions.md, Physics), cheapest first.
 enum class Model {
     /// The 2002 model: constant sea-level density, F_ex = exp(-beta_ex s),
     /// L_in = beta_sc(theta) / beta_ex * E_sun * (1 - F_ex), E_sun = E_sun0 * T_sun(eye).
     hoffman_preetham,
     /// Exponential density profiles averaged along the eye->vertex segment in closed form, sun
-    /// transmittance (Chapman approximation) at the altitude where the scattering happens.
+    /// transmittance (Chapman approximation) at the altitude where the scattering happens, and
+    /// the light scattered more than once from a small table per atmosphere, cut per frame at the
+    /// eye (docs/models.md, "The height model's higher orders").
     height,
     /// Single scattering integrated numerically in a spherical planet, double precision, sun
     /// transmittance per sample, shadowed by the planet: the `reference` without the light
@@ -114,15 +121,32 @@ struct Frame {
     /// sun_transmittance_chapman); 80 or more when the planet blocks the sun there.
     T eye_log_chapman_rayleigh = 0;
     T eye_log_chapman_mie = 0;
+    /// Unit local zenith at the eye and the sun's cosine to it.
+    glm::vec<3, T> eye_zenith{0, 0, 1};
+    T eye_cos_sun_zenith = 1;
+    /// The `height` model's light scattered more than once, cut at the eye of prepare_frame
+    /// (frame_with_eye keeps it); null for the other models and where nothing scatters.
+    std::shared_ptr<const detail::MultipleScatteringSlice> multiple_scattering;
 };
 
 /// The altitude below which density is clamped for this atmosphere (Frame::min_altitude_m):
 /// kMinAltitudeM, or -40 times the shorter scale height when that is higher.
 double min_density_altitude_m(const Atmosphere& atmosphere);
 
+/// What prepare_frame computes beyond a model's constants.
+struct FrameOptions {
+    /// `height` only: add the light scattered more than once (Frame::multiple_scattering). The
+    /// first frame of an atmosphere computes its table (docs/models.md, "The height model's
+    /// higher orders": about 0.6 s for `earth` on 2 cores, then kept in memory and in the disk
+    /// cache); for atmospheres far outside any planet's (scale heights of metres, optical depths
+    /// of thousands) that takes minutes: leave it off there.
+    bool multiple_scattering = true;
+};
+
 /// Validates atmosphere and view, then does the per-frame work. T is float or double.
 template <class T>
-Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, Model model);
+Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, Model model,
+                               const FrameOptions& options = {});
 
 /// The frame with its eye moved to `eye_m` (metres, world frame): the eye's altitude and the
 /// `height` model's sun factors there. For speed the 2002 model's exact E_sun is recomputed
@@ -215,6 +239,9 @@ struct MultipleScatteringReport {
     /// Sum of each order's scattering density over the table, per channel, orders 2, 3, ...
     std::vector<glm::dvec3> order_sums;
     double seconds = 0.0;  ///< wall time to compute the tables
+    /// Read from the per-user disk cache (docs/models.md, "Table cache"): `seconds` is then the
+    /// time it took when it was computed.
+    bool from_cache = false;
 };
 
 /// Computes (or finds in the cache) the tables `reference` uses for this atmosphere, and reports

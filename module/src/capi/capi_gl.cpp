@@ -110,7 +110,8 @@ constexpr EnumValue<ArbHeightFidelity> kFidelities[] = {
     {AERIAL_HEIGHT_FIDELITY_AUTOMATIC, ArbHeightFidelity::automatic},
     {AERIAL_HEIGHT_FIDELITY_SPEC_MINIMUM, ArbHeightFidelity::spec_minimum},
     {AERIAL_HEIGHT_FIDELITY_EXACT_OPTICAL_DEPTH, ArbHeightFidelity::exact_optical_depth},
-    {AERIAL_HEIGHT_FIDELITY_FULL, ArbHeightFidelity::full}};
+    {AERIAL_HEIGHT_FIDELITY_FULL, ArbHeightFidelity::full},
+    {AERIAL_HEIGHT_FIDELITY_MULTIPLE_SCATTERING, ArbHeightFidelity::multiple_scattering}};
 
 /// The level a generated program has (AUTOMATIC for a model without levels).
 aerial_height_fidelity to_c_fidelity(const ArbProgramOptions& o) {

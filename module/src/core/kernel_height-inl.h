@@ -171,6 +171,80 @@ struct EndFactors {
     MF active;
 };
 
+// ---- The light scattered more than once (height_multiple_scattering.hpp) ----------------------
+
+/// Splits coordinates into cells [0, rows - 2] and fractions (slice_cell).
+HWY_INLINE VF SliceCell(VF coordinate, int rows, VF& fraction) {
+    const VF clamped = Clamp(coordinate, 0.0f, float(rows - 1));
+    const VF cell = hn::Min(hn::Floor(clamped), K(float(rows - 2)));
+    fraction = hn::Sub(clamped, cell);
+    return cell;
+}
+
+/// level(h) per channel (slice_level).
+HWY_INLINE void SliceLevel(const FrameConstants& k, VF h, VF (&level)[3]) {
+    const DF d;
+    const DI di;
+    const VF above = hn::Max(h, hn::Zero(d));
+    const VF rho = hn::Sqrt(hn::Mul(above, hn::Add(K(k.ms_two_radius), above)));
+    VF f;
+    const hn::Vec<DI> i = hn::ConvertTo(di, SliceCell(hn::Mul(rho, K(k.ms_altitude_scale)),
+                                                      MultipleScatteringSlice::kAltitudeRows, f));
+    const hn::Vec<DI> next = hn::Add(i, hn::Set(di, 1));
+    for (int c = 0; c < 3; ++c) {
+        const VF lo = hn::GatherIndex(d, k.ms_level[c], i);
+        const VF hi = hn::GatherIndex(d, k.ms_level[c], next);
+        level[c] = hn::MulAdd(hn::Sub(hi, lo), f, lo);
+    }
+}
+
+/// shape(v) per channel for the view along the segment (multiple_scattering_shape).
+template <class M>
+HWY_INLINE void SliceShape(const FrameConstants& k, const Segment& seg, VF (&shape)[3]) {
+    using S = MultipleScatteringSlice;
+    const DF d;
+    const DI di;
+    const MF positive = hn::Gt(seg.s, hn::Zero(d));
+    const VF inv_s = hn::Div(K(1.0f), hn::IfThenElse(positive, seg.s, K(1.0f)));
+    const VF mu_v = hn::IfThenElse(positive,
+                                   Clamp(hn::Mul(Dot(seg.dx, seg.dy, seg.dz, K(k.eye_zenith[0]),
+                                                     K(k.eye_zenith[1]), K(k.eye_zenith[2])),
+                                                 inv_s),
+                                         -1.0f, 1.0f),
+                                   K(1.0f));
+    const VF cos_theta = hn::IfThenElse(
+        positive,
+        hn::Mul(Dot(seg.dx, seg.dy, seg.dz, K(k.sun[0]), K(k.sun[1]), K(k.sun[2])), inv_s),
+        K(1.0f));
+    const VF across =
+        hn::Mul(hn::Sqrt(hn::Max(hn::NegMulAdd(mu_v, mu_v, K(1.0f)), hn::Zero(d))), K(k.eye_sin_s));
+    const MF wide = hn::Gt(across, K(1e-6f));
+    const VF cos_azimuth =
+        hn::IfThenElse(wide,
+                       Clamp(hn::Div(hn::NegMulAdd(mu_v, K(k.eye_mu_s), cos_theta),
+                                     hn::IfThenElse(wide, across, K(1.0f))),
+                             -1.0f, 1.0f),
+                       K(1.0f));
+    const VF sin_half =
+        hn::Sqrt(hn::Max(hn::Mul(hn::Sub(K(1.0f), cos_azimuth), K(0.5f)), hn::Zero(d)));
+    VF fa, fb;
+    const VF a =
+        SliceCell(hn::Mul(hn::Add(mu_v, K(1.0f)), K(0.5f * (S::kViewRows - 1))), S::kViewRows, fa);
+    const VF b = SliceCell(hn::Mul(sin_half, K(float(S::kAzimuthRows - 1))), S::kAzimuthRows, fb);
+    const hn::Vec<DI> i00 = hn::ConvertTo(di, hn::MulAdd(a, K(float(S::kAzimuthRows)), b));
+    const hn::Vec<DI> i01 = hn::Add(i00, hn::Set(di, 1));
+    const hn::Vec<DI> i10 = hn::Add(i00, hn::Set(di, S::kAzimuthRows));
+    const hn::Vec<DI> i11 = hn::Add(i10, hn::Set(di, 1));
+    for (int c = 0; c < 3; ++c) {
+        const float* rows = k.ms_shape[c];
+        const VF v00 = hn::GatherIndex(d, rows, i00), v01 = hn::GatherIndex(d, rows, i01);
+        const VF v10 = hn::GatherIndex(d, rows, i10), v11 = hn::GatherIndex(d, rows, i11);
+        const VF lo = hn::MulAdd(hn::Sub(v01, v00), fb, v00);
+        const VF hi = hn::MulAdd(hn::Sub(v11, v10), fb, v10);
+        shape[c] = hn::MulAdd(hn::Sub(hi, lo), fa, lo);
+    }
+}
+
 /// The quadrature of the sunlight scattered towards the eye (height_model's sunlit[]): 3 Gauss
 /// nodes in the share of the G attenuation, mapped to u through the one-exponential fit of the
 /// extinction profile, each weighted by the density, the exact over the fitted attenuation and
@@ -178,7 +252,8 @@ struct EndFactors {
 /// sunlit_m (per channel).
 template <class M>
 HWY_INLINE void SunlitSums(const FrameConstants& k, const Segment& seg, const HeightProfile& p,
-                           const EndFactors& ends, VF (&sunlit_r)[3], VF (&sunlit_m)[3]) {
+                           const EndFactors& ends, VF (&sunlit_r)[3], VF (&sunlit_m)[3],
+                           VF (&multiple_r)[3], VF (&multiple_m)[3]) {
     const VF zero = hn::Zero(DF());
     const VF s = seg.s;
     const VF k_r0 = K(k.k_r0), k_m0 = K(k.k_m0);
@@ -250,6 +325,15 @@ HWY_INLINE void SunlitSums(const FrameConstants& k, const Segment& seg, const He
             M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hr), log_jacobian), K(kMaxExponent)));
         const VF w_m =
             M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hm), log_jacobian), K(kMaxExponent)));
+        if (k.multiple) {
+            VF level[3];
+            SliceLevel(k, h, level);
+            for (int c = 0; c < 3; ++c) {
+                const VF weighted = hn::Mul(K(float(height::kSunWeights[n])), level[c]);
+                multiple_r[c] = hn::MulAdd(w_r, weighted, multiple_r[c]);
+                multiple_m[c] = hn::MulAdd(w_m, weighted, multiple_m[c]);
+            }
+        }
         VF sun[3];
         Transmittance<M>(k, h, hn::MulAdd(hn::Sub(ends.lr1, ends.lr0), u, ends.lr0),
                          hn::MulAdd(hn::Sub(ends.lm1, ends.lm0), u, ends.lm0), sun);
@@ -268,7 +352,8 @@ HWY_INLINE void SunlitSums(const FrameConstants& k, const Segment& seg, const He
 template <class M, class Out>
 HWY_INLINE void HeightInScattering(const FrameConstants& k, const Segment& seg, const VF (&tau)[3],
                                    const VF (&extinction)[3], const VF (&sunlit_r)[3],
-                                   const VF (&sunlit_m)[3], const Out& out) {
+                                   const VF (&sunlit_m)[3], const VF (&multiple_r)[3],
+                                   const VF (&multiple_m)[3], const Out& out) {
     const VF s = seg.s;
     VF phase_r, phase_m;
     Phases<M>(k, seg.dx, seg.dy, seg.dz, s, phase_r, phase_m);
@@ -278,11 +363,17 @@ HWY_INLINE void HeightInScattering(const FrameConstants& k, const Segment& seg, 
         path[c] = ExpAverageFrom(minus_tau, Expm1GivenExp(minus_tau, extinction[c]));
     }
     const VF inv_green = hn::Div(s, hn::Max(path[1], K(kTiny)));
+    VF shape[3] = {hn::Zero(DF()), hn::Zero(DF()), hn::Zero(DF())};
+    if (k.multiple) SliceShape<M>(k, seg, shape);
     for (int c = 0; c < 3; ++c) {
         const VF scattering =
             hn::MulAdd(hn::Mul(K(k.rayleigh[c]), phase_r), sunlit_r[c],
                        hn::Mul(hn::Mul(K(k.mie_scattering[c]), phase_m), sunlit_m[c]));
-        const VF value = hn::Mul(hn::Mul(scattering, K(k.sun_top[c])), hn::Mul(path[c], inv_green));
+        const VF multiple = hn::Mul(hn::MulAdd(K(k.rayleigh[c]), multiple_r[c],
+                                               hn::Mul(K(k.mie_scattering[c]), multiple_m[c])),
+                                    shape[c]);
+        const VF value =
+            hn::Mul(hn::MulAdd(scattering, K(k.sun_top[c]), multiple), hn::Mul(path[c], inv_green));
         out.InScattering(c, hn::IfThenElseZero(seg.valid, value));
     }
 }
@@ -346,10 +437,14 @@ HWY_INLINE MF HeightVector(const FrameConstants& k, VF x, VF y, VF z, const Out&
 
     VF sunlit_r[3] = {zero, zero, zero};
     VF sunlit_m[3] = {zero, zero, zero};
-    if (k.k_total > 0.0f && !hn::AllFalse(d, hn::And(ends.active, seg.valid))) {
-        SunlitSums<M>(k, seg, profile, ends, sunlit_r, sunlit_m);
+    VF multiple_r[3] = {zero, zero, zero};
+    VF multiple_m[3] = {zero, zero, zero};
+    // The light scattered more than once also reaches segments the sun does not.
+    const MF needed = k.multiple ? seg.valid : hn::And(ends.active, seg.valid);
+    if (k.k_total > 0.0f && !hn::AllFalse(d, needed)) {
+        SunlitSums<M>(k, seg, profile, ends, sunlit_r, sunlit_m, multiple_r, multiple_m);
     }
-    HeightInScattering<M>(k, seg, tau, extinction, sunlit_r, sunlit_m, out);
+    HeightInScattering<M>(k, seg, tau, extinction, sunlit_r, sunlit_m, multiple_r, multiple_m, out);
     return seg.valid;
 }
 

@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "../common/error_text.hpp"
+#include "table_cache.hpp"
 
 namespace aerial {
 
@@ -100,8 +101,11 @@ MultipleScatteringTable::MultipleScatteringTable(const Atmosphere& atmosphere,
     const double top = atmosphere.atmosphere_radius_m;
     const double ground = atmosphere.planet_radius_m;
     horizon_distance_m_ = std::sqrt((top - ground) * (top + ground));
+    const std::string key = table_cache_key(atmosphere_, settings_);
+    if (load_cached_table(key, size(), density_, report_)) return;
     density_.assign(size(), glm::dvec3(0.0));
     run_multiple_scattering_solver(*this, atmosphere_, density_, report_);
+    store_cached_table(key, density_, report_);
 }
 
 std::size_t MultipleScatteringTable::size() const {
@@ -197,7 +201,10 @@ glm::dvec3 MultipleScatteringTable::density(const glm::dvec3& x, const glm::dvec
 }
 
 std::shared_ptr<const MultipleScatteringTable> multiple_scattering_table(
-    const Atmosphere& atmosphere, const MultipleScatteringSettings& settings) {
+    const Atmosphere& lit_atmosphere, const MultipleScatteringSettings& settings) {
+    // The tables are per unit E_sun0: atmospheres that differ in it alone share one.
+    Atmosphere atmosphere = lit_atmosphere;
+    atmosphere.sun_irradiance = glm::dvec3(1.0);
     // The last few tables: a tool or a test alternates between a handful of atmospheres.
     constexpr std::size_t kKept = 6;
     using Entry = std::pair<std::pair<Atmosphere, MultipleScatteringSettings>,

@@ -12,6 +12,7 @@
 #include "../common/names.hpp"
 #include "aerial/phase.hpp"
 #include "height_constants.hpp"
+#include "height_multiple_scattering.hpp"
 #include "math.hpp"
 
 namespace aerial {
@@ -211,6 +212,18 @@ bool in_planet_shadow(const Frame<T>& f, const Vec3<T>& p_m) {
     return excess < T(0);
 }
 
+/// shape(v) of the frame's slice for the view from the eye along d (length s > 0; the zenith's
+/// shape at s = 0), cos_theta its cosine to the sun.
+template <class T>
+Vec3<T> multiple_scattering_shape(const Frame<T>& f, const Vec3<T>& d, T s, T cos_theta) {
+    const T mu_v = s > T(0) ? std::clamp(glm::dot(d, f.eye_zenith) / s, T(-1), T(1)) : T(1);
+    const T mu_s = f.eye_cos_sun_zenith;
+    const T across = std::sqrt(std::max(T(0), (T(1) - mu_v * mu_v) * (T(1) - mu_s * mu_s)));
+    const T cos_azimuth =
+        across > T(1e-6) ? std::clamp((cos_theta - mu_v * mu_s) / across, T(-1), T(1)) : T(1);
+    return detail::slice_shape(*f.multiple_scattering, mu_v, cos_azimuth);
+}
+
 template <class T>
 Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
     const Vec3<T> d = p_m - f.eye_m;
@@ -273,8 +286,12 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
     // (1 - exp(-x)) / x; for a uniform medium in full sun it is rho_i phi(tau_G). The weights are
     // assembled in log form: dense haze and long segments make their factors overflow floats.
     Vec3<T> sunlit[2] = {Vec3<T>(0), Vec3<T>(0)};
+    // The same weights times level(h) at the nodes: the light scattered more than once, which
+    // also reaches the planet's shadow (height_multiple_scattering.hpp).
+    const detail::MultipleScatteringSlice* ms = f.multiple_scattering.get();
+    Vec3<T> multiple[2] = {Vec3<T>(0), Vec3<T>(0)};
     const T tau_mix_g = s * (f.rayleigh_scattering.y * rho_r + f.mie_extinction.y * rho_m);
-    if ((lit0 || lit1) && k_total > T(0)) {
+    if ((lit0 || lit1 || ms) && k_total > T(0)) {
         const T tau_total = tau_to(T(1));
         const T k_end = k_r0 * std::exp(std::min(-a_r, T(kMaxExponent))) +
                         k_m0 * std::exp(std::min(-a_m, T(kMaxExponent)));
@@ -290,7 +307,6 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
                                   : -std::log1p(y * std::expm1(-tau_total));
             const T fraction = tau_total > T(0) ? std::clamp(tau_fit / tau_total, T(0), T(1)) : y;
             const T u = exponential_quantile(fraction, a_fit);
-            if (in_planet_shadow(f, f.eye_m + d * u)) continue;
             const T h = std::max(h0 + rise * u - sag * u * (T(1) - u), min_h);
             // log of du/dy times the exact over the fitted attenuation, plus the scale.
             const T log_jacobian = tau_fit - tau_to(u) + a_fit * u + log_scale;
@@ -298,6 +314,12 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
                 std::exp(std::min(log_jacobian - h * f.inv_rayleigh_scale_height, T(kMaxExponent)));
             const T w_m =
                 std::exp(std::min(log_jacobian - h * f.inv_mie_scale_height, T(kMaxExponent)));
+            if (ms) {
+                const Vec3<T> level = T(kSunWeights[n]) * detail::slice_level(*ms, h);
+                multiple[0] += w_r * level;
+                multiple[1] += w_m * level;
+            }
+            if (!(lit0 || lit1) || in_planet_shadow(f, f.eye_m + d * u)) continue;
             const Vec3<T> sun =
                 T(kSunWeights[n]) *
                 transmittance_from_log_factors(f, h, lr0 + (lr1 - lr0) * u, lm0 + (lm1 - lm0) * u);
@@ -308,17 +330,22 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
 
     const T phase_r = rayleigh_phase(cos_theta);
     const T phase_m = henyey_greenstein_phase(cos_theta, f.mie_g);
+    const Vec3<T> shape = ms ? multiple_scattering_shape(f, d, s, cos_theta) : Vec3<T>(0);
     for (int c = 0; c < 3; ++c) {
         const T beta_ex = f.rayleigh_scattering[c] * rho_r + f.mie_extinction[c] * rho_m;
         const T sunlit_scattering = f.rayleigh_scattering[c] * phase_r * sunlit[0][c] +
                                     f.mie_scattering[c] * phase_m * sunlit[1][c];
+        const T multiple_scattering =
+            (f.rayleigh_scattering[c] * multiple[0][c] + f.mie_scattering[c] * multiple[1][c]) *
+            shape[c];
         const T tau = beta_ex * s;
         out.extinction[c] = std::exp(-tau);
         // The G-channel quadrature carries the profile; each channel keeps its own attenuation
         // through the closed form phi(tau_c) / phi(tau_G), exact for a uniform medium.
         const T path =
             s * detail::one_minus_exp_over_x(tau) / detail::one_minus_exp_over_x(tau_mix_g);
-        out.in_scattering[c] = sunlit_scattering * f.sun_irradiance_top[c] * path;
+        out.in_scattering[c] =
+            (sunlit_scattering * f.sun_irradiance_top[c] + multiple_scattering) * path;
     }
     return out;
 }
@@ -345,6 +372,8 @@ void set_frame_eye(Frame<T>& f, const glm::dvec3& eye_m, bool exact_sun_irradian
     const glm::dvec3 eye_from_centre = eye_m + f.view.up * atmosphere.planet_radius_m;
     const double eye_cos_zenith =
         glm::dot(eye_from_centre, f.view.sun_dir) / glm::length(eye_from_centre);
+    f.eye_zenith = Vec3<T>(glm::normalize(eye_from_centre));
+    f.eye_cos_sun_zenith = T(eye_cos_zenith);
     if (exact_sun_irradiance) {
         f.sun_irradiance_eye = Vec3<T>(atmosphere.sun_irradiance *
                                        sun_transmittance(atmosphere, eye_altitude, eye_cos_zenith));
@@ -365,7 +394,8 @@ void set_frame_eye(Frame<T>& f, const glm::dvec3& eye_m, bool exact_sun_irradian
 }  // namespace
 
 template <class T>
-Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, Model model) {
+Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, Model model,
+                               const FrameOptions& options) {
     if (auto e = validate(atmosphere)) return detail::from("prepare_frame", *e);
     if (auto e = validate(view)) return detail::from("prepare_frame", *e);
     Frame<T> f;
@@ -390,6 +420,10 @@ Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, M
     f.mie_scale_height_m = T(atmosphere.mie_scale_height_m);
     f.min_altitude_m = T(min_density_altitude_m(atmosphere));
     set_frame_eye(f, eye_m, true);
+    if (model == Model::height && options.multiple_scattering) {
+        f.multiple_scattering = detail::multiple_scattering_slice(
+            atmosphere, double(f.eye_altitude_m), double(f.eye_cos_sun_zenith));
+    }
     return f;
 }
 
@@ -445,7 +479,8 @@ Result<Scattering<double>> evaluate(const Atmosphere& atmosphere, const View& vi
     template T altitude_above_sphere<T>(const Vec3<T>&, const Vec3<T>&, T);                        \
     template Vec3<T> sun_transmittance_chapman<T>(const Frame<T>&, T, T);                          \
     template Scattering<T> hoffman_preetham_closed_form<T>(const Frame<T>&, T, T, const Vec3<T>&); \
-    template Result<Frame<T>> prepare_frame<T>(const Atmosphere&, const View&, Model);             \
+    template Result<Frame<T>> prepare_frame<T>(const Atmosphere&, const View&, Model,              \
+                                               const FrameOptions&);                               \
     template Frame<T> frame_with_eye<T>(const Frame<T>&, const glm::dvec3&);                       \
     template Scattering<T> scatter<T>(const Frame<T>&, const Vec3<T>&);
 AERIAL_INSTANTIATE(float)

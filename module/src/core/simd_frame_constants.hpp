@@ -2,13 +2,16 @@
 // taken from a Frame<float> once per block, target-independent (compiled once).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 #include <glm/geometric.hpp>
 
 #include "aerial/phase.hpp"
 #include "aerial/scattering.hpp"
 #include "height_constants.hpp"
+#include "height_multiple_scattering.hpp"
 
 namespace aerial::detail::simd {
 
@@ -44,6 +47,13 @@ struct FrameConstants {
     // (|A|^2 - R^2) + 2 u A.d + u^2 (|d|^2 - (d.sun)^2), A = c - (c.sun) sun, the two constants
     // taken in double; A.d = A.d_perp since A is across the sun.
     float shadow_along_eye, shadow_excess_eye, shadow_across_eye[3];
+    // height's light scattered more than once (height_multiple_scattering.hpp): the eye's
+    // zenith, the sun's cosine and sine to it, and the slice's rows per channel (for gathers).
+    bool multiple;
+    float eye_zenith[3], eye_mu_s, eye_sin_s;
+    float ms_altitude_scale, ms_two_radius;
+    float ms_level[3][MultipleScatteringSlice::kAltitudeRows];
+    float ms_shape[3][MultipleScatteringSlice::kViewRows * MultipleScatteringSlice::kAzimuthRows];
 };
 
 inline FrameConstants make_frame_constants(const Frame<float>& f) {
@@ -104,6 +114,19 @@ inline FrameConstants make_frame_constants(const Frame<float>& f) {
     k.shadow_along_eye = float(along_eye);
     k.shadow_excess_eye = float(glm::dot(across_eye, across_eye) - radius * radius);
     for (int i = 0; i < 3; ++i) k.shadow_across_eye[i] = float(across_eye[i]);
+    k.multiple = f.multiple_scattering != nullptr;
+    if (k.multiple) {
+        const MultipleScatteringSlice& ms = *f.multiple_scattering;
+        for (int i = 0; i < 3; ++i) k.eye_zenith[i] = f.eye_zenith[i];
+        k.eye_mu_s = f.eye_cos_sun_zenith;
+        k.eye_sin_s = std::sqrt(std::max(0.0f, 1.0f - k.eye_mu_s * k.eye_mu_s));
+        k.ms_altitude_scale = ms.altitude_scale;
+        k.ms_two_radius = ms.two_radius_m;
+        for (int c = 0; c < 3; ++c) {
+            for (std::size_t i = 0; i < ms.level.size(); ++i) k.ms_level[c][i] = ms.level[i][c];
+            for (std::size_t i = 0; i < ms.shape.size(); ++i) k.ms_shape[c][i] = ms.shape[i][c];
+        }
+    }
     return k;
 }
 

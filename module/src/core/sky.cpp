@@ -226,8 +226,10 @@ glm::dvec3 sky_radiance(const SkyContext& sky, const dvec3& direction) {
             View view = sky.view;
             view.eye = sky.eye_m;
             view.meters_per_unit = 1.0;
+            ReferenceOptions options;
+            options.multiple_scattering = true;  // the `reference` model, every order
             return reference_scattering(sky.atmosphere, view,
-                                        sky.eye_m + dir * sky_ray_length_m(sky, dir))
+                                        sky.eye_m + dir * sky_ray_length_m(sky, dir), options)
                 .in_scattering;
         }
     }

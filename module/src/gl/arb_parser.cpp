@@ -40,6 +40,9 @@ constexpr OpcodeInfo kOpcodes[] = {
     {"RCP", Opcode::rcp, Form::scalar1, kArbApproxBitRcp},
     {"RSQ", Opcode::rsq, Form::scalar1, kArbApproxBitRsq},
     {"POW", Opcode::pow, Form::scalar2, kArbApproxBitPow},
+    {"FLR", Opcode::flr, Form::vector1, 0},
+    {"FRC", Opcode::frc, Form::vector1, 0},
+    {"ARL", Opcode::arl, Form::address, 0},
 };
 
 /// Keywords of the language (spec section 2.14.2) that may not name a variable.
@@ -77,7 +80,7 @@ class Parser {
 
   private:
     struct Symbol {
-        enum class Kind { temp, attrib, param, param_array, output } kind = Kind::temp;
+        enum class Kind { temp, attrib, param, param_array, output, address } kind = Kind::temp;
         int index = 0;  ///< slot (param: first binding of the array)
         int size = 1;
     };
@@ -470,6 +473,8 @@ std::optional<Error> Parser::parse_dest(Dest& dst) {
         if (it == symbols_.end()) return error_at(at, "'" + name + "' is not declared");
         if (it->second.kind == Symbol::Kind::temp) {
             dst.file = File::temp;
+        } else if (it->second.kind == Symbol::Kind::address) {
+            dst.file = File::address;
         } else if (it->second.kind == Symbol::Kind::output) {
             dst.file = File::output;
         } else {
@@ -545,6 +550,34 @@ std::optional<Error> Parser::parse_register(Source& src) {
             int element = 0;
             if (auto e = expect("[")) return e;
             const std::size_t element_at = peek().offset;
+            if (peek().kind == Token::Kind::identifier) {
+                // Relative: array[A0.x], array[A0.x + n] or array[A0.x - n], n in [-64, 63].
+                std::string address;
+                if (auto e = expect_identifier(address)) return e;
+                auto a = symbols_.find(address);
+                if (a == symbols_.end() || a->second.kind != Symbol::Kind::address) {
+                    return error_at(element_at, "'" + address + "' is not an ADDRESS register");
+                }
+                if (auto e = expect(".")) return e;
+                if (auto e = expect("x")) return e;
+                int offset = 0;
+                const bool minus = peek().text == "-";
+                if (accept("+") || accept("-")) {
+                    if (auto e = expect_integer(offset)) return e;
+                    if (minus) offset = -offset;
+                }
+                if (offset < -64 || offset > 63) {
+                    return error_at(element_at, "a relative offset is in [-64, 63], got " +
+                                                    std::to_string(offset));
+                }
+                if (auto e = expect("]")) return e;
+                src.file = File::param;
+                src.relative = true;
+                src.array_first = s.index;
+                src.array_size = s.size;
+                src.index = s.index + offset;
+                break;
+            }
             if (auto e = expect_integer(element)) return e;
             if (auto e = expect("]")) return e;
             if (element >= s.size) {
@@ -558,6 +591,8 @@ std::optional<Error> Parser::parse_register(Source& src) {
         }
         case Symbol::Kind::output:
             return error_at(at, "'" + name + "' is an output: write-only");
+        case Symbol::Kind::address:
+            return error_at(at, "'" + name + "' is an address register: it only indexes arrays");
     }
     return std::nullopt;
 }
@@ -619,6 +654,7 @@ std::optional<Error> Parser::parse_instruction(const OpcodeInfo& info) {
         case Form::vector1:
         case Form::scalar1:
         case Form::swizzle:
+        case Form::address:
             sources = 1;
             break;
         case Form::vector2:
@@ -629,13 +665,20 @@ std::optional<Error> Parser::parse_instruction(const OpcodeInfo& info) {
             sources = 3;
             break;
     }
+    if ((info.form == Form::address) != (ins.dst.file == File::address) ||
+        (ins.dst.file == File::address && ins.dst.mask != 1u)) {
+        return error(info.form == Form::address
+                         ? "ARL writes the x component of an ADDRESS register"
+                         : "only ARL writes an ADDRESS register");
+    }
     for (int i = 0; i < sources; ++i) {
         if (auto e = expect(",")) return e;
         Source& src = ins.src[static_cast<std::size_t>(i)];
         if (info.form == Form::swizzle) {
             if (auto e = parse_swz_source(src)) return e;
         } else {
-            const bool scalar = info.form == Form::scalar1 || info.form == Form::scalar2;
+            const bool scalar = info.form == Form::scalar1 || info.form == Form::scalar2 ||
+                                info.form == Form::address;
             if (auto e = parse_source(src, scalar)) return e;
         }
     }
@@ -667,6 +710,19 @@ std::optional<Error> Parser::parse_statement() {
             }
             ++data_.temporaries;
         } while (accept(","));
+        return expect(";");
+    }
+    if (word == "ADDRESS") {
+        // One address register (the spec's minimum MAX_PROGRAM_ADDRESS_REGISTERS).
+        const std::size_t name_at = peek().offset;
+        std::string name;
+        if (auto e = expect_identifier(name)) return e;
+        for (const auto& entry : symbols_) {
+            if (entry.second.kind == Symbol::Kind::address) {
+                return error_at(name_at, "this interpreter supports one ADDRESS register");
+            }
+        }
+        if (auto e = declare(name, name_at, {Symbol::Kind::address, 0, 1})) return e;
         return expect(";");
     }
     if (word == "ATTRIB" || word == "OUTPUT" || word == "PARAM") {

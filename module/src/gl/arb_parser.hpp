@@ -49,7 +49,10 @@ enum class Opcode {
     log,
     rcp,
     rsq,
-    pow
+    pow,
+    flr,
+    frc,
+    arl
 };
 
 /// How an instruction's operands are written.
@@ -60,6 +63,7 @@ enum class Form {
     scalar1,  ///< OP dst, scalar
     scalar2,  ///< OP dst, scalar, scalar
     swizzle,  ///< SWZ dst, register, c, c, c, c
+    address,  ///< ARL address.x, scalar
 };
 
 struct OpcodeInfo {
@@ -69,7 +73,7 @@ struct OpcodeInfo {
     unsigned approx;  ///< kArbApproxBit*, 0 for exact instructions
 };
 
-enum class File : std::uint8_t { temp, attrib, param, output };
+enum class File : std::uint8_t { temp, attrib, param, output, address };
 
 // Attribute slots: 0 = vertex.position, 1 + n = vertex.texcoord[n].
 inline constexpr int kAttribPosition = 0;
@@ -94,7 +98,10 @@ struct ParamBinding {
 
 struct Source {
     File file = File::temp;
-    int index = 0;
+    int index = 0;  ///< relative: the array's first slot plus the offset
+    /// array[A0.x + offset]: the slot is index + A0.x, valid within [first, first + size).
+    bool relative = false;
+    int array_first = 0, array_size = 0;
     std::array<std::uint8_t, 4> select{0, 1, 2, 3};
     bool negate = false;
     std::array<bool, 4> negate_component{};  ///< SWZ only

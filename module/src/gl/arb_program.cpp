@@ -4,6 +4,8 @@
 // (arb_parser.cpp), so that the figures always describe what GL receives.
 #include <charconv>
 #include <cmath>
+#include <string>
+#include <string_view>
 
 #include "../common/error_text.hpp"
 #include "aerial/arb_program.hpp"
@@ -57,10 +59,22 @@ std::vector<ParameterRow> parameter_layout(const ArbProgramOptions& o, ArbHeight
 void write_parameter_declarations(ProgramWriter& w, const ArbProgramOptions& o,
                                   ArbHeightFidelity fidelity) {
     const std::vector<ParameterRow> rows = parameter_layout(o, fidelity);
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-        w.line("PARAM " + std::string(rows[i].name) + " = " +
-                   parameter_name(o, static_cast<int>(i)) + ";",
-               rows[i].meaning);
+    for (std::size_t i = 0; i < rows.size();) {
+        // Consecutive rows of one name are an array (read through the address register).
+        std::size_t end = i + 1;
+        while (end < rows.size() && std::string_view(rows[end].name) == rows[i].name) ++end;
+        if (end - i == 1) {
+            w.line("PARAM " + std::string(rows[i].name) + " = " +
+                       parameter_name(o, static_cast<int>(i)) + ";",
+                   rows[i].meaning);
+        } else {
+            const std::string first = parameter_name(o, static_cast<int>(i));
+            const std::string last = std::to_string(o.parameter_base + int(end) - 1);
+            w.line("PARAM " + std::string(rows[i].name) + "[" + std::to_string(end - i) + "] = { " +
+                       first.substr(0, first.size() - 1) + ".." + last + "] };",
+                   rows[i].meaning);
+        }
+        i = end;
     }
 }
 
@@ -171,23 +185,27 @@ const char* arb_height_fidelity_name(ArbHeightFidelity fidelity) {
             return "exact-optical-depth";
         case ArbHeightFidelity::full:
             return "full";
+        case ArbHeightFidelity::multiple_scattering:
+            return "multiple-scattering";
     }
     return "?";
 }
 
 Result<ArbHeightFidelity> parse_arb_height_fidelity(std::string_view name) {
     for (ArbHeightFidelity f : {ArbHeightFidelity::automatic, ArbHeightFidelity::spec_minimum,
-                                ArbHeightFidelity::exact_optical_depth, ArbHeightFidelity::full}) {
+                                ArbHeightFidelity::exact_optical_depth, ArbHeightFidelity::full,
+                                ArbHeightFidelity::multiple_scattering}) {
         if (name == arb_height_fidelity_name(f)) return f;
     }
     return invalid("parse_arb_height_fidelity", "height_fidelity",
-                   "one of automatic, spec-minimum, exact-optical-depth, full",
+                   "one of automatic, spec-minimum, exact-optical-depth, full, multiple-scattering",
                    detail::quoted(name));
 }
 
 ArbHeightFidelity resolve_arb_height_fidelity(const ArbProgramOptions& options) {
     if (options.height_fidelity != ArbHeightFidelity::automatic) return options.height_fidelity;
-    for (ArbHeightFidelity f : {ArbHeightFidelity::full, ArbHeightFidelity::exact_optical_depth}) {
+    for (ArbHeightFidelity f : {ArbHeightFidelity::multiple_scattering, ArbHeightFidelity::full,
+                                ArbHeightFidelity::exact_optical_depth}) {
         ArbProgramOptions o = options;
         o.model = Model::height;
         o.height_fidelity = f;

@@ -13,6 +13,7 @@
 #include "aerial/scattering.hpp"
 
 #include "../core/height_constants.hpp"
+#include "../core/height_multiple_scattering.hpp"
 #include "aerial/phase.hpp"
 #include "arb_program_height_layout.hpp"
 #include "arb_program_internal.hpp"
@@ -88,8 +89,10 @@ std::array<double, kErfcxDegree + 1> erfcx_fit() {
 /// The program's header comments and its declarations: the per-frame parameters (layout in
 /// arb_program.hpp), the constants (`full` adds those of the erfcx fit and the blocked sun) and
 /// the temporaries.
-void write_height_declarations(ProgramWriter& w, const ArbProgramOptions& o, bool full,
-                               bool quotient) {
+void write_height_declarations(ProgramWriter& w, const ArbProgramOptions& o,
+                               ArbHeightFidelity fidelity, bool quotient) {
+    const bool multiple = fidelity == ArbHeightFidelity::multiple_scattering;
+    const bool full = fidelity == ArbHeightFidelity::full || multiple;
     const double ln2 = std::log(2.0);
     w.line("!!ARBvp1.0");
     if (o.position_invariant) w.line("OPTION ARB_position_invariant;");
@@ -104,8 +107,7 @@ void write_height_declarations(ProgramWriter& w, const ArbProgramOptions& o, boo
     w.comment("     applied), fogcoord = distance eye -> vertex (engine units).");
     w.line("ATTRIB pos = vertex.position;");
     if (!o.position_invariant) w.line("PARAM mvp[4] = { state.matrix.mvp };");
-    write_parameter_declarations(w, o,
-                                 full ? ArbHeightFidelity::full : ArbHeightFidelity::spec_minimum);
+    write_parameter_declarations(w, o, fidelity);
     const double c = kSeriesLimit * kLog2E;  // the limit in log2 units
     w.line("PARAM num = " + format_float4(2.0, -1.5, c, kLog2E) + ";",
            "2, -1.5, series limit, log2(e)");
@@ -146,8 +148,102 @@ void write_height_declarations(ProgramWriter& w, const ArbProgramOptions& o, boo
                "t = C/(y + C), C = 2");
         w.line("PARAM lim = " + format_float4(-ln2, 0.0, 0.0, 0.0) + ";");
     }
+    if (multiple) {
+        using S = MultipleScatteringSlice;
+        w.line("PARAM msk = " + format_float4(1.0, -1.0, 0.5, 1e-6) + ";",
+               "1, -1, 1/2, the smallest sine product of an azimuth");
+        w.line("PARAM msl = " +
+                   format_float4(S::kViewRows - 2, S::kAzimuthRows - 2, S::kAzimuthRows, 1e-30) +
+                   ";",
+               "last view and azimuth cells, azimuth rows, tiny");
+        w.line("PARAM msh = " +
+                   format_float4(S::kAltitudeRows - 1, S::kAltitudeRows - 2, 0.0, 0.0) + ";",
+               "last altitude row and cell");
+        w.line("ADDRESS a0;");
+        w.line("TEMP msv, mssr, mssm, msa, msb, msc, msd, mse;");
+    }
     w.line(full ? "TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc, chp;"
                 : "TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc;");
+}
+
+/// shape(v) of the light scattered more than once into msv (height_multiple_scattering.hpp),
+/// while seg holds d and node.w 1/s.
+void write_multiple_scattering_shape(ProgramWriter& w) {
+    using S = MultipleScatteringSlice;
+    w.comment("Higher orders: shape(v) bilinear in (view cosine, sin(azimuth/2)) -> msv.");
+    w.line("DP3 msa.x, seg, msz;");
+    w.line("DP3 msa.y, seg, sunc;");
+    w.line("MUL msa.xy, msa, node.w;", "mu_v, cos theta");
+    w.line("MIN msa.x, msa.x, msk.x;");
+    w.line("MAX msa.x, msa.x, msk.y;");
+    w.line("MAD msa.z, -msa.x, msa.x, msk.x;", "1 - mu_v^2");
+    w.line("MAX msa.z, msa.z, msl.w;");
+    w.line("RSQ msa.w, msa.z;");
+    w.line("MUL msa.z, msa.z, msa.w;");
+    w.line("MUL msa.z, msa.z, mss.x;", "sin(view zenith) sin(sun zenith)");
+    w.line("MAX msa.z, msa.z, msk.w;");
+    w.line("RCP msa.z, msa.z;");
+    w.line("MAD msa.y, -msa.x, msz.w, msa.y;");
+    w.line("MUL msa.y, msa.y, msa.z;", "cos(azimuth from the sun)");
+    w.line("MIN msa.y, msa.y, msk.x;");
+    w.line("MAX msa.y, msa.y, msk.y;");
+    w.line("MAD msa.y, msa.y, -msk.z, msk.z;");
+    w.line("MAX msa.y, msa.y, msl.w;");
+    w.line("RSQ msa.z, msa.y;");
+    w.line("MUL msa.y, msa.y, msa.z;", "sin(azimuth/2)");
+    w.line("MAD msa.x, msa.x, mss.y, mss.y;", "view row coordinate");
+    w.line("MUL msa.y, msa.y, mss.z;", "azimuth row coordinate");
+    w.line("FLR msb.xy, msa;");
+    w.line("MIN msb.xy, msb, msl;");
+    w.line("SUB msa.xy, msa, msb;", "fractions");
+    w.line("MAD msb.x, msb.x, msl.z, msb.y;", "first cell's row");
+    w.line("ARL a0.x, msb.x;");
+    const std::string next = std::to_string(S::kAzimuthRows);
+    const std::string next1 = std::to_string(S::kAzimuthRows + 1);
+    w.line("MOV msb, shp[a0.x];");
+    w.line("MOV msc, shp[a0.x + 1];");
+    w.line("SUB msc, msc, msb;");
+    w.line("MAD msb, msc, msa.y, msb;");
+    w.line("MOV msc, shp[a0.x + " + next + "];");
+    w.line("MOV msv, shp[a0.x + " + next1 + "];");
+    w.line("SUB msv, msv, msc;");
+    w.line("MAD msv, msv, msa.y, msc;");
+    w.line("SUB msv, msv, msb;");
+    w.line("MAD msv, msv, msa.x, msb;", "shape(v)");
+}
+
+/// level(h_n) at the three points (colm.xyz = h_n), summed with the weights before the planet's
+/// shadow (seg.xyz, alt.xyz: the shadow is in msd.xyz) into mssr (Rayleigh) and mssm (Mie).
+void write_multiple_scattering_levels(ProgramWriter& w) {
+    w.comment("Higher orders: level(h_n) times the weights, summed (mssr: R, mssm: M).");
+    w.line("MAX msa.xyz, colm, msh.z;");
+    w.line("MAD msb.xyz, planet.y, num.x, msa;", "2 R + h");
+    w.line("MUL msa.xyz, msa, msb;");
+    w.line("MAX msa.xyz, msa, msl.w;");
+    w.line("RSQ msb.x, msa.x;");
+    w.line("RSQ msb.y, msa.y;");
+    w.line("RSQ msb.z, msa.z;");
+    w.line("MUL msa.xyz, msa, msb;", "sqrt(h (2 R + h))");
+    w.line("MUL msa.xyz, msa, mss.w;");
+    w.line("MIN msa.xyz, msa, msh.x;", "altitude row coordinates");
+    w.line("FLR msb.xyz, msa;");
+    w.line("MIN msb.xyz, msb, msh.y;");
+    w.line("SUB msa.xyz, msa, msb;");
+    for (int n = 0; n < 3; ++n) {
+        const std::string lane(1, "xyz"[n]);
+        w.line("ARL a0.x, msb." + lane + ";");
+        w.line("MOV msc, lev[a0.x];");
+        w.line("MOV mse, lev[a0.x + 1];");
+        w.line("SUB mse, mse, msc;");
+        w.line("MAD msc, mse, msa." + lane + ", msc;", "level at point " + std::to_string(n));
+        if (n == 0) {
+            w.line("MUL mssr, msc, seg.x;");
+            w.line("MUL mssm, msc, alt.x;");
+        } else {
+            w.line("MAD mssr, msc, seg." + lane + ", mssr;");
+            w.line("MAD mssm, msc, alt." + lane + ", mssm;");
+        }
+    }
 }
 
 /// colm = (y_R, y_M, C_R, C_M) of the exact optical depth tau(u) (see write_exact_optical_depth).
@@ -441,7 +537,7 @@ void write_exact_optical_depth(ProgramWriter& w, bool full) {
 
 /// The points' altitudes and their weights (`full`: none in the planet's shadow, bounded like
 /// the model's).
-void write_node_weights(ProgramWriter& w, bool full) {
+void write_node_weights(ProgramWriter& w, bool full, bool multiple) {
     w.comment("Altitudes of the points, h0 + rise u - sag u (1 - u), sag = s^2/(2 R).");
     w.line("MUL ext.y, seg.w, eyealt.z;", "sag");
     w.line("SUB ext.x, alt.w, ext.y;");
@@ -463,7 +559,12 @@ void write_node_weights(ProgramWriter& w, bool full) {
         w.line("SLT acc.xyz, acc, fit.z;");
         w.line("SLT colr.xyz, colr, fit.z;");
         w.line("MUL acc.xyz, acc, colr;", "in the shadow");
-        w.line("MAD node.xyz, acc, -chc.z, node;");
+        if (multiple) {
+            // The higher orders reach the shadow: it multiplies the sunlight instead.
+            w.line("MAD msd.xyz, acc, msk.y, msk.x;", "1 where the sun reaches the point");
+        } else {
+            w.line("MAD node.xyz, acc, -chc.z, node;");
+        }
     }
     w.line("MAD seg.xyz, colm, inv.x, node;");
     w.line("MAD alt.xyz, colm, inv.y, node;");
@@ -504,7 +605,7 @@ void write_node_columns(ProgramWriter& w, bool full) {
 }
 
 /// The sun transmittance at each point, summed with the weights.
-void write_transmittance_sums(ProgramWriter& w) {
+void write_transmittance_sums(ProgramWriter& w, bool multiple) {
     w.comment("Sun transmittance at each point, summed with the weights (node: R, acc: M).");
     for (int n = 0; n < 3; ++n) {
         const std::string lane(1, "xyz"[n]);
@@ -513,6 +614,7 @@ void write_transmittance_sums(ProgramWriter& w) {
         w.line("EX2 work.x, work.x;");
         w.line("EX2 work.y, work.y;");
         w.line("EX2 work.z, work.z;", "T at point " + std::to_string(n));
+        if (multiple) w.line("MUL work.xyz, work, msd." + lane + ";", "0 in the planet's shadow");
         if (n == 0) {
             w.line("MUL node, work, seg.x;");
             w.line("MUL acc, work, alt.x;");
@@ -524,7 +626,7 @@ void write_transmittance_sums(ProgramWriter& w) {
 }
 
 /// L_in (the secondary colour).
-void write_in_scattering(ProgramWriter& w) {
+void write_in_scattering(ProgramWriter& w, bool multiple) {
     w.comment(
         "L_in = E0 s phi(tau) phi(a) (beta_R P_R sum_R + beta_M P_M sum_M), exposure included.");
     w.line("MUL colr.xy, view.zyzz, ext.w;");
@@ -532,6 +634,12 @@ void write_in_scattering(ProgramWriter& w) {
     w.line("MUL node, node, colm;");
     w.line("MUL colm, mie, colr.y;");
     w.line("MAD node, acc, colm, node;");
+    if (multiple) {
+        w.line("MUL msa, mssr, msr;", "+ (beta_R sum'_R + beta_M sum'_M) shape(v), same scale");
+        w.line("MAD msa, mssm, msm, msa;");
+        w.line("MUL msa, msa, msv;");
+        w.line("MAD node, msa, ext.w, node;");
+    }
     w.line("MUL result.color.secondary, node, sphi;");
 }
 
@@ -568,11 +676,13 @@ void write_in_scattering(ProgramWriter& w) {
 // nodes.
 std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fidelity) {
     const bool exact = fidelity != ArbHeightFidelity::spec_minimum;
-    const bool full = fidelity == ArbHeightFidelity::full;
+    const bool multiple = fidelity == ArbHeightFidelity::multiple_scattering;
+    const bool full = fidelity == ArbHeightFidelity::full || multiple;
     ProgramWriter w;
-    write_height_declarations(w, o, full, !exact);
+    write_height_declarations(w, o, fidelity, !exact);
     write_clip_space_position(w, o);
     write_segment_and_phases(w, o);
+    if (multiple) write_multiple_scattering_shape(w);
     write_vertex_altitude(w, full);
     if (full) {
         write_vertex_upward_factors(w);
@@ -588,10 +698,11 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
     write_extinction(w);
     write_node_placement(w, full);
     if (exact) write_exact_optical_depth(w, full);
-    write_node_weights(w, full);
+    write_node_weights(w, full, multiple);
+    if (multiple) write_multiple_scattering_levels(w);
     write_node_columns(w, full);
-    write_transmittance_sums(w);
-    write_in_scattering(w);
+    write_transmittance_sums(w, multiple);
+    write_in_scattering(w, multiple);
     write_texcoords_and_end(w, o);
     return w.str();
 }

@@ -5,6 +5,7 @@
 
 #include <iterator>
 
+#include "../core/height_multiple_scattering.hpp"
 #include "arb_program_internal.hpp"
 
 namespace aerial::detail::arb {
@@ -35,7 +36,16 @@ enum HeightParameterIndex {
     kHeightChapmanX,
     kHeightChapmanH,
     kHeightFitClamp,
-    kHeightFullParameterCount
+    kHeightFullParameterCount,
+    // multiple_scattering: full's, then these, then the arrays lev and shp.
+    kHeightZenith = kHeightFullParameterCount,
+    kHeightShapeScale,
+    kHeightMultipleRayleigh,
+    kHeightMultipleMie,
+    kHeightLevelRows,
+    kHeightShapeRows = kHeightLevelRows + MultipleScatteringSlice::kAltitudeRows,
+    kHeightMultipleParameterCount = kHeightShapeRows + MultipleScatteringSlice::kViewRows *
+                                                           MultipleScatteringSlice::kAzimuthRows
 };
 
 /// The layout of every level (lengths in metres, log2 the base-2 logarithm, c = eye + R up
@@ -69,6 +79,20 @@ inline constexpr ParameterRow kFullLayout[] = {
     {"chh", "(1, 1, 2, 2) sqrt(pi/2) (H_R, H_M, H_R, H_M) (m)"},
     {"fitc", "xy: sky.zw + (80 - h0/H_i) log2(e), the bound e^80 on the fit's end; zw: 0"},
 };
+/// multiple_scattering: the slice of the light scattered more than once
+/// (core/height_multiple_scattering.hpp), and its scale.
+inline constexpr ParameterRow kMultipleLayout[] = {
+    {"msz", "xyz: the eye's unit zenith; w: the sun's cosine to it"},
+    {"mss",
+     "(sun's sine to the eye's zenith, (view rows - 1)/2, azimuth rows - 1, altitude "
+     "rows per m of sqrt(h (2 R + h)))"},
+    {"msr", "xyz: log2(e)^2 exposure beta_R; w: 0"},
+    {"msm", "xyz: log2(e)^2 exposure beta_M (scattering); w: 0"},
+};
+/// The arrays after them: one row per table entry.
+inline constexpr ParameterRow kLevelRow = {"lev", "xyz: level(h) at altitude row i; w: 0"};
+inline constexpr ParameterRow kShapeRow = {
+    "shp", "xyz: shape at view row i / azimuth rows, azimuth row i % azimuth rows; w: 0"};
 // sky.xy's cap: a blocked sun becomes a column of e^40 H_i exp(-h/H_i), out up to 100 km.
 // slr, slm: d lf_i/d mu at the eye (the model's own factors, a central difference) times
 // d mu/d d = (sun - mu0 c/|c|)/|c| (column_slopes).
@@ -78,6 +102,9 @@ static_assert(std::size(kSharedLayout) == kHeightSharedCount &&
               "the layout tables and the indices disagree");
 static_assert(kHeightParameterCount == kArbHeightParameterCount, "layout and count disagree");
 static_assert(kHeightFullParameterCount == kArbHeightFullParameterCount,
+              "layout and count disagree");
+static_assert(kHeightFullParameterCount + std::size(kMultipleLayout) == kHeightLevelRows &&
+                  kHeightMultipleParameterCount == kArbHeightMultipleParameterCount,
               "layout and count disagree");
 
 /// The slope b of the fitted extinction profile (log2 units over the segment) is kept at least

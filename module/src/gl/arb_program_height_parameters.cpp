@@ -21,8 +21,13 @@ using height::kMaxExponent;
 
 std::vector<ParameterRow> height_layout(ArbHeightFidelity fidelity) {
     std::vector<ParameterRow> rows(std::begin(kSharedLayout), std::end(kSharedLayout));
-    if (fidelity == ArbHeightFidelity::full) {
+    if (fidelity == ArbHeightFidelity::full || fidelity == ArbHeightFidelity::multiple_scattering) {
         rows.insert(rows.end(), std::begin(kFullLayout), std::end(kFullLayout));
+        if (fidelity == ArbHeightFidelity::multiple_scattering) {
+            rows.insert(rows.end(), std::begin(kMultipleLayout), std::end(kMultipleLayout));
+            rows.insert(rows.end(), kHeightShapeRows - kHeightLevelRows, kLevelRow);
+            rows.insert(rows.end(), kHeightMultipleParameterCount - kHeightShapeRows, kShapeRow);
+        }
     } else {
         rows.insert(rows.end(), std::begin(kLowerLayout), std::end(kLowerLayout));
     }
@@ -65,12 +70,37 @@ std::array<glm::dvec3, 2> column_slopes(const Frame<float>& frame, bool eye_lit)
     return {kLog2E * derivative.x * dmu, kLog2E * derivative.y * dmu};
 }
 
+/// The multiple_scattering level's rows: the frame's slice (zero where it has none, as the CPU
+/// model then adds nothing).
+void multiple_scattering_parameters(const Frame<float>& frame, double exposure,
+                                    std::vector<std::array<double, 4>>& p) {
+    using S = MultipleScatteringSlice;
+    const double mu_s = frame.eye_cos_sun_zenith;
+    p[kHeightZenith] = {frame.eye_zenith.x, frame.eye_zenith.y, frame.eye_zenith.z, mu_s};
+    const S* slice = frame.multiple_scattering.get();
+    p[kHeightShapeScale] = {std::sqrt(std::max(0.0, 1.0 - mu_s * mu_s)), 0.5 * (S::kViewRows - 1),
+                            double(S::kAzimuthRows - 1), slice ? slice->altitude_scale : 0.0};
+    for (int c = 0; c < 3; ++c) {
+        const double light = kLog2E * kLog2E * exposure;
+        p[kHeightMultipleRayleigh][c] = light * frame.rayleigh_scattering[c];
+        p[kHeightMultipleMie][c] = light * frame.mie_scattering[c];
+    }
+    if (!slice) return;
+    for (int i = 0; i < S::kAltitudeRows; ++i) {
+        for (int c = 0; c < 3; ++c) p[kHeightLevelRows + i][c] = slice->level[i][c];
+    }
+    for (std::size_t i = 0; i < slice->shape.size(); ++i) {
+        for (int c = 0; c < 3; ++c) p[kHeightShapeRows + i][c] = slice->shape[i][c];
+    }
+}
+
 }  // namespace
 
 Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& frame,
                                                             const Display& display,
                                                             ArbHeightFidelity fidelity) {
-    const bool full = fidelity == ArbHeightFidelity::full;
+    const bool multiple = fidelity == ArbHeightFidelity::multiple_scattering;
+    const bool full = fidelity == ArbHeightFidelity::full || multiple;
     const glm::dvec3 up = frame.view.up;
     const glm::dvec3 sun = frame.view.sun_dir;
     const double mpu = frame.view.meters_per_unit;
@@ -101,7 +131,9 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
     const double log2_k0 = std::log2(std::max(k0, 1e-300));
 
     const double sign = g < 0.0 ? -1.0 : 1.0;
-    std::vector<std::array<double, 4>> p(full ? kHeightFullParameterCount : kHeightParameterCount);
+    std::vector<std::array<double, 4>> p(multiple ? kHeightMultipleParameterCount
+                                         : full   ? kHeightFullParameterCount
+                                                  : kHeightParameterCount);
     // d = world * scale - eye: d.w = 0 - (-2^-20), whatever the world position's w.
     p[kHeightEye] = {eye.x, eye.y, eye.z, -kEpsilon};
     p[kHeightScale] = {mpu, mpu, mpu, 0.0};
@@ -151,6 +183,7 @@ Result<std::vector<std::array<float, 4>>> height_parameters(const Frame<float>& 
                               p[kHeightSunColumn][3] + (kMaxExponent - h0 * inv_m) * kLog2E, 0.0,
                               0.0};
     }
+    if (multiple) multiple_scattering_parameters(frame, exposure, p);
     return to_float_parameters(p);
 }
 

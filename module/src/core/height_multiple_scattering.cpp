@@ -1,0 +1,170 @@
+// The `height` model's per-frame slice of the light scattered more than once (see the header).
+#include "height_multiple_scattering.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <tuple>
+
+#include "multiple_scattering.hpp"
+
+namespace aerial::detail {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+/// The view directions level(h) averages over: midpoints, evenly in the zenith cosine and in
+/// azimuth over [0, pi] (the field is symmetric about the sun's vertical plane): equal solid
+/// angles.
+constexpr int kMeanCosines = 16, kMeanAzimuths = 8;
+
+/// What the slice is cut from and where: the cache's key.
+struct SliceKey {
+    const MultipleScatteringTable* table;
+    double sun_irradiance[3];
+    double eye_altitude_m, eye_cos_sun_zenith;
+    bool operator==(const SliceKey& o) const {
+        return table == o.table &&
+               std::equal(sun_irradiance, sun_irradiance + 3, o.sun_irradiance) &&
+               eye_altitude_m == o.eye_altitude_m && eye_cos_sun_zenith == o.eye_cos_sun_zenith;
+    }
+};
+
+/// J_ms / beta_s at an altitude (m) towards a view (zenith cosine, azimuth from the sun), times
+/// E_sun0: radiance per unit scattering coefficient. Zero in a channel that does not scatter.
+class Field {
+  public:
+    Field(const Atmosphere& a, const MultipleScatteringTable& table, double cos_sun_zenith)
+        : a_(a), table_(table) {
+        const double mu_s = std::clamp(cos_sun_zenith, -1.0, 1.0);
+        sun_ = glm::dvec3(std::sqrt(1.0 - mu_s * mu_s), 0.0, mu_s);
+    }
+    glm::dvec3 operator()(double altitude_m, double mu_v, double azimuth_rad) const {
+        const double h = std::max(altitude_m, 0.0);
+        const double across = std::sqrt(std::max(0.0, 1.0 - mu_v * mu_v));
+        const glm::dvec3 view(across * std::cos(azimuth_rad), across * std::sin(azimuth_rad), mu_v);
+        const glm::dvec3 x(0.0, 0.0, a_.planet_radius_m + h);
+        const glm::dvec3 j = table_.density(x, view, sun_);
+        const glm::dvec3 beta = a_.rayleigh_scattering * std::exp(-h / a_.rayleigh_scale_height_m) +
+                                a_.mie_scattering * std::exp(-h / a_.mie_scale_height_m);
+        glm::dvec3 psi(0.0);
+        for (int c = 0; c < 3; ++c) {
+            if (beta[c] > 0.0) psi[c] = j[c] / beta[c] * a_.sun_irradiance[c];
+        }
+        return psi;
+    }
+
+  private:
+    const Atmosphere& a_;
+    const MultipleScatteringTable& table_;
+    glm::dvec3 sun_;
+};
+
+std::shared_ptr<const MultipleScatteringSlice> cut_slice(const Atmosphere& a,
+                                                         const MultipleScatteringTable& table,
+                                                         double eye_altitude_m,
+                                                         double eye_cos_sun_zenith) {
+    using S = MultipleScatteringSlice;
+    auto slice = std::make_shared<S>();
+    const double radius = a.planet_radius_m, top = a.atmosphere_radius_m;
+    const double horizon = std::sqrt((top - radius) * (top + radius));
+    slice->altitude_scale = float((S::kAltitudeRows - 1) / horizon);
+    slice->two_radius_m = float(2.0 * radius);
+    const Field field(a, table, eye_cos_sun_zenith);
+    for (int i = 0; i < S::kAltitudeRows; ++i) {
+        const double rho = horizon * i / (S::kAltitudeRows - 1);
+        const double h = std::sqrt(radius * radius + rho * rho) - radius;
+        glm::dvec3 sum(0.0);
+        for (int m = 0; m < kMeanCosines; ++m) {
+            const double mu = -1.0 + (2.0 * m + 1.0) / kMeanCosines;
+            for (int k = 0; k < kMeanAzimuths; ++k) {
+                sum += field(h, mu, kPi * (k + 0.5) / kMeanAzimuths);
+            }
+        }
+        slice->level[i] = glm::vec3(sum / double(kMeanCosines * kMeanAzimuths));
+    }
+    const glm::vec3 eye_level = slice_level(*slice, float(std::max(eye_altitude_m, 0.0)));
+    for (int a_row = 0; a_row < S::kViewRows; ++a_row) {
+        const double mu = -1.0 + 2.0 * a_row / (S::kViewRows - 1);
+        for (int b = 0; b < S::kAzimuthRows; ++b) {
+            const double azimuth = 2.0 * std::asin(double(b) / (S::kAzimuthRows - 1));
+            const glm::dvec3 psi = field(eye_altitude_m, mu, azimuth);
+            glm::vec3 shape(0.0f);
+            for (int c = 0; c < 3; ++c) {
+                if (eye_level[c] > 0.0f) shape[c] = float(psi[c] / eye_level[c]);
+            }
+            slice->shape[a_row * S::kAzimuthRows + b] = shape;
+        }
+    }
+    return slice;
+}
+
+}  // namespace
+
+MultipleScatteringSettings height_table_settings() {
+    MultipleScatteringSettings s;
+    s.altitudes = 16;
+    s.sun_zenith_angles = 32;
+    s.view_zenith_angles = 17;
+    s.azimuths = 9;
+    s.steps_per_efold = 1.0;
+    return s;
+}
+
+std::shared_ptr<const MultipleScatteringSlice> multiple_scattering_slice(
+    const Atmosphere& atmosphere, double eye_altitude_m, double eye_cos_sun_zenith) {
+    const glm::dvec3 beta = atmosphere.rayleigh_scattering + atmosphere.mie_scattering;
+    if (std::max({beta.x, beta.y, beta.z}) <= 0.0) return nullptr;
+    const auto table = multiple_scattering_table(atmosphere, height_table_settings());
+    // The last slice: evaluate() and the tests prepare one frame per vertex for the same eye.
+    static std::mutex mutex;
+    static std::shared_ptr<const MultipleScatteringTable> last_table;
+    static SliceKey last_key{};
+    static std::shared_ptr<const MultipleScatteringSlice> last_slice;
+    const SliceKey key{
+        table.get(),
+        {atmosphere.sun_irradiance.x, atmosphere.sun_irradiance.y, atmosphere.sun_irradiance.z},
+        eye_altitude_m,
+        eye_cos_sun_zenith};
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (last_slice && last_key == key) return last_slice;
+    }
+    auto slice = cut_slice(atmosphere, *table, eye_altitude_m, eye_cos_sun_zenith);
+    std::lock_guard<std::mutex> lock(mutex);
+    last_table = table;  // keeps the key's table alive, so its address stays unique
+    last_key = key;
+    last_slice = slice;
+    return slice;
+}
+
+template <class T>
+glm::vec<3, T> slice_level(const MultipleScatteringSlice& s, T altitude_m) {
+    const T h = std::max(altitude_m, T(0));
+    int i;
+    T f;
+    slice_cell(std::sqrt(h * (T(s.two_radius_m) + h)) * T(s.altitude_scale),
+               MultipleScatteringSlice::kAltitudeRows, i, f);
+    return glm::vec<3, T>(s.level[i]) * (T(1) - f) + glm::vec<3, T>(s.level[i + 1]) * f;
+}
+
+template <class T>
+glm::vec<3, T> slice_shape(const MultipleScatteringSlice& s, T mu_v, T cos_azimuth) {
+    using S = MultipleScatteringSlice;
+    int a, b;
+    T fa, fb;
+    slice_cell((mu_v + T(1)) * T(0.5 * (S::kViewRows - 1)), S::kViewRows, a, fa);
+    const T sin_half = std::sqrt(std::max(T(0), (T(1) - cos_azimuth) * T(0.5)));
+    slice_cell(sin_half * T(S::kAzimuthRows - 1), S::kAzimuthRows, b, fb);
+    auto at = [&](int row, int column) {
+        return glm::vec<3, T>(s.shape[row * S::kAzimuthRows + column]);
+    };
+    return (at(a, b) * (T(1) - fb) + at(a, b + 1) * fb) * (T(1) - fa) +
+           (at(a + 1, b) * (T(1) - fb) + at(a + 1, b + 1) * fb) * fa;
+}
+
+template glm::vec3 slice_level<float>(const MultipleScatteringSlice&, float);
+template glm::dvec3 slice_level<double>(const MultipleScatteringSlice&, double);
+template glm::vec3 slice_shape<float>(const MultipleScatteringSlice&, float, float);
+template glm::dvec3 slice_shape<double>(const MultipleScatteringSlice&, double, double);
+
+}  // namespace aerial::detail

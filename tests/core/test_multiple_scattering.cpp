@@ -4,14 +4,20 @@
 // the single-scattering limit, and the convergence report.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
 #include "aerial/aerial.hpp"
 #include "multiple_scattering.hpp"
+#include "table_cache.hpp"
 
 namespace {
 
@@ -360,3 +366,113 @@ TEST(MultipleScattering, OzoneTurnsTheZenithSkyBlueAtSunset) {
 }
 
 }  // namespace
+
+namespace {
+
+/// Sets an environment variable for one scope, and puts the old value back.
+class ScopedEnvironment {
+  public:
+    ScopedEnvironment(const char* name, const char* value) : name_(name) {
+        if (const char* old = std::getenv(name)) old_ = old;
+        if (value) {
+            ::setenv(name, value, 1);
+        } else {
+            ::unsetenv(name);
+        }
+    }
+    ~ScopedEnvironment() {
+        if (old_) {
+            ::setenv(name_, old_->c_str(), 1);
+        } else {
+            ::unsetenv(name_);
+        }
+    }
+
+  private:
+    const char* name_;
+    std::optional<std::string> old_;
+};
+
+}  // namespace
+
+TEST(TableCache, StoresReadsBackAndIgnoresWhatDoesNotMatch) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("aerial-table-cache-" +
+                                                      std::to_string(long(::getpid())));
+    fs::remove_all(dir);
+    const ScopedEnvironment cache_dir("AERIAL_CACHE_DIR", dir.c_str());
+    const ScopedEnvironment enabled("AERIAL_CACHE_DISABLE", nullptr);
+    aerial::MultipleScatteringSettings settings;
+    const std::string key = aerial::detail::table_cache_key(Atmosphere{}, settings);
+    std::vector<dvec3> table{dvec3(1.0, 2.0, 3.0), dvec3(0.5, 0.25, 0.125)};
+    aerial::MultipleScatteringReport report;
+    report.orders = 7;
+    report.remainder_bound = dvec3(1e-4);
+    report.order_sums = {dvec3(3.0), dvec3(1.0)};
+    report.seconds = 2.5;
+    aerial::detail::store_cached_table(key, table, report);
+
+    std::vector<dvec3> read;
+    aerial::MultipleScatteringReport read_report;
+    ASSERT_TRUE(aerial::detail::load_cached_table(key, table.size(), read, read_report));
+    EXPECT_EQ(read, table);
+    EXPECT_EQ(read_report.orders, 7);
+    EXPECT_EQ(read_report.order_sums.size(), 2u);
+    EXPECT_EQ(read_report.seconds, 2.5);
+    EXPECT_TRUE(read_report.from_cache);
+    // Another key (one field changed by one ulp), another size: misses.
+    Atmosphere other;
+    other.mie_g = std::nextafter(other.mie_g, 1.0);
+    EXPECT_FALSE(aerial::detail::load_cached_table(
+        aerial::detail::table_cache_key(other, settings), table.size(), read, read_report));
+    EXPECT_FALSE(aerial::detail::load_cached_table(key, table.size() + 1, read, read_report));
+    // The tables are per unit E_sun0: the key leaves sun_irradiance out.
+    other = Atmosphere{};
+    other.sun_irradiance = dvec3(7.0);
+    EXPECT_EQ(aerial::detail::table_cache_key(other, settings), key);
+    // A truncated file is a miss, not an error.
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        fs::resize_file(entry.path(), fs::file_size(entry.path()) - 8);
+    }
+    EXPECT_FALSE(aerial::detail::load_cached_table(key, table.size(), read, read_report));
+    // Turned off: nothing is read or written.
+    aerial::detail::store_cached_table(key, table, report);
+    ASSERT_TRUE(aerial::detail::load_cached_table(key, table.size(), read, read_report));
+    {
+        const ScopedEnvironment off("AERIAL_CACHE_DISABLE", "1");
+        EXPECT_FALSE(aerial::detail::load_cached_table(key, table.size(), read, read_report));
+        fs::remove_all(dir);
+        aerial::detail::store_cached_table(key, table, report);
+        EXPECT_FALSE(fs::exists(dir));
+    }
+    fs::remove_all(dir);
+}
+
+TEST(HeightMultipleScattering, TheSliceIsThereForHeightUnlessTurnedOffAndAddsLight) {
+    View view;
+    view.eye = dvec3(0.0, 0.0, 300.0);
+    view.sun_dir = glm::normalize(dvec3(0.0, 1.0, 0.5));
+    const auto with = aerial::prepare_frame<double>(Atmosphere{}, view, Model::height);
+    aerial::FrameOptions off;
+    off.multiple_scattering = false;
+    const auto without = aerial::prepare_frame<double>(Atmosphere{}, view, Model::height, off);
+    const auto hp = aerial::prepare_frame<double>(Atmosphere{}, view, Model::hoffman_preetham);
+    ASSERT_TRUE(with.ok() && without.ok() && hp.ok());
+    EXPECT_NE(with->multiple_scattering, nullptr);
+    EXPECT_EQ(without->multiple_scattering, nullptr);
+    EXPECT_EQ(hp->multiple_scattering, nullptr) << "the 2002 model stays the 2002 model";
+    // The higher orders only add light; F_ex is the same.
+    for (const dvec3& p : {dvec3(0, 20000, 0), dvec3(5000, -3000, 200), dvec3(0, 1e5, 3e4)}) {
+        const auto a = aerial::scatter(*with, p), b = aerial::scatter(*without, p);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_GT(a.in_scattering[c], b.in_scattering[c]) << c;
+            EXPECT_EQ(a.extinction[c], b.extinction[c]) << c;
+        }
+    }
+    // The planet's shadow: the sun 4 deg below the horizon, the single scattering of the low
+    // air is gone, the higher orders still light it.
+    view.sun_dir = glm::normalize(dvec3(0.0, 1.0, -0.07));
+    const auto dusk = aerial::prepare_frame<double>(Atmosphere{}, view, Model::height);
+    ASSERT_TRUE(dusk.ok());
+    EXPECT_GT(aerial::scatter(*dusk, dvec3(0, 3000, 0)).in_scattering.y, 0.0);
+}

@@ -397,8 +397,8 @@ class ScopedEnvironment {
 
 TEST(TableCache, StoresReadsBackAndIgnoresWhatDoesNotMatch) {
     namespace fs = std::filesystem;
-    const fs::path dir = fs::temp_directory_path() / ("aerial-table-cache-" +
-                                                      std::to_string(long(::getpid())));
+    const fs::path dir =
+        fs::temp_directory_path() / ("aerial-table-cache-" + std::to_string(long(::getpid())));
     fs::remove_all(dir);
     const ScopedEnvironment cache_dir("AERIAL_CACHE_DIR", dir.c_str());
     const ScopedEnvironment enabled("AERIAL_CACHE_DISABLE", nullptr);
@@ -423,8 +423,8 @@ TEST(TableCache, StoresReadsBackAndIgnoresWhatDoesNotMatch) {
     // Another key (one field changed by one ulp), another size: misses.
     Atmosphere other;
     other.mie_g = std::nextafter(other.mie_g, 1.0);
-    EXPECT_FALSE(aerial::detail::load_cached_table(
-        aerial::detail::table_cache_key(other, settings), table.size(), read, read_report));
+    EXPECT_FALSE(aerial::detail::load_cached_table(aerial::detail::table_cache_key(other, settings),
+                                                   table.size(), read, read_report));
     EXPECT_FALSE(aerial::detail::load_cached_table(key, table.size() + 1, read, read_report));
     // The tables are per unit E_sun0: the key leaves sun_irradiance out.
     other = Atmosphere{};

@@ -185,12 +185,9 @@ ArbProgramOptions height_options(ArbHeightFidelity fidelity) {
     ArbProgramOptions o;
     o.model = Model::height;
     o.height_fidelity = fidelity;
-    o.limits.max_instructions = 256;  // Direct3D 9-class native limit
-    if (fidelity == ArbHeightFidelity::multiple_scattering) {
-        o.limits.max_instructions = 512;  // Mesa's are higher
-        o.limits.max_temporaries = 32;
-        o.limits.max_parameters = 256;
-    }
+    o.limits = aerial::arb_reference_limits(fidelity);
+    // Direct3D 9-class native limits also for spec_minimum (its program fits 128 regardless).
+    o.limits.max_instructions = std::max(o.limits.max_instructions, 256);
     return o;
 }
 

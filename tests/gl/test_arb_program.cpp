@@ -919,13 +919,13 @@ TEST(ArbProgram, AerialEvalPrintsExactlyTheGeneratedText) {
     EXPECT_EQ(run_aerial_eval("--print-arb-program --model height").first, generate(height).text);
     EXPECT_EQ(run_aerial_eval("--print-arb-program --model reference").second, 2)
         << "reference has no program";
-    // The fidelity levels of the height program (beyond spec-minimum checked against 256).
+    // The fidelity levels of the height program, each checked against its reference limits.
     for (auto f :
          {aerial::ArbHeightFidelity::spec_minimum, aerial::ArbHeightFidelity::exact_optical_depth,
-          aerial::ArbHeightFidelity::full}) {
+          aerial::ArbHeightFidelity::full, aerial::ArbHeightFidelity::multiple_scattering}) {
         ArbProgramOptions o = height;
         o.height_fidelity = f;
-        if (f != aerial::ArbHeightFidelity::spec_minimum) o.limits.max_instructions = 256;
+        o.limits = aerial::arb_reference_limits(f);
         const std::string flag =
             std::string("--arb-height-fidelity ") + aerial::arb_height_fidelity_name(f);
         const auto [text, code] = run_aerial_eval("--print-arb-program " + flag);
@@ -1103,12 +1103,9 @@ ArbProgramOptions at_fidelity(aerial::ArbHeightFidelity fidelity) {
     ArbProgramOptions o;
     o.model = Model::height;
     o.height_fidelity = fidelity;
-    o.limits.max_instructions = 256;  // Direct3D 9-class native limit
-    if (fidelity == aerial::ArbHeightFidelity::multiple_scattering) {
-        o.limits.max_instructions = 512;  // Mesa's are higher
-        o.limits.max_temporaries = 32;
-        o.limits.max_parameters = 256;
-    }
+    o.limits = aerial::arb_reference_limits(fidelity);
+    // Direct3D 9-class native limits also for spec_minimum (its program fits 128 regardless).
+    o.limits.max_instructions = std::max(o.limits.max_instructions, 256);
     return o;
 }
 

@@ -135,15 +135,8 @@ struct Stated {
             auto level = aerial::parse_arb_height_fidelity(flags[i + 1]);
             if (!level) return ::testing::AssertionFailure() << level.error().message;
             s.options.height_fidelity = *level;
-            // What --print-arb-program checks the levels beyond the spec minimum against.
-            if (*level != aerial::ArbHeightFidelity::spec_minimum) {
-                s.options.limits.max_instructions = 256;
-            }
-            if (*level == aerial::ArbHeightFidelity::multiple_scattering) {
-                s.options.limits.max_instructions = 512;
-                s.options.limits.max_temporaries = 32;
-                s.options.limits.max_parameters = 256;
-            }
+            // What --print-arb-program checks the level against.
+            s.options.limits = aerial::arb_reference_limits(*level);
         }
     }
     for (const char* key : {"preset", "eye", "sun", "up", "meters_per_unit", "exposure"}) {

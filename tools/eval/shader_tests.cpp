@@ -23,13 +23,7 @@ ArbProgramOptions arb_program_options(Model model, std::optional<ArbHeightFideli
     options.model = model;
     if (fidelity) {
         options.height_fidelity = *fidelity;
-        if (*fidelity != ArbHeightFidelity::spec_minimum) options.limits.max_instructions = 256;
-        if (*fidelity == ArbHeightFidelity::multiple_scattering) {
-            // Past Direct3D 9-class limits: what Mesa's drivers give.
-            options.limits.max_instructions = 512;
-            options.limits.max_temporaries = 32;
-            options.limits.max_parameters = 256;
-        }
+        options.limits = arb_reference_limits(*fidelity);
     }
     return options;
 }

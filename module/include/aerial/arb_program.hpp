@@ -88,6 +88,12 @@ enum class ArbHeightFidelity {
     multiple_scattering,
 };
 
+/// The limits a level is checked against where no driver is at hand (aerial-eval, the piglit
+/// files, the tests): the spec minimums for spec_minimum (and automatic), the native limits of
+/// Direct3D 9-class hardware (256 instructions) for exact_optical_depth and full, and 512
+/// instructions, 32 temporaries and 256 parameters for multiple_scattering (Mesa's are higher).
+ArbLimits arb_reference_limits(ArbHeightFidelity fidelity);
+
 /// "automatic", "spec-minimum", "exact-optical-depth", "full" or "multiple-scattering".
 const char* arb_height_fidelity_name(ArbHeightFidelity fidelity);
 /// The inverse of arb_height_fidelity_name; an error names the field "height_fidelity" and lists

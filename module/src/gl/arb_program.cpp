@@ -202,6 +202,25 @@ Result<ArbHeightFidelity> parse_arb_height_fidelity(std::string_view name) {
                    detail::quoted(name));
 }
 
+ArbLimits arb_reference_limits(ArbHeightFidelity fidelity) {
+    ArbLimits limits;
+    switch (fidelity) {
+        case ArbHeightFidelity::automatic:
+        case ArbHeightFidelity::spec_minimum:
+            break;
+        case ArbHeightFidelity::exact_optical_depth:
+        case ArbHeightFidelity::full:
+            limits.max_instructions = 256;
+            break;
+        case ArbHeightFidelity::multiple_scattering:
+            limits.max_instructions = 512;
+            limits.max_temporaries = 32;
+            limits.max_parameters = 256;
+            break;
+    }
+    return limits;
+}
+
 ArbHeightFidelity resolve_arb_height_fidelity(const ArbProgramOptions& options) {
     if (options.height_fidelity != ArbHeightFidelity::automatic) return options.height_fidelity;
     for (ArbHeightFidelity f : {ArbHeightFidelity::multiple_scattering, ArbHeightFidelity::full,

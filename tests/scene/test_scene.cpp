@@ -239,6 +239,11 @@ TEST(MeshFile, RefusesWhatOpenMeshWouldMisread) {
          "ply\nformat ascii 1.0\ncomment vertex 3\nproperty float x\nelement face 0\n"
          "property list uchar int vertex_indices\nend_header\n",
          "header line 4: a property before any 'element' line"},
+        {"list.ply",
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+         "end_header\n0 0 0\n10 0 0\n0 10 1\n3 0 1 2\n555555555555555555555555555555555\n",
+         "a list of '555555555555555555555555555555555' entries in a file of"},
         {"index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 4/1 1/1 2/1\n", "face index '4/1'"},
         {"unread.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n",
          "line 2: expected 'v X Y Z"},
@@ -255,7 +260,12 @@ TEST(MeshFile, RefusesWhatOpenMeshWouldMisread) {
         EXPECT_NE(r.error().message.find(c.name), std::string::npos) << r.error().message;
         EXPECT_NE(r.error().message.find(c.expected), std::string::npos) << r.error().message;
     }
-    // What they guard keeps working: relative indices, texture coordinates.
+    // What they guard keeps working: relative indices, texture coordinates, ASCII PLY lists.
+    EXPECT_TRUE(load_mesh_file(
+        temp_file("lists.ply",
+                  "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                  "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                  "end_header\n0 0 0\n10 0 0\n0 10 1\n3 0 1 2\n")));
     EXPECT_TRUE(load_mesh_file(
         temp_file("relative.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf -3/1 -2/1 -1/1\n")));
 }

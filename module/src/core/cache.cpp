@@ -37,15 +37,15 @@
 
 #include "../common/error_text.hpp"
 #include "aerial/phase.hpp"
-#include "height_multiple_scattering.hpp"
+#include "cache_bound.hpp"
 #include "math.hpp"
 
 namespace aerial {
 namespace {
 
 using glm::dvec3;
+using namespace detail::bound;
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kSteps = 255.0;  // 8-bit steps per unit of display value
 
 bool same_vec(const dvec3& a, const dvec3& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
@@ -72,11 +72,6 @@ double angle_between(const dvec3& a, const dvec3& b) {
 }
 
 // ---- Phase functions: sup of the value and of |d/dtheta| over [lo, hi] within [0, pi] --------
-
-struct AngleRange {
-    double lo = 0.0, hi = kPi;
-    bool contains(double theta) const { return lo <= theta && theta <= hi; }
-};
 
 /// P_R = 3/(16 pi) (1 + cos^2): largest at the end farthest from pi/2.
 double rayleigh_phase_max(const AngleRange& r) {
@@ -346,26 +341,6 @@ struct Change {
     double extinction = 0.0, in_scattering = 0.0, lit = 0.0;
 };
 
-/// What both shadings share about where the vertices are, seen from both eyes.
-struct Geometry {
-    double delta = 0.0;  ///< eye move, m
-    double alpha = 0.0;  ///< sun turn, rad
-    double s_min = 0.0;  ///< m
-    double s_max = 0.0;  ///< m
-    AngleRange phase;    ///< phase angles of both shadings
-    /// Rayleigh [0] and Mie [1] phase functions over `phase`: sup and inf of the value, sup of
-    /// |dP/dtheta| and of |d ln P/dtheta|.
-    double phase_max[2] = {0.0, 0.0}, phase_min[2] = {0.0, 0.0};
-    double phase_slope[2] = {0.0, 0.0}, phase_log_slope[2] = {0.0, 0.0};
-    /// The phase angle of any vertex changes by at most this (rad): alpha + gamma(s_min).
-    double phase_change() const {
-        return std::min(kPi, alpha + (s_min > delta ? std::asin(delta / s_min) : kPi));
-    }
-};
-
-/// x / y for x, y >= 0, with 0 / 0 = 0 (nothing moved, nothing changes).
-double quotient(double x, double y) { return x == 0.0 ? 0.0 : x / y; }
-
 /// |ln(b / a)| for a, b >= 0: 0 when both are 0 (nothing to change), infinite when one is.
 double log_ratio(double a, double b) {
     if (a == b) return 0.0;
@@ -482,128 +457,10 @@ Change hoffman_preetham_change(const Frame<double>& a, const Frame<double>& b, c
 // below it the model switches the sun off in a step (at sea level its red transmittance drops
 // from e^-2 to 0 as it sets), and no finite bound exists.
 
-/// What the region's view directions need for the higher orders' shape: the sine of their
-/// smallest angle to the eye's zenith or nadir (0 when the cone of directions holds either).
-struct ViewCone {
-    double sin_zenith_min = 0.0;
-};
-
 /// Factor on the height model's eye-move terms for its quadrature (see above).
 constexpr double kQuadratureMargin = 1.5;
 /// Optical depth from the eye to the last quadrature node at most: -ln(1 - 0.8873).
 constexpr double kLastNodeDepth = 2.2;
-
-/// What the height model's bound needs about the region, from both frames.
-struct HeightRegion {
-    double mu_lo = 0.0, mu_hi = 0.0;  ///< sun zenith cosines at the vertices and eyes
-    double h_lo = 0.0, h_hi = 0.0;    ///< altitudes, m (h_lo includes the sag)
-    ViewCone view;                    ///< the view directions from both eyes
-};
-
-// The higher orders (height_multiple_scattering.hpp): L_ms = path sum_i beta_sc,i S'_i shape(v),
-// S'_i the sunlight's quadrature with level(h) in place of E0 T, shape(v) in place of P. Bounded
-// with the sunlight term's relative changes of the path and the weights (`relative`), plus what
-// is its own: each slice is cut at its frame's eye, so the rows differ between the frames (their
-// largest difference); the nodes' altitudes move by at most dh + h_span delta / s_min, through
-// level's largest slope over altitude; the view turns by at most asin(delta / s_min) (and the
-// eye's zenith by delta / R), through shape's largest slope over the view cosine, and its
-// azimuth from the sun turns by that over the sine of the view's zenith angle plus the sun's
-// turn over the sine of the sun's, through shape's slope over azimuth, or by no more than shape's
-// range within a view row (next to the zenith, where the azimuth is ill-conditioned).
-/// The higher orders' largest L (before the exposure) and their own change: absolute, and
-/// relative to their smallest value (infinite where that is 0).
-struct MultipleScatteringChange {
-    double l_max = 0.0;
-    double absolute = 0.0, relative = 0.0;
-};
-
-MultipleScatteringChange multiple_scattering_change(const Frame<double>& a, const Frame<double>& b,
-                                                    const Geometry& g, const HeightRegion& region,
-                                                    const ShadingKey& key, int c, double path_max,
-                                                    double dh) {
-    using S = detail::MultipleScatteringSlice;
-    const S* sa = a.multiple_scattering.get();
-    const S* sb = b.multiple_scattering.get();
-    if (!sa && !sb) return {};
-    const Atmosphere& atm = key.atmosphere;
-    double amplitude = 0.0;  // sum_i beta_sc,i rho_i,max
-    amplitude += atm.rayleigh_scattering[c] * std::exp(-region.h_lo / atm.rayleigh_scale_height_m);
-    amplitude += atm.mie_scattering[c] * std::exp(-region.h_lo / atm.mie_scale_height_m);
-    double level_max = 0.0, shape_max = 0.0, level_diff = 0.0, shape_diff = 0.0;
-    double level_min = kInfinity, shape_min = kInfinity;
-    double level_slope = 0.0, mu_slope = 0.0, azimuth_slope = 0.0, azimuth_range = 0.0;
-    const double radius = atm.planet_radius_m, top = atm.atmosphere_radius_m;
-    const double horizon = std::sqrt((top - radius) * (top + radius));
-    auto row_altitude = [&](int i) {
-        const double rho = horizon * i / (S::kAltitudeRows - 1);
-        return std::sqrt(radius * radius + rho * rho) - radius;
-    };
-    for (const S* s : {sa, sb}) {
-        if (!s) continue;
-        for (int i = 0; i < S::kAltitudeRows; ++i) {
-            level_max = std::max(level_max, double(s->level[i][c]));
-            level_min = std::min(level_min, double(s->level[i][c]));
-            if (i + 1 < S::kAltitudeRows) {
-                const double step = row_altitude(i + 1) - row_altitude(i);
-                level_slope = std::max(
-                    level_slope, std::abs(double(s->level[i + 1][c]) - s->level[i][c]) / step);
-            }
-        }
-        for (int v = 0; v < S::kViewRows; ++v) {
-            double lo = kInfinity, hi = 0.0;
-            for (int k = 0; k < S::kAzimuthRows; ++k) {
-                const double x = s->shape[v * S::kAzimuthRows + k][c];
-                shape_max = std::max(shape_max, x);
-                shape_min = std::min(shape_min, x);
-                lo = std::min(lo, x);
-                hi = std::max(hi, x);
-                if (k + 1 < S::kAzimuthRows) {
-                    azimuth_slope = std::max(
-                        azimuth_slope, std::abs(s->shape[v * S::kAzimuthRows + k + 1][c] - x));
-                }
-                if (v + 1 < S::kViewRows) {
-                    mu_slope = std::max(mu_slope,
-                                        std::abs(s->shape[(v + 1) * S::kAzimuthRows + k][c] - x));
-                }
-            }
-            azimuth_range = std::max(azimuth_range, hi - lo);
-        }
-    }
-    if (sa && sb) {
-        for (int i = 0; i < S::kAltitudeRows; ++i) {
-            level_diff = std::max(level_diff, std::abs(double(sa->level[i][c]) - sb->level[i][c]));
-        }
-        for (std::size_t i = 0; i < sa->shape.size(); ++i) {
-            shape_diff = std::max(shape_diff, std::abs(double(sa->shape[i][c]) - sb->shape[i][c]));
-        }
-    } else {
-        level_diff = level_max;  // the term appears or goes: all of it
-        shape_diff = shape_max;
-    }
-    mu_slope *= 0.5 * (S::kViewRows - 1);          // per unit of the view cosine
-    azimuth_slope *= double(S::kAzimuthRows - 1);  // per unit of sin(azimuth / 2)
-    const double h_span = std::max(region.h_hi - std::min(a.eye_altitude_m, b.eye_altitude_m),
-                                   std::max(a.eye_altitude_m, b.eye_altitude_m) - region.h_lo);
-    const double turn = (g.s_min > g.delta ? std::asin(g.delta / g.s_min) : kPi) + g.delta / radius;
-    const double sun_sine = std::sqrt(std::max(0.0, 1.0 - region.mu_hi * region.mu_hi));
-    // |d sin(phi / 2)| <= |d phi| / 2.
-    const double azimuth_turn = region.view.sin_zenith_min > 0.0 && sun_sine > 0.0
-                                    ? 0.5 * (turn / region.view.sin_zenith_min + g.alpha / sun_sine)
-                                    : kInfinity;
-    const double azimuth_change =
-        azimuth_slope > 0.0 ? std::min(azimuth_slope * azimuth_turn, azimuth_range) : 0.0;
-    const double shape_change = mu_slope * turn + azimuth_change + shape_diff;
-    // The nodes move by at most delta / s_min of the segment (and never by more than all of it).
-    const double level_change =
-        level_slope * (dh + h_span * std::min(1.0, quotient(g.delta, g.s_min))) + level_diff;
-    const double magnitude = amplitude * path_max;
-    MultipleScatteringChange out;
-    out.l_max = magnitude * level_max * shape_max;
-    out.absolute = magnitude * (level_change * shape_max + level_max * shape_change);
-    out.relative = (level_min > 0.0 ? level_change / level_min : kInfinity) +
-                   (shape_min > 0.0 ? shape_change / shape_min : kInfinity);
-    return out;
-}
 
 Change height_change(const Frame<double>& a, const Frame<double>& b, const Geometry& g,
                      const HeightRegion& region, const ShadingKey& key, int c) {

@@ -10,6 +10,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/ImporterT.hh>
@@ -101,6 +102,40 @@ std::optional<std::string> bad_obj_index(const std::string& path) {
     return std::nullopt;
 }
 
+/// One element of a PLY header: its count and, per property, whether it is a list.
+struct PlyElement {
+    long long count = 0;
+    std::vector<bool> lists;
+};
+
+/// ASCII PLY: OpenMesh's reader takes a list's count from the file and reserves that many
+/// entries whatever follows (a face of 10^33 indices asked for gigabytes, found by
+/// fuzz_mesh_io). Every entry takes at least one byte, so a count above the file's size is a lie.
+std::optional<std::string> bad_ascii_ply_list(std::istream& body,
+                                              const std::vector<PlyElement>& elements,
+                                              long long size) {
+    std::string token;
+    for (const PlyElement& element : elements) {
+        for (long long i = 0; i < element.count; ++i) {
+            for (const bool list : element.lists) {
+                if (!(body >> token)) return std::nullopt;  // short: OpenMesh says so
+                if (!list) continue;
+                char* end = nullptr;
+                const long double n = std::strtold(token.c_str(), &end);
+                if (end == token.c_str() || *end != '\0' || !(n >= 0) || n > (long double)size ||
+                    n != std::floor(n)) {
+                    return "a list of '" + token.substr(0, 40) + "' entries in a file of " +
+                           std::to_string(size) + " bytes";
+                }
+                for (long long k = 0; k < (long long)n; ++k) {
+                    if (!(body >> token)) return std::nullopt;
+                }
+            }
+        }
+    }
+    return std::nullopt;
+}
+
 /// What would make OpenMesh misread the file, or nothing. PLY headers declare element counts, and
 /// OpenMesh reserves memory for them before it reads an element: a 100-byte file declaring 10^8
 /// vertices makes it allocate gigabytes. Every element takes at least one byte of the file, so a
@@ -122,7 +157,8 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
         // OpenMesh's PLY reader also loops forever on some malformed headers (found by
         // fuzz_mesh_io): only a header of known lines that ends in end_header goes to it.
         int number = 0;
-        bool element_seen = false;
+        bool element_seen = false, ascii = false;
+        std::vector<PlyElement> elements;
         while (std::getline(lines, line)) {
             if (!line.empty() && line.back() == '\r') line.pop_back();
             std::istringstream words(line);
@@ -132,7 +168,12 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
                 if (keyword != "ply") return std::string("it does not start with the line 'ply'");
                 continue;
             }
-            if (keyword == "end_header") return std::nullopt;
+            if (keyword == "end_header") {
+                if (!ascii) return std::nullopt;
+                std::ifstream body(path, std::ios::binary);
+                body.seekg(lines.tellg());
+                return bad_ascii_ply_list(body, elements, size);
+            }
             if (keyword != "format" && keyword != "comment" && keyword != "obj_info" &&
                 keyword != "element" && keyword != "property") {
                 return "header line " + std::to_string(number) + " starts with '" +
@@ -158,6 +199,7 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
                         "expected 'format ascii|binary_little_endian|binary_big_endian "
                         "1.0'");
                 }
+                ascii = encoding == "ascii";
             }
             if (keyword == "property") {
                 // OpenMesh's reader writes a property into its current element: before any
@@ -175,6 +217,7 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
                 if (!(words >> property_name) || words >> extra) {
                     return bad("expected 'property TYPE NAME' or 'property list TYPE TYPE NAME'");
                 }
+                elements.back().lists.push_back(list);
             }
             long double count = 0;
             element_seen = element_seen || keyword == "element";
@@ -189,6 +232,7 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
                 return "its header declares " + shown + " " + name.substr(0, 40) +
                        " elements in a file of " + std::to_string(size) + " bytes";
             }
+            if (keyword == "element") elements.push_back({(long long)count, {}});
         }
         return std::string("its header has no end_header line in its first 64 KiB");
     }

@@ -3,6 +3,7 @@
 // loading (as GL does). The generator counts its programs' resources with it; the CPU executor
 // of the parsed instructions is aerial::validation's (validation/src/arb_executor.cpp).
 #include "arb_parser.hpp"
+#include "arb_tokenizer.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -53,18 +54,7 @@ constexpr const char* kReserved[] = {
     "SLT", "SUB", "SWZ",     "TEMP",   "XPD",    "program", "result", "state", "vertex",
 };
 
-// ---- Tokens ----------------------------------------------------------------------------------
-
-struct Token {
-    enum class Kind { identifier, number, punct, end } kind = Kind::end;
-    std::string_view text;
-    std::size_t offset = 0;
-};
-
-bool is_identifier_start(char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || c == '_' || c == '$';
-}
-bool is_digit(char c) { return c >= '0' && c <= '9'; }
+using Token = ArbToken;
 
 /// Bindings of the same state or the same constant vector count once (section 2.14.3.7).
 bool same_binding(const ParamBinding& a, const ParamBinding& b) {
@@ -168,51 +158,7 @@ Error Parser::error_at(std::size_t offset, const std::string& what) const {
 }
 
 std::optional<Error> Parser::tokenize() {
-    constexpr std::string_view kHeader = "!!ARBvp1.0";
-    if (text_.substr(0, kHeader.size()) != kHeader) {
-        return error_at(0, "a vertex program must start with \"!!ARBvp1.0\"");
-    }
-    std::size_t i = kHeader.size();
-    const std::size_t n = text_.size();
-    while (i < n) {
-        const char c = text_[i];
-        if (c == ' ' || c == '\t' || c == '\r' || c == '\n') {
-            ++i;
-        } else if (c == '#') {
-            while (i < n && text_[i] != '\n' && text_[i] != '\r') ++i;
-        } else if (is_identifier_start(c)) {
-            const std::size_t start = i;
-            while (i < n && (is_identifier_start(text_[i]) || is_digit(text_[i]))) ++i;
-            tokens_.push_back({Token::Kind::identifier, text_.substr(start, i - start), start});
-        } else if (is_digit(c) || (c == '.' && i + 1 < n && is_digit(text_[i + 1]))) {
-            const std::size_t start = i;
-            while (i < n && is_digit(text_[i])) ++i;
-            // A fraction, but not the ".." of a range nor the "." of a swizzle.
-            if (i < n && text_[i] == '.' && !(i + 1 < n && text_[i + 1] == '.') &&
-                !(i + 1 < n && is_identifier_start(text_[i + 1]))) {
-                ++i;
-                while (i < n && is_digit(text_[i])) ++i;
-            }
-            if (i < n && (text_[i] == 'e' || text_[i] == 'E')) {
-                std::size_t j = i + 1;
-                if (j < n && (text_[j] == '+' || text_[j] == '-')) ++j;
-                if (j < n && is_digit(text_[j])) {
-                    i = j;
-                    while (i < n && is_digit(text_[i])) ++i;
-                }
-            }
-            tokens_.push_back({Token::Kind::number, text_.substr(start, i - start), start});
-        } else if (c == '.' && i + 1 < n && text_[i + 1] == '.') {
-            tokens_.push_back({Token::Kind::punct, text_.substr(i, 2), i});
-            i += 2;
-        } else if (std::string_view(";,.[]{}=-+").find(c) != std::string_view::npos) {
-            tokens_.push_back({Token::Kind::punct, text_.substr(i, 1), i});
-            ++i;
-        } else {
-            return error_at(i, std::string("unexpected character '") + c + "'");
-        }
-    }
-    tokens_.push_back({Token::Kind::end, std::string_view{}, n});
+    if (auto e = tokenize_arb_program(text_, tokens_)) return error_at(e->offset, e->what);
     return std::nullopt;
 }
 

@@ -127,7 +127,10 @@ std::string summary(const Identity& id, const std::vector<Outcome>& outcomes,
         out << head << o.c->name << ": " << o.result.reason << "\n";
     }
     out << "  tier      pass  fail  skip crash  not-supported\n";
-    for (const auto& [tier, by_status] : counts) {
+    for (const auto& entry : counts) {
+        // Not a structured binding: clang 14 refuses to capture one in the lambda below.
+        const std::string& tier = entry.first;
+        const auto& by_status = entry.second;
         char row[96];
         const auto n = [&](const char* s) {
             const auto it = by_status.find(s);

@@ -22,19 +22,14 @@ MultipleScatteringChange multiple_scattering_change(const Frame<double>& a, cons
     double level_max = 0.0, shape_max = 0.0, level_diff = 0.0, shape_diff = 0.0;
     double level_min = kInfinity, shape_min = kInfinity;
     double level_slope = 0.0, mu_slope = 0.0, azimuth_slope = 0.0, azimuth_range = 0.0;
-    const double radius = atm.planet_radius_m, top = atm.atmosphere_radius_m;
-    const double horizon = std::sqrt((top - radius) * (top + radius));
-    auto row_altitude = [&](int i) {
-        const double rho = horizon * i / (S::kAltitudeRows - 1);
-        return std::sqrt(radius * radius + rho * rho) - radius;
-    };
+    const double radius = atm.planet_radius_m;
     for (const S* s : {sa, sb}) {
         if (!s) continue;
         for (int i = 0; i < S::kAltitudeRows; ++i) {
             level_max = std::max(level_max, double(s->level[i][c]));
             level_min = std::min(level_min, double(s->level[i][c]));
             if (i + 1 < S::kAltitudeRows) {
-                const double step = row_altitude(i + 1) - row_altitude(i);
+                const double step = slice_row_altitude_m(atm, i + 1) - slice_row_altitude_m(atm, i);
                 level_slope = std::max(
                     level_slope, std::abs(double(s->level[i + 1][c]) - s->level[i][c]) / step);
             }

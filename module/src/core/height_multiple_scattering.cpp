@@ -71,8 +71,7 @@ std::shared_ptr<const MultipleScatteringSlice> cut_slice(const Atmosphere& a,
     slice->two_radius_m = float(2.0 * radius);
     const Field field(a, table, eye_cos_sun_zenith);
     for (int i = 0; i < S::kAltitudeRows; ++i) {
-        const double rho = horizon * i / (S::kAltitudeRows - 1);
-        const double h = std::sqrt(radius * radius + rho * rho) - radius;
+        const double h = slice_row_altitude_m(a, i);
         glm::dvec3 sum(0.0);
         for (int m = 0; m < kMeanCosines; ++m) {
             const double mu = -1.0 + (2.0 * m + 1.0) / kMeanCosines;
@@ -99,6 +98,13 @@ std::shared_ptr<const MultipleScatteringSlice> cut_slice(const Atmosphere& a,
 }
 
 }  // namespace
+
+double slice_row_altitude_m(const Atmosphere& a, int i) {
+    const double radius = a.planet_radius_m, top = a.atmosphere_radius_m;
+    const double rho = std::sqrt((top - radius) * (top + radius)) * i /
+                       (MultipleScatteringSlice::kAltitudeRows - 1);
+    return std::sqrt(radius * radius + rho * rho) - radius;
+}
 
 MultipleScatteringSettings height_table_settings() {
     MultipleScatteringSettings s;

@@ -39,6 +39,10 @@ struct MultipleScatteringSlice {
     float two_radius_m = 0.0f;
 };
 
+/// The altitude (m) of level row i: rows are evenly spaced in the distance to the horizon, from
+/// the ground to the atmosphere's top.
+double slice_row_altitude_m(const Atmosphere& atmosphere, int i);
+
 /// The settings of the height model's tables: coarser than the reference's (docs/models.md gives
 /// their cost and what the coarseness costs in accuracy).
 MultipleScatteringSettings height_table_settings();

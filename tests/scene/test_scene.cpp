@@ -229,6 +229,16 @@ TEST(MeshFile, RefusesWhatOpenMeshWouldMisread) {
          "ply\nformat ascii 1.0\nelement vertex 88888888888888888888888888\nproperty float "
          "x\nend_header\n",
          "declares over 10^18 vertex elements"},
+        {"fraction.ply",
+         "ply\nformat ascii 1.0\nelement vertex .0\nelement vertex 3\nproperty float x\n"
+         "end_header\n0\n1\n2\n",
+         "header line 3: expected 'element NAME COUNT' with COUNT a decimal integer"},
+        {"signed.ply", "ply\nformat ascii 1.0\nelement vertex +3\nproperty float x\nend_header\n",
+         "COUNT a decimal integer"},
+        {"formatless.ply",
+         "ply\nend_header binary_little_endian 1.0\nelement vertex 3\nend_header\n",
+         "header line 2: expected 'end_header' alone on its line"},
+        {"unformatted.ply", "ply\nelement vertex 0\nend_header\n", "no 'format' line"},
         {"endless.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_`eader\n",
          "not a PLY keyword"},
         {"format.ply",
@@ -244,6 +254,11 @@ TEST(MeshFile, RefusesWhatOpenMeshWouldMisread) {
          "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
          "end_header\n0 0 0\n10 0 0\n0 10 1\n3 0 1 2\n555555555555555555555555555555555\n",
          "a list of '555555555555555555555555555555555' entries in a file of"},
+        {"plus.ply",
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+         "end_header\n0 0 0\n10 0 0\n0 10 1\n3 0 1 2555+55555555555555555555\n",
+         "the value '2555+55555555555555555555' is not a number"},
         {"index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 4/1 1/1 2/1\n", "face index '4/1'"},
         {"unread.obj", "v 0 0 0\nv 1 x 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n",
          "line 2: expected 'v X Y Z"},

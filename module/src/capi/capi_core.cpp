@@ -179,7 +179,7 @@ Display to_cpp(const aerial_display* c) {
     if (c->exposure != 0.0f) d.exposure = c->exposure;
     static constexpr EnumValue<ToneCurve> kTones[] = {
         {AERIAL_TONE_CLAMP, ToneCurve::clamp}, {AERIAL_TONE_EXPONENTIAL, ToneCurve::exponential}};
-    d.tone = to_cpp_enum(int(c->tone), kTones, "display.tone",
+    d.tone = to_cpp_enum(c_enum_value(c->tone), kTones, "display.tone",
                          "AERIAL_TONE_CLAMP (0) or AERIAL_TONE_EXPONENTIAL (1)");
     return d;
 }
@@ -261,7 +261,7 @@ namespace {
 
 BatchOutputs to_cpp_outputs(const aerial_outputs& outputs) {
     BatchOutputs o;
-    o.colour_format = to_cpp_format(int(outputs.colour_format), "outputs.colour_format");
+    o.colour_format = to_cpp_format(c_enum_value(outputs.colour_format), "outputs.colour_format");
     o.extinction_rgba8 = outputs.extinction_rgba8;
     o.extinction_rgba8_stride = outputs.extinction_rgba8_stride;
     o.lit_rgba8 = outputs.lit_rgba8;
@@ -286,7 +286,7 @@ BatchSettings to_cpp_settings(const aerial_batch_settings* settings, Lighting& l
     static constexpr EnumValue<Kernel> kKernels[] = {{AERIAL_KERNEL_SIMD, Kernel::simd},
                                                      {AERIAL_KERNEL_SIMD_FAST, Kernel::simd_fast},
                                                      {AERIAL_KERNEL_SCALAR, Kernel::scalar}};
-    s.kernel = to_cpp_enum(int(settings->kernel), kKernels, "settings.kernel",
+    s.kernel = to_cpp_enum(c_enum_value(settings->kernel), kKernels, "settings.kernel",
                            "AERIAL_KERNEL_SIMD (0), _SIMD_FAST (1) or _SCALAR (2)");
     s.threads = settings->threads;
     if (settings->min_vertices_per_thread != 0) {
@@ -450,7 +450,7 @@ aerial_status aerial_evaluate(const aerial_atmosphere* atmosphere, const aerial_
         require(out, "out");
         const Atmosphere a = capi::validated(atmosphere);
         const View v = capi::validated(view);
-        const Model m = capi::to_cpp_model(model, "model");
+        const Model m = capi::to_cpp_model(capi::c_enum_value(model), "model");
         const glm::dvec3 p{vertex[0], vertex[1], vertex[2]};
         const bool finite = std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
         if (finite && glm::length(p - v.eye) * v.meters_per_unit > kMaxDistanceM) {
@@ -473,7 +473,7 @@ aerial_status aerial_context_create(const aerial_atmosphere* atmosphere, aerial_
         *out = nullptr;
         auto context = std::make_unique<aerial_context>();
         context->atmosphere = capi::validated(atmosphere);
-        context->model = capi::to_cpp_model(model, "model");
+        context->model = capi::to_cpp_model(capi::c_enum_value(model), "model");
         *out = context.release();
     });
 }
@@ -496,7 +496,7 @@ aerial_status aerial_context_set_model(aerial_context* context, aerial_model mod
     return guard("aerial_context_set_model", capi::last_error_of(context), [&] {
         require(context, "context");
         aerial_context updated = *context;
-        updated.model = capi::to_cpp_model(model, "model");
+        updated.model = capi::to_cpp_model(capi::c_enum_value(model), "model");
         capi::refresh_frame(updated);
         *context = std::move(updated);
     });

@@ -68,7 +68,7 @@ aerial_path to_c_path(gl::Path path) {
 gl::ApplyOptions to_cpp_draw(const aerial_draw_options* c) {
     gl::ApplyOptions o;
     if (c == nullptr) return o;
-    o.path = to_cpp_path(c->path);
+    o.path = to_cpp_path(c_enum_value(c->path));
     o.texture_unit = c->texture_unit;
     o.textured = c->untextured == 0;
     o.fixed_function_lighting = c->fixed_function_lighting != 0;
@@ -125,12 +125,13 @@ aerial_height_fidelity to_c_fidelity(const ArbProgramOptions& o) {
 ArbProgramOptions to_cpp_arb(const aerial_arb_options* c) {
     ArbProgramOptions o;
     if (c == nullptr) return o;
-    o.model = to_cpp_model(c->model, "options.model");
+    o.model = to_cpp_model(c_enum_value(c->model), "options.model");
     static constexpr EnumValue<ParameterSpace> kSpaces[] = {
         {AERIAL_PARAMETERS_LOCAL, ParameterSpace::local},
         {AERIAL_PARAMETERS_ENV, ParameterSpace::env}};
-    o.parameter_space = to_cpp_enum(int(c->parameter_space), kSpaces, "options.parameter_space",
-                                    "AERIAL_PARAMETERS_LOCAL (0) or _ENV (1)");
+    o.parameter_space =
+        to_cpp_enum(c_enum_value(c->parameter_space), kSpaces, "options.parameter_space",
+                    "AERIAL_PARAMETERS_LOCAL (0) or _ENV (1)");
     o.parameter_base = c->parameter_base;
     // 0 keeps the default; AERIAL_NO_TEXCOORDS asks for none; other values are checked by the
     // generator.
@@ -141,8 +142,9 @@ ArbProgramOptions to_cpp_arb(const aerial_arb_options* c) {
     }
     o.position_invariant = c->position_invariant != 0;
     o.guard_coarse_ex2 = c->guard_coarse_ex2 != 0;
-    o.height_fidelity = to_cpp_enum(int(c->height_fidelity), kFidelities, "options.height_fidelity",
-                                    "AERIAL_HEIGHT_FIDELITY_AUTOMATIC (0) .. _FULL (3)");
+    o.height_fidelity =
+        to_cpp_enum(c_enum_value(c->height_fidelity), kFidelities, "options.height_fidelity",
+                    "AERIAL_HEIGHT_FIDELITY_AUTOMATIC (0) .. _FULL (3)");
     o.limits = to_cpp_limits(c->limits);
     o.model_matrix = c->model_matrix != 0;
     return o;
@@ -227,7 +229,7 @@ aerial_status aerial_gl_choose_path(aerial_gl* gl, aerial_path requested,
     return guard("aerial_gl_choose_path", capi::last_error_of(gl), [&] {
         require(gl, "gl");
         require(chosen, "chosen");
-        auto path = gl::choose_path(gl->api.caps, capi::to_cpp_path(requested),
+        auto path = gl::choose_path(gl->api.caps, capi::to_cpp_path(capi::c_enum_value(requested)),
                                     fixed_function_lighting != 0);
         if (!path) capi::fail_gl(path.error());
         *chosen = capi::to_c_path(*path);
@@ -270,7 +272,7 @@ aerial_status aerial_gl_draw_two_pass(aerial_gl* gl, const aerial_draw_options* 
         if (o.path != gl::Path::automatic && o.path != gl::Path::two_pass) {
             fail(AERIAL_ERROR_INVALID_ARGUMENT, "options.path",
                  "expected AERIAL_PATH_AUTOMATIC (0) or _TWO_PASS (3), got " +
-                     std::to_string(int(options->path)));
+                     std::to_string(capi::c_enum_value(options->path)));
         }
         std::optional<gl::VertexColours> v;
         if (colours) v = capi::to_cpp_colours(*colours);

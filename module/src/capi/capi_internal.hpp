@@ -4,8 +4,10 @@
 #pragma once
 
 #include <cstddef>
+#include <cstring>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "aerial/aerial.h"
@@ -59,6 +61,17 @@ struct EnumValue {
     int c;
     Cpp cpp;
 };
+
+/// The int a C caller stored in an enum field. Read as an int, not as the enum: a value outside
+/// the enum's values (a caller's mistake the C API reports) is undefined behaviour to load as the
+/// enum type in C++ (UBSan's invalid enum load).
+template <class CEnum>
+int c_enum_value(const CEnum& field) {
+    static_assert(std::is_enum_v<CEnum> && sizeof(CEnum) == sizeof(int));
+    int value = 0;
+    std::memcpy(&value, &field, sizeof value);
+    return value;
+}
 
 /// The C++ value of the C enum value `value`, or AERIAL_ERROR_INVALID_ARGUMENT naming `field`:
 /// "expected <expected>, got <value>".

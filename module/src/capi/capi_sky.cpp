@@ -245,8 +245,9 @@ aerial_status aerial_sky_create(const aerial_sky_options* options, aerial_sky** 
         *out = nullptr;
         auto sky = std::make_unique<aerial_sky>();
         if (options) {
-            sky->method = capi::to_cpp_enum(int(options->method), capi::kSkyMethods, "method",
-                                            "AERIAL_SKY_AUTOMATIC (0) .. AERIAL_SKY_REFERENCE (5)");
+            sky->method =
+                capi::to_cpp_enum(capi::c_enum_value(options->method), capi::kSkyMethods, "method",
+                                  "AERIAL_SKY_AUTOMATIC (0) .. AERIAL_SKY_REFERENCE (5)");
             if (options->segments < 0) {
                 capi::fail(AERIAL_ERROR_INVALID_ARGUMENT, "segments",
                            "expected >= 1 (0 means 12), got " + detail::number(options->segments));
@@ -306,7 +307,8 @@ aerial_status aerial_sky_shade_dome(const aerial_sky* sky, const aerial_position
         require(out, "out");
         const SkyContext& context = capi::prepared(*sky);
         capi::check_sky_colours(*out);
-        const ColourFormat format = capi::to_cpp_format(int(out->format), "out.format");
+        const ColourFormat format =
+            capi::to_cpp_format(capi::c_enum_value(out->format), "out.format");
         const Display d = capi::display_of(display);
         const glm::dvec3 c = centre ? glm::dvec3(centre[0], centre[1], centre[2]) : sky->eye;
         const std::vector<glm::dvec3> world = capi::world_positions(*vertices);
@@ -329,7 +331,7 @@ aerial_status aerial_sky_cubemap(aerial_sky* sky, int size, aerial_colour_format
             capi::fail(AERIAL_ERROR_INVALID_ARGUMENT, "size",
                        "expected 1 .. 4096 texels, got " + detail::number(size));
         }
-        const ColourFormat f = capi::to_cpp_format(int(format), "format");
+        const ColourFormat f = capi::to_cpp_format(capi::c_enum_value(format), "format");
         const std::size_t face_bytes = std::size_t(size) * std::size_t(size) * 4;
         if (capacity_bytes < 6 * face_bytes) {
             capi::fail(AERIAL_ERROR_BUFFER_TOO_SMALL, "capacity_bytes",
@@ -372,7 +374,7 @@ aerial_status aerial_sky_sun_sprite(const aerial_sky* sky, const aerial_sun_spri
         require(sky, "sky");
         require(info, "info");
         const SkyContext& context = capi::prepared(*sky);
-        const ColourFormat f = capi::to_cpp_format(int(format), "format");
+        const ColourFormat f = capi::to_cpp_format(capi::c_enum_value(format), "format");
         const Display d = capi::display_of(display);
         SunSpriteOptions o;
         o.size = 64;

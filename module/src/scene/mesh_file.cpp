@@ -108,6 +108,16 @@ struct PlyElement {
     std::vector<bool> lists;
 };
 
+/// An ASCII PLY value that is not one number: OpenMesh's reader would stop inside it and take
+/// the rest ("1+5555...") as the next value, a list's count among them (3 GB asked for, found by
+/// fuzz_mesh_io).
+std::optional<std::string> not_a_number(const std::string& token) {
+    char* end = nullptr;
+    std::strtold(token.c_str(), &end);
+    if (end != token.c_str() && *end == '\0') return std::nullopt;
+    return "the value '" + token.substr(0, 40) + "' is not a number";
+}
+
 /// ASCII PLY: OpenMesh's reader takes a list's count from the file and reserves that many
 /// entries whatever follows (a face of 10^33 indices asked for gigabytes, found by
 /// fuzz_mesh_io). Every entry takes at least one byte, so a count above the file's size is a lie.
@@ -119,7 +129,10 @@ std::optional<std::string> bad_ascii_ply_list(std::istream& body,
         for (long long i = 0; i < element.count; ++i) {
             for (const bool list : element.lists) {
                 if (!(body >> token)) return std::nullopt;  // short: OpenMesh says so
-                if (!list) continue;
+                if (!list) {
+                    if (auto wrong = not_a_number(token)) return wrong;
+                    continue;
+                }
                 char* end = nullptr;
                 const long double n = std::strtold(token.c_str(), &end);
                 if (end == token.c_str() || *end != '\0' || !(n >= 0) || n > (long double)size ||
@@ -129,6 +142,7 @@ std::optional<std::string> bad_ascii_ply_list(std::istream& body,
                 }
                 for (long long k = 0; k < (long long)n; ++k) {
                     if (!(body >> token)) return std::nullopt;
+                    if (auto wrong = not_a_number(token)) return wrong;
                 }
             }
         }
@@ -157,7 +171,8 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
         // OpenMesh's PLY reader also loops forever on some malformed headers (found by
         // fuzz_mesh_io): only a header of known lines that ends in end_header goes to it.
         int number = 0;
-        bool element_seen = false, ascii = false;
+        bool element_seen = false, ascii = false, format_seen = false;
+        static const char* const kEnd = "expected 'end_header' alone on its line";
         std::vector<PlyElement> elements;
         while (std::getline(lines, line)) {
             if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -169,6 +184,11 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
                 continue;
             }
             if (keyword == "end_header") {
+                // OpenMesh's reader loops forever on a header that ends before its format line or
+                // on an end_header line with more words (found by fuzz_mesh_io).
+                std::string extra;
+                if (words >> extra) return "header line " + std::to_string(number) + ": " + kEnd;
+                if (!format_seen) return std::string("its header has no 'format' line");
                 if (!ascii) return std::nullopt;
                 std::ifstream body(path, std::ios::binary);
                 body.seekg(lines.tellg());
@@ -200,6 +220,7 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
                         "1.0'");
                 }
                 ascii = encoding == "ascii";
+                format_seen = true;
             }
             if (keyword == "property") {
                 // OpenMesh's reader writes a property into its current element: before any
@@ -221,10 +242,20 @@ std::optional<std::string> check_before_openmesh(const std::string& path, const 
             }
             long double count = 0;
             element_seen = element_seen || keyword == "element";
+            // OpenMesh reads the count into an unsigned int: anything but decimal digits (".0",
+            // "+3", "-1") fails that read, and its header loop then appends elements until memory
+            // runs out (found by fuzz_mesh_io).
+            std::string digits;
+            const auto decimal = [](const std::string& text) {
+                return !text.empty() && std::all_of(text.begin(), text.end(),
+                                                    [](char c) { return c >= '0' && c <= '9'; });
+            };
             if (keyword == "element" &&
-                (!(words >> name >> count) || words >> extra || count != std::floor(count))) {
-                return bad("expected 'element NAME COUNT'");
+                (!(words >> name >> digits) || words >> extra || !decimal(digits))) {
+                return bad("expected 'element NAME COUNT' with COUNT a decimal integer");
             }
+            // (stold throws past its range: a count of 30 digits is a lie in any file anyway.)
+            if (keyword == "element") count = digits.size() > 30 ? 1e30L : std::stold(digits);
             if (keyword == "element" && too_many(count)) {
                 // (long long) of a count past its range is undefined (found by fuzz_mesh_io).
                 const std::string shown =

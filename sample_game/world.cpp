@@ -130,8 +130,9 @@ aerial::Result<SunSchedule> make_sun_schedule(int year, int month, int day, doub
                              "the sun does not rise on that date at this latitude (polar night)"};
     }
     schedule.noon_utc_min = events->solar_noon_utc_min;
-    schedule.end_utc_min = events->sunset_utc_min
-                               ? *events->sunset_utc_min + kDuskMinutesAfterSunset
+    schedule.end_utc_min = events->civil_dusk_utc_min ? *events->civil_dusk_utc_min
+                           : events->sunset_utc_min
+                               ? *events->sunset_utc_min + kWhiteNightMinutesAfterSunset
                                : events->solar_noon_utc_min + 600.0;
     return schedule;
 }
@@ -286,8 +287,19 @@ aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& s,
     aerial::ExposureOptions exposure;
     exposure.key = kExposureKey;
     exposure.max_gain = kExposureMaxGain;
-    settings.display.exposure = float(aerial::auto_exposure(
-        sun, s.sun_elevation_rad, *sky, settings.atmosphere.sun_irradiance, exposure));
+    double value = aerial::auto_exposure(sun, s.sun_elevation_rad, *sky,
+                                         settings.atmosphere.sun_irradiance, exposure);
+    if (s.sun_elevation_rad < 0.0) {
+        // After sunset the exposure follows the sky down: it grows as the skylight fades below
+        // its value at sunset, so that civil twilight reads (the afterglow over the sun, the
+        // Earth's shadow opposite) instead of going black.
+        auto at_sunset =
+            aerial::sky_ambient(settings.atmosphere, kLightingAltitudeM, 0.0, ambient_options);
+        if (!at_sunset) return at_sunset.error();
+        value *=
+            std::max(1.0, aerial::luminance(*at_sunset) / std::max(aerial::luminance(*sky), 1e-30));
+    }
+    settings.display.exposure = float(value);
     settings.display.tone = tone;
     return settings;
 }

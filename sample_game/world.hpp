@@ -49,17 +49,17 @@ struct SunSchedule {
     double latitude_rad = 0.0;             ///< north positive
     double longitude_rad = 0.0;            ///< east positive
     double noon_utc_min = 720.0;           ///< solar noon, minutes after 00:00 UTC of the date
-    double end_utc_min = 1200.0;           ///< where the script ends: a few minutes after sunset
+    double end_utc_min = 1200.0;           ///< where the script ends: the end of civil twilight
 };
 
-/// Minutes after sea-level sunset at which the scripted day ends. At 250 m above hills of
-/// up to 900 m the horizon lies about 1 deg lower than at sea level, so the sun is still
-/// seen, red, from the aircraft.
-inline constexpr double kDuskMinutesAfterSunset = 4.0;
+/// Minutes after sea-level sunset at which the scripted day ends where the sun never sinks 6 deg
+/// below the horizon (white nights): about as long as civil twilight lasts at mid-latitudes.
+inline constexpr double kWhiteNightMinutesAfterSunset = 40.0;
 
 /// The schedule of a UTC date and place (radians). Errors name the field: "date" (no such
-/// day), "latitude" / "longitude" (out of range, or polar night: the sun does not rise). In
-/// polar day the script ends 10 hours after noon.
+/// day), "latitude" / "longitude" (out of range, or polar night: the sun does not rise). The
+/// script ends at the end of civil twilight (the sun's centre 6 deg down); in white nights
+/// kWhiteNightMinutesAfterSunset after sunset, in polar day 10 hours after noon.
 aerial::Result<SunSchedule> make_sun_schedule(int year, int month, int day, double latitude_rad,
                                               double longitude_rad);
 

@@ -39,7 +39,7 @@ constexpr const char* kDescription =
     "--print-arb-program; implies --model height) chooses how much of the height model the\n"
     "program computes; exact-optical-depth and full are checked against 256 instructions (the\n"
     "native limit of Direct3D 9-class hardware) instead of the spec's 128, multiple-scattering\n"
-    "against 512 instructions, 32 temporaries and 256 parameters (Mesa's limits are higher).\n"
+    "against 512 instructions, 32 temporaries and 2048 parameters (Mesa's).\n"
     "--export-shader-tests DIR writes those programs (hoffman-preetham and each height level) as\n"
     "piglit shader_test files, for the presets earth and hazy at noon and at a low sun, with\n"
     "probes computed by the CPU executor of the same text, prints the files' paths and exits\n"

@@ -6,7 +6,7 @@
 
 #include "engine.h"
 
-#define MAX_PARAMETERS 256 /* every level: the highest reads 190 */
+#define MAX_PARAMETERS 2048 /* every level: the highest reads 1758 */
 
 static aerial_context* air;
 static aerial_gl* gl;
@@ -14,7 +14,7 @@ static aerial_arb_options options;
 static unsigned int program;
 
 int material_init(aerial_gl_load_function load, void* user) {
-    static char text[32768]; /* the highest level: about 19 000 bytes */
+    static char text[32768]; /* the highest level: about 21 500 bytes */
     aerial_arb_info info;
     memset(&options, 0, sizeof options);
     options.model = AERIAL_MODEL_HEIGHT; /* height fidelity AUTOMATIC: the best that fits */
@@ -33,7 +33,7 @@ int material_init(aerial_gl_load_function load, void* user) {
 
 int material_frame(const engine_camera* camera, engine_mesh* meshes, size_t mesh_count) {
     aerial_view view;
-    float vectors[4 * MAX_PARAMETERS];
+    static float vectors[4 * MAX_PARAMETERS];
     size_t count = 0, i;
     memset(&view, 0, sizeof view);
     memcpy(view.eye, camera->position, sizeof view.eye);

@@ -318,12 +318,16 @@ TEST(ShadingCache, TypicalFrameToFrameMovesNeedNoUpdate) {
                 const double bound = aerial::max_change_lsb(scene.key, next, scene.bounds);
                 const double actual = actual_change_lsb(scene.key, next, scene.mesh);
                 stats.add(bound, actual);
-                // In fog with a low sun the bound of the higher orders (shape's slopes over its
-                // whole table) is loose: 1.8 and 1.0 steps at 0.1 and 0.3 rad, so those frames
-                // are shaded again (docs/models.md, "When shading can be skipped").
-                const bool loose =
-                    model == Model::height && std::string(atmosphere) == "foggy" && elevation < 0.5;
-                if (loose) continue;
+                // In fog the bound of the higher orders (the shape's slopes over its table, which
+                // changes fast over the fog layer's altitudes) is loose, so those frames are
+                // shaded again (docs/models.md, "When shading can be skipped").
+                const bool loose = model == Model::height && std::string(atmosphere) == "foggy";
+                if (loose) {
+                    std::printf("foggy height, sun elevation %.1f rad: bound %.2f steps\n",
+                                elevation, bound);
+                    EXPECT_LE(actual, bound + kFloatNoiseLsb);
+                    continue;
+                }
                 EXPECT_FALSE(cache.needs_update(next))
                     << atmosphere << " " << aerial::model_name(model) << " sun elevation "
                     << elevation << ": bound " << bound << " steps for 1 cm and 1e-5 rad";

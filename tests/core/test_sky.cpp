@@ -48,9 +48,9 @@ struct Bound {
 // higher orders (frame_with_eye), whose sun is 0.9 deg lower 100 km away; at a horizon sun that
 // costs 19 steps towards the horizon (docs/sky.md).
 constexpr Bound kBounds[] = {
-    {0.0, 0.26, 20, 19.5, 40, 210},
+    {0.0, 0.27, 20, 20, 40, 210},
     {10.0, 0.031, 2.0, 10, 7, 90},
-    {90.0, 0.034, 0.6, 3.1, 4, 48},
+    {90.0, 0.034, 0.6, 3.2, 4, 48},
 };
 
 TEST(Sky, EachMethodAgainstReferenceWithinItsPinnedBound) {

@@ -84,6 +84,30 @@ TEST(SolarEvents, SunriseAndSunsetAreWhereTheCentreIsStandardlyDepressed) {
     }
 }
 
+TEST(SolarEvents, CivilTwilightEndsWhereTheCentreIsSixDegreesDown) {
+    for (double lat : {-33.9, 0.0, 46.5}) {
+        for (int month : {1, 6}) {
+            auto ev = aerial::solar_events(2025, month, 15, lat * kDeg, 8.0 * kDeg);
+            ASSERT_TRUE(ev.ok());
+            ASSERT_TRUE(ev->civil_dawn_utc_min && ev->civil_dusk_utc_min) << lat << " " << month;
+            EXPECT_LT(*ev->civil_dawn_utc_min, *ev->sunrise_utc_min);
+            EXPECT_GT(*ev->civil_dusk_utc_min, *ev->sunset_utc_min);
+            for (double when : {*ev->civil_dawn_utc_min, *ev->civil_dusk_utc_min}) {
+                auto sun =
+                    aerial::sun_position(at_minutes(2025, month, 15, when), lat * kDeg, 8.0 * kDeg);
+                ASSERT_TRUE(sun.ok());
+                EXPECT_NEAR(sun->elevation_rad / kDeg, -6.0, 0.003)
+                    << "lat " << lat << " month " << month << " at " << when << " min";
+            }
+        }
+    }
+    // White nights: at 62 N at midsummer the sun sets but never sinks 6 degrees (4.6 at most).
+    auto white = aerial::solar_events(2026, 6, 21, 62.0 * kDeg, 25.0 * kDeg);
+    ASSERT_TRUE(white.ok());
+    EXPECT_TRUE(white->sunset_utc_min.has_value());
+    EXPECT_FALSE(white->civil_dusk_utc_min.has_value());
+}
+
 TEST(SolarEvents, MatchPublishedTimesForLondon) {
     // Published sunrise and sunset for London (51.5074 N, 0.1278 W), rounded to the minute:
     // 2024-06-20 04:43 and 21:21 BST (03:43 and 20:21 UTC); 2024-12-21 08:04 and 15:53 GMT.

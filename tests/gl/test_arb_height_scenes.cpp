@@ -210,17 +210,19 @@ SceneFigures measure_and_print(ArbHeightFidelity level) {
 
 }  // namespace
 
-// The 128-instruction program: within 2 LSB on the terrain; on the dome its error is pinned as a
+// The 128-instruction program: within 3 LSB on the terrain; on the dome its error is pinned as a
 // regression bound (measured, not a target): it leaves out the model's placement of the sunlight
-// points by the optical depth without the sag and their weights' correction by the exact optical
-// depth, which rays of 100 km and more need (docs/arb-program.md). Per preset: earth, hazy.
-constexpr int kSpecDome100Lsb[2] = {13, 59};
+// points by the optical depth without the sag, their weights' correction by the exact optical
+// depth and each channel's own attenuation to them, which rays of 100 km and more need
+// (docs/arb-program.md). Per preset: earth, hazy.
+constexpr int kSpecTerrainLsb = 3;
+constexpr int kSpecDome100Lsb[2] = {57, 68};
 constexpr double kSpecDome1000PercentOverTwo[2] = {96.0, 96.0};
 
-TEST(ArbHeightScenes, SpecMinimumProgramIsWithin2LsbOnTerrainAndPinnedOnTheDome) {
+TEST(ArbHeightScenes, SpecMinimumProgramIsWithin3LsbOnTerrainAndPinnedOnTheDome) {
     const SceneFigures f = measure_and_print(ArbHeightFidelity::spec_minimum);
     for (std::size_t p = 0; p < 2; ++p) {
-        EXPECT_LE(f.terrain[p].lsb, kSceneLsb) << f.terrain[p].where;
+        EXPECT_LE(f.terrain[p].lsb, kSpecTerrainLsb) << f.terrain[p].where;
         EXPECT_LE(f.dome100[p].lsb, kSpecDome100Lsb[p]) << f.dome100[p].where;
         EXPECT_LE(f.dome1000[p].percent_over_two(), kSpecDome1000PercentOverTwo[p]);
     }
@@ -454,7 +456,7 @@ TEST(ArbParameterLayout, AnExplicitLevelThatDoesNotFitNamesTheLimitAndBothNumber
     ASSERT_FALSE(refused.ok());
     EXPECT_EQ(refused.error().message,
               "aerial::generate_arb_program(): instructions: expected at most 128 "
-              "(MAX_PROGRAM_INSTRUCTIONS_ARB), got 249 in the program");
+              "(MAX_PROGRAM_INSTRUCTIONS_ARB), got 245 in the program");
     o.height_fidelity = ArbHeightFidelity::automatic;
     const auto chosen = aerial::generate_arb_program(o);
     ASSERT_TRUE(chosen.ok());

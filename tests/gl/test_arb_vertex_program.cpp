@@ -338,10 +338,10 @@ TEST_F(ArbVertexProgramGl, HighestHeightProgramMatchesTheCpuModelWithin1Lsb) {
 
 /// The 128-instruction height program on an engine's terrain (16 km x 16 km, heights 0..600 m,
 /// eye at 300 and 1000 m, sun 2 and 20 deg, earth and hazy, exposure 8 and aerial::auto_exposure):
-/// within 2 LSB of the CPU model through the driver, with world-space vertices and with
-/// model-space ones and the model matrix (test_gl_arb_height_scenes measures the same on the CPU
-/// executor, and the dome).
-TEST_F(ArbVertexProgramGl, HeightProgramOnTerrainIsWithin2LsbWithAndWithoutTheModelMatrix) {
+/// within 3 LSB of the CPU model through the driver (it leaves out each channel's own attenuation
+/// along the ray), with world-space vertices and with model-space ones and the model matrix
+/// (test_gl_arb_height_scenes measures the same on the CPU executor, and the dome).
+TEST_F(ArbVertexProgramGl, HeightProgramOnTerrainIsWithin3LsbWithAndWithoutTheModelMatrix) {
     if (!has_programs()) GTEST_SKIP() << "no GL_ARB_vertex_program";
     const Api& gl = this->gl();
     const GLuint black = make_black_texture(gl);
@@ -401,7 +401,7 @@ TEST_F(ArbVertexProgramGl, HeightProgramOnTerrainIsWithin2LsbWithAndWithoutTheMo
             with_matrix ? ", model matrix" : "", parity.vertices, parity.max_fex_lsb,
             parity.max_lin_lsb);
         EXPECT_LE(parity.max_fex_lsb, 2) << parity.worst;
-        EXPECT_LE(parity.max_lin_lsb, 2) << parity.worst;
+        EXPECT_LE(parity.max_lin_lsb, 3) << parity.worst;
     }
     gl.DeleteTextures(1, &black);
 }

@@ -1,8 +1,8 @@
 #!/bin/sh
 # The sample's headless flythrough against its golden frames (tests/scene/golden/): of 11 frames
-# without the readout, noon (0), fog (5), the low sun (9, about 1 deg) and after sunset (10), at
-# a loose tolerance, since they cover a whole pipeline (terrain, sky cubemap, sun sprite, the
-# update policy) and a Mesa update may move edges by a pixel.
+# without the readout, noon (0), fog (5), civil twilight (9, the sun 3.5 deg down) and its end
+# (10, 6 deg down), at a loose tolerance, since they cover a whole pipeline (terrain, sky cubemap,
+# sun sprite, the update policy) and a Mesa update may move edges by a pixel.
 #
 #   check_sample_goldens.sh SAMPLE COMPARE GOLDEN_DIR OUT_DIR [--record]
 #

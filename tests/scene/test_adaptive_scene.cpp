@@ -3,6 +3,7 @@
 // refinement and morph settle equals that of a plain node of the same mesh), the adaptive sky
 // drawer, and the errors of both.
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -153,21 +154,28 @@ TEST_F(AdaptiveSceneTest, NewVerticesMorphInRatherThanPop) {
     std::vector<std::uint8_t> settled;
     for (int i = 0; i < 4 * kMorphUpdates; ++i) settled = draw(renderer.value(), *root, nullptr);
     // Colours only: where refinement moved the silhouette, terrain meets the black background.
+    // The mean over the pixels terrain covers in both: a few pixels where refinement moved one
+    // hill in front of another change as much in the first frame as later.
     auto colour_change = [&base](const std::vector<std::uint8_t>& image) {
-        int worst = 0;
+        double sum = 0.0;
+        long count = 0;
         for (std::size_t p = 0; 4 * p + 3 < std::min(image.size(), base.size()); ++p) {
             const bool both = (image[4 * p] | image[4 * p + 1] | image[4 * p + 2]) != 0 &&
                               (base[4 * p] | base[4 * p + 1] | base[4 * p + 2]) != 0;
             for (std::size_t c = 0; both && c < 3; ++c) {
-                worst = std::max(worst, std::abs(int(image[4 * p + c]) - int(base[4 * p + c])));
+                sum += std::abs(int(image[4 * p + c]) - int(base[4 * p + c]));
+                ++count;
             }
         }
-        return worst;
+        return count > 0 ? sum / double(count) : 0.0;
     };
-    const int first_to_base = colour_change(first);
-    const int settled_to_base = colour_change(settled);
-    EXPECT_GT(settled_to_base, 2) << "refinement changed nothing visible: the test shows nothing";
-    EXPECT_LT(first_to_base, settled_to_base);
+    const double first_to_base = colour_change(first);
+    const double settled_to_base = colour_change(settled);
+    std::printf("mean colour change from the base mesh: first frame %.3f, settled %.3f steps\n",
+                first_to_base, settled_to_base);
+    EXPECT_GT(settled_to_base, 0.05)
+        << "refinement changed nothing visible: the test shows nothing";
+    EXPECT_LT(first_to_base, 0.5 * settled_to_base);
 }
 
 TEST_F(AdaptiveSceneTest, AnAdaptiveNodeUnderATransformIsAnErrorNamingIt) {

@@ -8,7 +8,7 @@ import os
 import sys
 
 HEADER = ("sweep,value,method,max_lsb,mean_lsb,over2,nonfinite,clamped,banding,popping,fails,"
-          "worst_at")
+          "worst_at,max_lsb_off_sun")
 SWEEPS = ["sun_elevation_deg", "altitude_m", "distance_m", "mie_g", "turbidity", "visibility_m"]
 METHODS = ["reference", "cpu-hp", "cpu-height", "arb-hp", "arb-hp-10bit", "arb-height",
            "arb-height-10bit", "gl-fog", "fg-fog", "lerp-screen-4deg", "lerp-world-1km"]
@@ -38,6 +38,7 @@ def main():
         lsb = int(r["max_lsb"])
         check(0 <= lsb <= 255, "%s: max_lsb %d outside 0..255" % (where, lsb))
         check(float(r["mean_lsb"]) <= lsb, "%s: mean_lsb above max_lsb" % where)
+        check(0 <= int(r["max_lsb_off_sun"]) <= lsb, "%s: max_lsb_off_sun outside 0..max_lsb" % where)
         flagged = lsb > 2 or any(int(r[k]) > 0 for k in FLAGS)
         check(int(r["fails"]) == int(flagged), "%s: fails is not (max_lsb > 2 or a flag)" % where)
         # The module never produces NaN or Inf.

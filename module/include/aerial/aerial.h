@@ -530,8 +530,8 @@ typedef enum aerial_height_fidelity {
     AERIAL_HEIGHT_FIDELITY_AUTOMATIC = 0, /* the highest level that fits the limits */
     AERIAL_HEIGHT_FIDELITY_SPEC_MINIMUM = 1,
     AERIAL_HEIGHT_FIDELITY_EXACT_OPTICAL_DEPTH = 2,
-    AERIAL_HEIGHT_FIDELITY_FULL = 3, /* the CPU model's single scattering; 249 instructions */
-    AERIAL_HEIGHT_FIDELITY_MULTIPLE_SCATTERING = 4 /* all of the CPU model; 327 instructions */
+    AERIAL_HEIGHT_FIDELITY_FULL = 3, /* the CPU model's single scattering; 245 instructions */
+    AERIAL_HEIGHT_FIDELITY_MULTIPLE_SCATTERING = 4 /* all of the CPU model; 424 instructions */
 } aerial_height_fidelity;
 
 /* Pass -1 as texcoord_units for a program that passes no texture coordinates through. */

@@ -68,30 +68,32 @@ enum class ArbHeightFidelity {
     /// the spec minimums of 128 instructions and 12 temporaries. Leaves out parts of the model
     /// (listed at kArbHeightParameterCount).
     spec_minimum,
-    /// spec_minimum plus the weights' correction by the exact optical depth (and phi from its
-    /// series near 0): 154 instructions.
+    /// spec_minimum plus the weights' correction by the exact optical depth, each channel's own
+    /// attenuation to the sunlight points (and phi from its series near 0): 159 instructions.
     exact_optical_depth,
     /// All of the CPU model's single scattering: exact_optical_depth plus the sun's column
     /// factors at the vertex (an erfcx fit and the below-horizon branch) interpolated along the
     /// segment as the model does, the planet's shadow per sunlight point and the eye's or the
-    /// vertex's blocked sun: 249 instructions (252 with model_matrix), 12 temporaries and
+    /// vertex's blocked sun: 245 instructions (248 with model_matrix), 12 temporaries and
     /// kArbHeightFullParameterCount parameters: within 1 LSB of the CPU model without its
     /// higher orders (Frame::multiple_scattering reset). Needs a driver whose
     /// MAX_PROGRAM_NATIVE_INSTRUCTIONS is at least that (256 on Direct3D 9-class hardware;
     /// Mesa's are far larger).
     full,
     /// All of the CPU model: full plus the light scattered more than once (the frame's slice as
-    /// parameter arrays read through the address register): 327 instructions (330 with
-    /// model_matrix), 20 temporaries, kArbHeightMultipleParameterCount parameters: within 1 LSB
-    /// of the CPU model at all but 0.004 % of the test grid's vertices (2 LSB there). Mesa's
-    /// limits hold it; hardware limited to 256 instructions runs `full`.
+    /// parameter arrays read through the address register): 424 instructions (427 with
+    /// model_matrix), 23 temporaries, kArbHeightMultipleParameterCount parameters: within 1 LSB
+    /// of the CPU model at all but 0.001 % of the test grid's vertices (2 LSB there). Mesa's
+    /// limits (2048 parameters) hold it; hardware limited to 256 instructions or parameters
+    /// runs `full`.
     multiple_scattering,
 };
 
 /// The limits a level is checked against where no driver is at hand (aerial-eval, the piglit
 /// files, the tests): the spec minimums for spec_minimum (and automatic), the native limits of
 /// Direct3D 9-class hardware (256 instructions) for exact_optical_depth and full, and 512
-/// instructions, 32 temporaries and 256 parameters for multiple_scattering (Mesa's are higher).
+/// instructions, 32 temporaries and 2048 parameters (Mesa's parameters) for
+/// multiple_scattering.
 ArbLimits arb_reference_limits(ArbHeightFidelity fidelity);
 
 /// "automatic", "spec-minimum", "exact-optical-depth", "full" or "multiple-scattering".
@@ -102,7 +104,7 @@ Result<ArbHeightFidelity> parse_arb_height_fidelity(std::string_view name);
 
 /// Options of generate_arb_program and arb_program_parameters (use the same for both).
 struct ArbProgramOptions {
-    /// hoffman_preetham (22 instructions) or height (125 to 249 by height_fidelity).
+    /// hoffman_preetham (22 instructions) or height (125 to 424 by height_fidelity).
     /// `reference` has no program.
     Model model = Model::hoffman_preetham;
     ParameterSpace parameter_space = ParameterSpace::local;
@@ -162,8 +164,9 @@ inline constexpr int kArbHeightParameterCount = 15;
 inline constexpr int kArbHeightFullParameterCount = 17;
 
 /// How many frame parameter vectors the `multiple_scattering` height program reads: full's 17,
-/// then msz, mss, msr, msm, the 16 rows of `lev` and the 153 of `shp` (arb_parameter_layout).
-inline constexpr int kArbHeightMultipleParameterCount = 190;
+/// then msz, mss, msr, msm, msq, the 32 x 16 rows of `lev` and the 8 x 153 of `shp`
+/// (arb_parameter_layout).
+inline constexpr int kArbHeightMultipleParameterCount = 1758;
 
 /// kArbParameterCount or kArbHeightParameterCount (0 for a model without a program).
 constexpr int arb_parameter_count(Model model) {

@@ -72,18 +72,26 @@ struct SolarEvents {
     double solar_noon_utc_min = 0;
     std::optional<double> sunrise_utc_min;  ///< empty during polar day and polar night
     std::optional<double> sunset_utc_min;
+    /// When the sun's centre is kCivilTwilightDepressionRad below the horizon, morning and
+    /// evening: the ends of civil twilight; empty where it never sinks that far (white nights)
+    /// or never rises that high.
+    std::optional<double> civil_dawn_utc_min;
+    std::optional<double> civil_dusk_utc_min;
     bool polar_day = false;    ///< the sun stays up all day
     bool polar_night = false;  ///< the sun stays down all day
 };
 
-/// Sunrise, noon and sunset, each found by iterating the NOAA formulas at the event's own time
-/// (not at noon, as the NOAA spreadsheet does), so they agree with sun_position to seconds.
+/// Sunrise, noon, sunset and civil twilight's ends, each found by iterating the NOAA formulas at
+/// the event's own time (not at noon, as the NOAA spreadsheet does), so they agree with
+/// sun_position to seconds.
 Result<SolarEvents> solar_events(int year, int month, int day, double latitude_rad,
                                  double longitude_rad);
 
 /// The depression of the sun's centre at sunrise and sunset: 50 arc minutes (16' of radius
 /// and 34' of refraction), radians.
 inline constexpr double kSunriseDepressionRad = 0.833 * 3.14159265358979323846 / 180.0;
+/// The depression of the sun's centre that ends civil twilight: 6 degrees, radians.
+inline constexpr double kCivilTwilightDepressionRad = 6.0 * 3.14159265358979323846 / 180.0;
 
 // ---- Sunlight by altitude --------------------------------------------------------------------
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <mutex>
 #include <tuple>
+#include <vector>
 
 #include "multiple_scattering.hpp"
 
@@ -59,40 +60,111 @@ class Field {
     glm::dvec3 sun_;
 };
 
-std::shared_ptr<const MultipleScatteringSlice> cut_slice(const Atmosphere& a,
-                                                         const MultipleScatteringTable& table,
-                                                         double eye_altitude_m,
-                                                         double eye_cos_sun_zenith) {
+/// The shape's altitude rows: up to ten of the shorter scale height (where the shape changes, in
+/// haze; at most the atmosphere's top), evenly in log(1 + h / knee) with the knee at a quarter of
+/// it.
+double shape_top_m(const Atmosphere& a) {
+    return std::min(a.atmosphere_radius_m - a.planet_radius_m,
+                    10.0 * std::min(a.rayleigh_scale_height_m, a.mie_scale_height_m));
+}
+double shape_knee_m(const Atmosphere& a) {
+    return 0.25 * std::min(a.rayleigh_scale_height_m, a.mie_scale_height_m);
+}
+double shape_altitude_scale(const Atmosphere& a) {
+    return (MultipleScatteringSlice::kShapeAltitudeRows - 1) /
+           std::log1p(shape_top_m(a) / shape_knee_m(a));
+}
+
+using LevelRows = std::array<glm::vec3, MultipleScatteringSlice::kLevelRows>;
+
+/// The sun zenith cosine of level's sun row k.
+double sun_row_cosine(int k) {
+    using S = MultipleScatteringSlice;
+    return std::cos(S::kMaxSunZenithRad * k / (S::kSunRows - 1));
+}
+
+LevelRows compute_level_rows(const Atmosphere& a, const MultipleScatteringTable& table) {
+    using S = MultipleScatteringSlice;
+    LevelRows rows{};
+    for (int k = 0; k < S::kSunRows; ++k) {
+        const Field field(a, table, sun_row_cosine(k));
+        for (int i = 0; i < S::kAltitudeRows; ++i) {
+            const double h = slice_row_altitude_m(a, i);
+            glm::dvec3 sum(0.0);
+            for (int m = 0; m < kMeanCosines; ++m) {
+                const double mu = -1.0 + (2.0 * m + 1.0) / kMeanCosines;
+                for (int q = 0; q < kMeanAzimuths; ++q) {
+                    sum += field(h, mu, kPi * (q + 0.5) / kMeanAzimuths);
+                }
+            }
+            rows[k * S::kAltitudeRows + i] = glm::vec3(sum / double(kMeanCosines * kMeanAzimuths));
+        }
+    }
+    return rows;
+}
+
+/// level(h, mu_s) of an atmosphere (E_sun0 included): 65 536 lookups in its table, about 20 ms,
+/// kept for the last few atmospheres (a game switching between clear air and fog).
+std::shared_ptr<const LevelRows> level_rows(
+    const Atmosphere& a, const std::shared_ptr<const MultipleScatteringTable>& table) {
+    struct Entry {
+        std::shared_ptr<const MultipleScatteringTable> table;  // keeps the address unique
+        glm::dvec3 sun_irradiance;
+        std::shared_ptr<const LevelRows> rows;
+    };
+    constexpr std::size_t kKept = 4;
+    static std::mutex mutex;
+    static std::vector<Entry> kept;  // most recent last
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (std::size_t i = 0; i < kept.size(); ++i) {
+            if (kept[i].table == table && kept[i].sun_irradiance == a.sun_irradiance) {
+                Entry hit = kept[i];
+                kept.erase(kept.begin() + std::ptrdiff_t(i));
+                kept.push_back(hit);
+                return hit.rows;
+            }
+        }
+    }
+    auto rows = std::make_shared<const LevelRows>(compute_level_rows(a, *table));
+    std::lock_guard<std::mutex> lock(mutex);
+    if (kept.size() == kKept) kept.erase(kept.begin());
+    kept.push_back({table, a.sun_irradiance, rows});
+    return rows;
+}
+
+std::shared_ptr<const MultipleScatteringSlice> cut_slice(
+    const Atmosphere& a, const std::shared_ptr<const MultipleScatteringTable>& table,
+    double eye_altitude_m, double eye_cos_sun_zenith) {
     using S = MultipleScatteringSlice;
     auto slice = std::make_shared<S>();
     const double radius = a.planet_radius_m, top = a.atmosphere_radius_m;
     const double horizon = std::sqrt((top - radius) * (top + radius));
     slice->altitude_scale = float((S::kAltitudeRows - 1) / horizon);
     slice->two_radius_m = float(2.0 * radius);
-    const Field field(a, table, eye_cos_sun_zenith);
-    for (int i = 0; i < S::kAltitudeRows; ++i) {
-        const double h = slice_row_altitude_m(a, i);
-        glm::dvec3 sum(0.0);
-        for (int m = 0; m < kMeanCosines; ++m) {
-            const double mu = -1.0 + (2.0 * m + 1.0) / kMeanCosines;
-            for (int k = 0; k < kMeanAzimuths; ++k) {
-                sum += field(h, mu, kPi * (k + 0.5) / kMeanAzimuths);
+    slice->level = *level_rows(a, table);
+    const Field field(a, *table, eye_cos_sun_zenith);
+    const float mu_s = float(eye_cos_sun_zenith);
+    const auto cut_shape = [&](double altitude_m, glm::vec3* out) {
+        const glm::vec3 level = slice_level(*slice, float(std::max(altitude_m, 0.0)), mu_s);
+        for (int a_row = 0; a_row < S::kViewRows; ++a_row) {
+            const double mu = -1.0 + 2.0 * a_row / (S::kViewRows - 1);
+            for (int b = 0; b < S::kAzimuthRows; ++b) {
+                const double azimuth = 2.0 * std::asin(double(b) / (S::kAzimuthRows - 1));
+                const glm::dvec3 psi = field(altitude_m, mu, azimuth);
+                glm::vec3 shape(0.0f);
+                for (int c = 0; c < 3; ++c) {
+                    if (level[c] > 0.0f) shape[c] = float(psi[c] / level[c]);
+                }
+                out[a_row * S::kAzimuthRows + b] = shape;
             }
         }
-        slice->level[i] = glm::vec3(sum / double(kMeanCosines * kMeanAzimuths));
-    }
-    const glm::vec3 eye_level = slice_level(*slice, float(std::max(eye_altitude_m, 0.0)));
-    for (int a_row = 0; a_row < S::kViewRows; ++a_row) {
-        const double mu = -1.0 + 2.0 * a_row / (S::kViewRows - 1);
-        for (int b = 0; b < S::kAzimuthRows; ++b) {
-            const double azimuth = 2.0 * std::asin(double(b) / (S::kAzimuthRows - 1));
-            const glm::dvec3 psi = field(eye_altitude_m, mu, azimuth);
-            glm::vec3 shape(0.0f);
-            for (int c = 0; c < 3; ++c) {
-                if (eye_level[c] > 0.0f) shape[c] = float(psi[c] / eye_level[c]);
-            }
-            slice->shape[a_row * S::kAzimuthRows + b] = shape;
-        }
+    };
+    cut_shape(eye_altitude_m, slice->shape.data());
+    slice->shape_altitude_scale = float(shape_altitude_scale(a));
+    slice->shape_inv_knee_m = float(1.0 / shape_knee_m(a));
+    for (int r = 0; r < S::kShapeAltitudeRows; ++r) {
+        cut_shape(slice_shape_row_altitude_m(a, r), slice->shapes.data() + r * S::kShapeRows);
     }
     return slice;
 }
@@ -110,8 +182,8 @@ MultipleScatteringSettings height_table_settings() {
     MultipleScatteringSettings s;
     s.altitudes = 16;
     s.sun_zenith_angles = 32;
-    s.view_zenith_angles = 17;
-    s.azimuths = 9;
+    s.view_zenith_angles = 33;
+    s.azimuths = 16;
     s.steps_per_efold = 1.0;
     return s;
 }
@@ -135,7 +207,7 @@ std::shared_ptr<const MultipleScatteringSlice> multiple_scattering_slice(
         std::lock_guard<std::mutex> lock(mutex);
         if (last_slice && last_key == key) return last_slice;
     }
-    auto slice = cut_slice(atmosphere, *table, eye_altitude_m, eye_cos_sun_zenith);
+    auto slice = cut_slice(atmosphere, table, eye_altitude_m, eye_cos_sun_zenith);
     std::lock_guard<std::mutex> lock(mutex);
     last_table = table;  // keeps the key's table alive, so its address stays unique
     last_key = key;
@@ -144,13 +216,21 @@ std::shared_ptr<const MultipleScatteringSlice> multiple_scattering_slice(
 }
 
 template <class T>
-glm::vec<3, T> slice_level(const MultipleScatteringSlice& s, T altitude_m) {
+glm::vec<3, T> slice_level(const MultipleScatteringSlice& s, T altitude_m, T mu_s) {
+    using S = MultipleScatteringSlice;
     const T h = std::max(altitude_m, T(0));
-    int i;
-    T f;
-    slice_cell(std::sqrt(h * (T(s.two_radius_m) + h)) * T(s.altitude_scale),
-               MultipleScatteringSlice::kAltitudeRows, i, f);
-    return glm::vec<3, T>(s.level[i]) * (T(1) - f) + glm::vec<3, T>(s.level[i + 1]) * f;
+    int i, k;
+    T f, g;
+    slice_cell(std::sqrt(h * (T(s.two_radius_m) + h)) * T(s.altitude_scale), S::kAltitudeRows, i,
+               f);
+    slice_cell(
+        std::acos(std::clamp(mu_s, T(-1), T(1))) * T((S::kSunRows - 1) / S::kMaxSunZenithRad),
+        S::kSunRows, k, g);
+    auto at = [&](int row, int column) {
+        return glm::vec<3, T>(s.level[row * S::kAltitudeRows + column]);
+    };
+    return (at(k, i) * (T(1) - f) + at(k, i + 1) * f) * (T(1) - g) +
+           (at(k + 1, i) * (T(1) - f) + at(k + 1, i + 1) * f) * g;
 }
 
 template <class T>
@@ -168,8 +248,36 @@ glm::vec<3, T> slice_shape(const MultipleScatteringSlice& s, T mu_v, T cos_azimu
            (at(a + 1, b) * (T(1) - fb) + at(a + 1, b + 1) * fb) * fa;
 }
 
-template glm::vec3 slice_level<float>(const MultipleScatteringSlice&, float);
-template glm::dvec3 slice_level<double>(const MultipleScatteringSlice&, double);
+double slice_shape_row_altitude_m(const Atmosphere& a, int r) {
+    return shape_knee_m(a) * std::expm1(r / shape_altitude_scale(a));
+}
+
+template <class T>
+glm::vec<3, T> slice_shape_at(const MultipleScatteringSlice& s, T altitude_m, T mu_v,
+                              T cos_azimuth) {
+    using S = MultipleScatteringSlice;
+    int r, a, b;
+    T fr, fa, fb;
+    slice_cell(
+        std::log1p(std::max(altitude_m, T(0)) * T(s.shape_inv_knee_m)) * T(s.shape_altitude_scale),
+        S::kShapeAltitudeRows, r, fr);
+    slice_cell((mu_v + T(1)) * T(0.5 * (S::kViewRows - 1)), S::kViewRows, a, fa);
+    const T sin_half = std::sqrt(std::max(T(0), (T(1) - cos_azimuth) * T(0.5)));
+    slice_cell(sin_half * T(S::kAzimuthRows - 1), S::kAzimuthRows, b, fb);
+    auto at = [&](int layer, int row, int column) {
+        return glm::vec<3, T>(s.shapes[layer * S::kShapeRows + row * S::kAzimuthRows + column]);
+    };
+    auto plane = [&](int layer) {
+        return (at(layer, a, b) * (T(1) - fb) + at(layer, a, b + 1) * fb) * (T(1) - fa) +
+               (at(layer, a + 1, b) * (T(1) - fb) + at(layer, a + 1, b + 1) * fb) * fa;
+    };
+    return plane(r) * (T(1) - fr) + plane(r + 1) * fr;
+}
+
+template glm::vec3 slice_shape_at<float>(const MultipleScatteringSlice&, float, float, float);
+template glm::dvec3 slice_shape_at<double>(const MultipleScatteringSlice&, double, double, double);
+template glm::vec3 slice_level<float>(const MultipleScatteringSlice&, float, float);
+template glm::dvec3 slice_level<double>(const MultipleScatteringSlice&, double, double);
 template glm::vec3 slice_shape<float>(const MultipleScatteringSlice&, float, float);
 template glm::dvec3 slice_shape<double>(const MultipleScatteringSlice&, double, double);
 

@@ -4,15 +4,19 @@
 // The `reference` tabulates J_ms(h, mu_s, view), the radiance per metre that air scatters towards
 // the eye from every order n >= 2 (multiple_scattering.hpp). The height model takes a coarser
 // table of the same solver, once per atmosphere, and per frame cuts from it what one eye needs:
-// J_ms(x, v) ~ beta_s(h) * level(h) * shape(v), with
-//   level(h) = the mean over view directions of J_ms / beta_s at altitude h, at the eye's sun
-//              zenith angle (E_sun0 included): the multiply scattered radiance per unit
-//              scattering coefficient, 16 rows over altitude;
-//   shape(v) = J_ms / beta_s / level at the eye, over the view's zenith cosine and its azimuth
-//              from the sun (a grid of kViewRows x kAzimuthRows): exact at the eye.
-// The model integrates beta_s(h) level(h) at its three quadrature nodes, as it does the sunlight,
-// and multiplies by shape(v) once per vertex. The same rows go to the SIMD kernels and the ARB
-// program, so the three paths share one table.
+// J_ms(x, v) ~ beta_s(h) * level(h, mu_s) * shape(h, v), with
+//   level(h, mu_s) = the mean over view directions of J_ms / beta_s at altitude h with the sun
+//              at zenith cosine mu_s there (E_sun0 included): the multiply scattered radiance
+//              per unit scattering coefficient, 16 rows over altitude x 32 over mu_s, computed
+//              once per atmosphere;
+//   shape(h, v) = J_ms / beta_s / level with the eye's sun, over the view's zenith cosine and
+//              its azimuth from the sun (a grid of kViewRows x kAzimuthRows), at 8 altitudes
+//              (haze makes the light field more peaked above the ground than at it).
+// The model integrates beta_s(h) level(h, mu_s) at its three quadrature nodes (each at its own
+// sun, linear between the eye's and the vertex's), as it does the sunlight, and multiplies by
+// shape(h, v) once per vertex at the altitude the higher orders come from (the nodes' altitudes
+// weighted by their share). The same rows go to the SIMD kernels and the ARB program, so the
+// three paths share one table.
 #pragma once
 
 #include <array>
@@ -27,13 +31,34 @@ namespace aerial::detail {
 
 struct MultipleScatteringSlice {
     static constexpr int kAltitudeRows = 16;  ///< evenly spaced in the distance to the horizon
-    static constexpr int kViewRows = 17;      ///< view zenith cosines, evenly over [-1, 1]
-    static constexpr int kAzimuthRows = 9;    ///< sin(azimuth / 2), evenly over [0, 1]
+    static constexpr int kSunRows = 32;  ///< sun zenith angles, evenly over [0, kMaxSunZenithRad]
+    static constexpr int kLevelRows = kSunRows * kAltitudeRows;
+    static constexpr int kViewRows = 17;    ///< view zenith cosines, evenly over [-1, 1]
+    static constexpr int kAzimuthRows = 9;  ///< sin(azimuth / 2), evenly over [0, 1]
+    /// 108 deg: the end of astronomical twilight, the table's last sun zenith angle (the rows
+    /// are the table's own).
+    static constexpr double kMaxSunZenithRad = 108.0 * 3.14159265358979323846 / 180.0;
 
-    /// level(h) at the rows (1/sr radiance per unit scattering coefficient, times E_sun0).
-    std::array<glm::vec3, kAltitudeRows> level{};
-    /// shape(v), row-major in the view cosine: shape[a * kAzimuthRows + b].
-    std::array<glm::vec3, kViewRows * kAzimuthRows> shape{};
+    /// level(h, mu_s) at the rows, level[k * kAltitudeRows + i] for sun row k and altitude row i
+    /// (1/sr radiance per unit scattering coefficient, times E_sun0): the same for every frame
+    /// of an atmosphere; the model takes it at each point's own sun, which along a long ray
+    /// through twilight is not the eye's.
+    std::array<glm::vec3, kLevelRows> level{};
+    static constexpr int kShapeAltitudeRows = 8;  ///< evenly in log(1 + h / knee), h in [0, top]
+    static constexpr int kShapeRows = kViewRows * kAzimuthRows;
+
+    /// shape(v) at the eye, row-major in the view cosine: shape[a * kAzimuthRows + b] (the ARB
+    /// program's).
+    std::array<glm::vec3, kShapeRows> shape{};
+    /// shape(h, v): the shape at kShapeAltitudeRows altitudes, shapes[r * kShapeRows + a *
+    /// kAzimuthRows + b] (slice_shape_row_altitude_m). The CPU paths take it at the altitude
+    /// where a segment's higher orders come from.
+    std::array<glm::vec3, kShapeAltitudeRows * kShapeRows> shapes{};
+    /// altitude coordinate of `shapes` = log1p(h * shape_inv_knee_m) * shape_altitude_scale:
+    /// smooth at the ground (a skip bound needs a finite slope), finer near it where haze
+    /// changes the shape fastest.
+    float shape_altitude_scale = 0.0f;
+    float shape_inv_knee_m = 0.0f;
     /// altitude coordinate = sqrt(h (2 R + h)) * altitude_scale, rows 0 .. kAltitudeRows - 1
     float altitude_scale = 0.0f;
     float two_radius_m = 0.0f;
@@ -62,12 +87,21 @@ inline void slice_cell(T coordinate, int rows, int& cell, T& fraction) {
     fraction = coordinate - T(cell);
 }
 
-/// level(h), linear between rows.
+/// level(h, mu_s) for an altitude (m) and the sun's zenith cosine there, bilinear between rows.
 template <class T>
-glm::vec<3, T> slice_level(const MultipleScatteringSlice& s, T altitude_m);
+glm::vec<3, T> slice_level(const MultipleScatteringSlice& s, T altitude_m, T mu_s);
 
-/// shape(v) for a view cosine mu_v to the eye's zenith and the cosine of its azimuth from the sun.
+/// shape(v) at the eye for a view cosine mu_v to the eye's zenith and the cosine of its azimuth
+/// from the sun.
 template <class T>
 glm::vec<3, T> slice_shape(const MultipleScatteringSlice& s, T mu_v, T cos_azimuth);
+
+/// shape(h, v): as slice_shape, at altitude h (m), linear between the altitude rows.
+template <class T>
+glm::vec<3, T> slice_shape_at(const MultipleScatteringSlice& s, T altitude_m, T mu_v,
+                              T cos_azimuth);
+
+/// The altitude (m) of row r of MultipleScatteringSlice::shapes.
+double slice_shape_row_altitude_m(const Atmosphere& atmosphere, int r);
 
 }  // namespace aerial::detail

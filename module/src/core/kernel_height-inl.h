@@ -169,6 +169,7 @@ HWY_INLINE HeightProfile MakeHeightProfile(const FrameConstants& k, const Segmen
 struct EndFactors {
     VF lr0, lm0, lr1, lm1;
     MF active;
+    VF mu1;  ///< the sun's zenith cosine at the vertex
 };
 
 // ---- The light scattered more than once (height_multiple_scattering.hpp) ----------------------
@@ -181,26 +182,44 @@ HWY_INLINE VF SliceCell(VF coordinate, int rows, VF& fraction) {
     return cell;
 }
 
-/// level(h) per channel (slice_level).
-HWY_INLINE void SliceLevel(const FrameConstants& k, VF h, VF (&level)[3]) {
+/// level(h, mu_s) per channel (slice_level).
+HWY_INLINE void SliceLevel(const FrameConstants& k, VF h, VF mu_s, VF (&level)[3]) {
+    using S = MultipleScatteringSlice;
     const DF d;
     const DI di;
     const VF above = hn::Max(h, hn::Zero(d));
     const VF rho = hn::Sqrt(hn::Mul(above, hn::Add(K(k.ms_two_radius), above)));
-    VF f;
-    const hn::Vec<DI> i = hn::ConvertTo(di, SliceCell(hn::Mul(rho, K(k.ms_altitude_scale)),
-                                                      MultipleScatteringSlice::kAltitudeRows, f));
-    const hn::Vec<DI> next = hn::Add(i, hn::Set(di, 1));
+    VF f, g;
+    const VF i = SliceCell(hn::Mul(rho, K(k.ms_altitude_scale)), S::kAltitudeRows, f);
+    const VF row = SliceCell(hn::Mul(hn::Acos(d, Clamp(mu_s, -1.0f, 1.0f)),
+                                     K(float((S::kSunRows - 1) / S::kMaxSunZenithRad))),
+                             S::kSunRows, g);
+    const hn::Vec<DI> i00 = hn::ConvertTo(di, hn::MulAdd(row, K(float(S::kAltitudeRows)), i));
+    const hn::Vec<DI> i01 = hn::Add(i00, hn::Set(di, 1));
+    const hn::Vec<DI> i10 = hn::Add(i00, hn::Set(di, S::kAltitudeRows));
+    const hn::Vec<DI> i11 = hn::Add(i10, hn::Set(di, 1));
     for (int c = 0; c < 3; ++c) {
-        const VF lo = hn::GatherIndex(d, k.ms_level[c], i);
-        const VF hi = hn::GatherIndex(d, k.ms_level[c], next);
-        level[c] = hn::MulAdd(hn::Sub(hi, lo), f, lo);
+        const float* rows = k.ms_level[c];
+        const VF v00 = hn::GatherIndex(d, rows, i00), v01 = hn::GatherIndex(d, rows, i01);
+        const VF v10 = hn::GatherIndex(d, rows, i10), v11 = hn::GatherIndex(d, rows, i11);
+        const VF lo = hn::MulAdd(hn::Sub(v01, v00), f, v00);
+        const VF hi = hn::MulAdd(hn::Sub(v11, v10), f, v10);
+        level[c] = hn::MulAdd(hn::Sub(hi, lo), g, lo);
     }
 }
 
-/// shape(v) per channel for the view along the segment (multiple_scattering_shape).
+/// The quadrature's sums of the light scattered more than once: per component and channel, and
+/// the altitude the G channel's share comes from (its weighted sum of the nodes' altitudes).
+struct MultipleSums {
+    VF r[3], m[3];
+    VF weight, altitude;
+};
+
+/// shape(h, v) per channel at the altitude h for the view along the segment
+/// (multiple_scattering_shape).
 template <class M>
-HWY_INLINE void SliceShape(const FrameConstants& k, const Segment& seg, VF (&shape)[3]) {
+HWY_INLINE void SliceShape(const FrameConstants& k, const Segment& seg, VF altitude,
+                           VF (&shape)[3]) {
     using S = MultipleScatteringSlice;
     const DF d;
     const DI di;
@@ -231,17 +250,30 @@ HWY_INLINE void SliceShape(const FrameConstants& k, const Segment& seg, VF (&sha
     const VF a =
         SliceCell(hn::Mul(hn::Add(mu_v, K(1.0f)), K(0.5f * (S::kViewRows - 1))), S::kViewRows, fa);
     const VF b = SliceCell(hn::Mul(sin_half, K(float(S::kAzimuthRows - 1))), S::kAzimuthRows, fb);
-    const hn::Vec<DI> i00 = hn::ConvertTo(di, hn::MulAdd(a, K(float(S::kAzimuthRows)), b));
-    const hn::Vec<DI> i01 = hn::Add(i00, hn::Set(di, 1));
-    const hn::Vec<DI> i10 = hn::Add(i00, hn::Set(di, S::kAzimuthRows));
-    const hn::Vec<DI> i11 = hn::Add(i10, hn::Set(di, 1));
+    VF fr;
+    const VF r =
+        SliceCell(hn::Mul(M::Log1p(hn::Mul(hn::Max(altitude, hn::Zero(d)), K(k.ms_shape_inv_knee))),
+                          K(k.ms_shape_altitude_scale)),
+                  S::kShapeAltitudeRows, fr);
+    const hn::Vec<DI> i00 = hn::ConvertTo(
+        di, hn::MulAdd(r, K(float(S::kShapeRows)), hn::MulAdd(a, K(float(S::kAzimuthRows)), b)));
+    const hn::Vec<DI> one = hn::Set(di, 1), next_row = hn::Set(di, S::kAzimuthRows);
+    const hn::Vec<DI> next_layer = hn::Set(di, S::kShapeRows);
     for (int c = 0; c < 3; ++c) {
-        const float* rows = k.ms_shape[c];
-        const VF v00 = hn::GatherIndex(d, rows, i00), v01 = hn::GatherIndex(d, rows, i01);
-        const VF v10 = hn::GatherIndex(d, rows, i10), v11 = hn::GatherIndex(d, rows, i11);
-        const VF lo = hn::MulAdd(hn::Sub(v01, v00), fb, v00);
-        const VF hi = hn::MulAdd(hn::Sub(v11, v10), fb, v10);
-        shape[c] = hn::MulAdd(hn::Sub(hi, lo), fa, lo);
+        const float* rows = k.ms_shapes[c];
+        // Bilinear in (view cosine, azimuth) on one altitude layer.
+        const auto plane = [&](hn::Vec<DI> base) {
+            const hn::Vec<DI> i10 = hn::Add(base, next_row);
+            const VF v00 = hn::GatherIndex(d, rows, base);
+            const VF v01 = hn::GatherIndex(d, rows, hn::Add(base, one));
+            const VF v10 = hn::GatherIndex(d, rows, i10);
+            const VF v11 = hn::GatherIndex(d, rows, hn::Add(i10, one));
+            const VF lo = hn::MulAdd(hn::Sub(v01, v00), fb, v00);
+            const VF hi = hn::MulAdd(hn::Sub(v11, v10), fb, v10);
+            return hn::MulAdd(hn::Sub(hi, lo), fa, lo);
+        };
+        const VF below = plane(i00), above = plane(hn::Add(i00, next_layer));
+        shape[c] = hn::MulAdd(hn::Sub(above, below), fr, below);
     }
 }
 
@@ -253,7 +285,7 @@ HWY_INLINE void SliceShape(const FrameConstants& k, const Segment& seg, VF (&sha
 template <class M>
 HWY_INLINE void SunlitSums(const FrameConstants& k, const Segment& seg, const HeightProfile& p,
                            const EndFactors& ends, VF (&sunlit_r)[3], VF (&sunlit_m)[3],
-                           VF (&multiple_r)[3], VF (&multiple_m)[3]) {
+                           MultipleSums& multiple) {
     const VF zero = hn::Zero(DF());
     const VF s = seg.s;
     const VF k_r0 = K(k.k_r0), k_m0 = K(k.k_m0);
@@ -316,64 +348,79 @@ HWY_INLINE void SunlitSums(const FrameConstants& k, const Segment& seg, const He
         const VF h = hn::Max(
             hn::NegMulAdd(hn::Mul(p.sag, u), hn::Sub(K(1.0f), u), hn::MulAdd(p.rise, u, p.h0)),
             p.min_h);
-        // tau_to(u): G optical depth from the eye to u.
-        const VF tau_u = hn::Mul(hn::Mul(s, u),
-                                 hn::MulAdd(k_r0, ExponentialAverage<M>(hn::Mul(a_r, u)),
-                                            hn::Mul(k_m0, ExponentialAverage<M>(hn::Mul(a_m, u)))));
+        // tau_to(u): G optical depth from the eye to u, from the mean densities over [0, u].
+        const VF su = hn::Mul(s, u);
+        const VF mean_r = ExponentialAverage<M>(hn::Mul(a_r, u));
+        const VF mean_m = ExponentialAverage<M>(hn::Mul(a_m, u));
+        const VF tau_u = hn::Mul(su, hn::MulAdd(k_r0, mean_r, hn::Mul(k_m0, mean_m)));
+        // Each channel's own attenuation to the node relative to G's, with the Gauss weight.
+        VF channel[3];
+        for (int c : {0, 2}) {
+            const VF tau_c = hn::Mul(su, hn::MulAdd(K(k.k_r0_channel[c]), mean_r,
+                                                    hn::Mul(K(k.k_m0_channel[c]), mean_m)));
+            channel[c] = hn::Mul(K(float(height::kSunWeights[n])),
+                                 M::Exp(Clamp(hn::Sub(tau_u, tau_c), -kMaxExponent, kMaxExponent)));
+        }
+        channel[1] = K(float(height::kSunWeights[n]));
         const VF log_jacobian = hn::Add(hn::MulAdd(a_fit, u, hn::Sub(tau_fit, tau_u)), log_scale);
         const VF w_r =
             M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hr), log_jacobian), K(kMaxExponent)));
         const VF w_m =
             M::Exp(hn::Min(hn::NegMulAdd(h, K(k.inv_hm), log_jacobian), K(kMaxExponent)));
         if (k.multiple) {
+            // The sun at the node: linear in its cosine between the eye's and the vertex's.
+            const VF mu_node = hn::MulAdd(hn::Sub(ends.mu1, K(k.eye_mu_s)), u, K(k.eye_mu_s));
             VF level[3];
-            SliceLevel(k, h, level);
+            SliceLevel(k, h, mu_node, level);
             for (int c = 0; c < 3; ++c) {
-                const VF weighted = hn::Mul(K(float(height::kSunWeights[n])), level[c]);
-                multiple_r[c] = hn::MulAdd(w_r, weighted, multiple_r[c]);
-                multiple_m[c] = hn::MulAdd(w_m, weighted, multiple_m[c]);
+                const VF weighted = hn::Mul(channel[c], level[c]);
+                multiple.r[c] = hn::MulAdd(w_r, weighted, multiple.r[c]);
+                multiple.m[c] = hn::MulAdd(w_m, weighted, multiple.m[c]);
             }
+            const VF share =
+                hn::Mul(hn::MulAdd(K(k.rayleigh[1]), w_r, hn::Mul(K(k.mie_scattering[1]), w_m)),
+                        hn::Mul(channel[1], level[1]));
+            multiple.weight = hn::Add(multiple.weight, share);
+            multiple.altitude = hn::MulAdd(share, h, multiple.altitude);
         }
         VF sun[3];
         Transmittance<M>(k, h, hn::MulAdd(hn::Sub(ends.lr1, ends.lr0), u, ends.lr0),
                          hn::MulAdd(hn::Sub(ends.lm1, ends.lm0), u, ends.lm0), sun);
         const MF lit = hn::AndNot(shadow, ends.active);
         for (int c = 0; c < 3; ++c) {
-            const VF weighted =
-                hn::IfThenElseZero(lit, hn::Mul(K(float(height::kSunWeights[n])), sun[c]));
+            const VF weighted = hn::IfThenElseZero(lit, hn::Mul(channel[c], sun[c]));
             sunlit_r[c] = hn::MulAdd(w_r, weighted, sunlit_r[c]);
             sunlit_m[c] = hn::MulAdd(w_m, weighted, sunlit_m[c]);
         }
     }
 }
 
-/// L_in per channel from the quadrature's sums: the phases, and the closed-form path factor
-/// s phi(tau_c) / phi(tau_G) (each channel keeps its own attenuation).
+/// L_in per channel from the quadrature's sums (each channel's own attenuation included): the
+/// phases, the higher orders' shape and the segment's length.
 template <class M, class Out>
-HWY_INLINE void HeightInScattering(const FrameConstants& k, const Segment& seg, const VF (&tau)[3],
-                                   const VF (&extinction)[3], const VF (&sunlit_r)[3],
-                                   const VF (&sunlit_m)[3], const VF (&multiple_r)[3],
-                                   const VF (&multiple_m)[3], const Out& out) {
+HWY_INLINE void HeightInScattering(const FrameConstants& k, const Segment& seg,
+                                   const VF (&sunlit_r)[3], const VF (&sunlit_m)[3],
+                                   const MultipleSums& multiple, VF eye_altitude, const Out& out) {
     const VF s = seg.s;
     VF phase_r, phase_m;
     Phases<M>(k, seg.dx, seg.dy, seg.dz, s, phase_r, phase_m);
-    VF path[3];
-    for (int c = 0; c < 3; ++c) {
-        const VF minus_tau = hn::Neg(tau[c]);
-        path[c] = ExpAverageFrom(minus_tau, Expm1GivenExp(minus_tau, extinction[c]));
-    }
-    const VF inv_green = hn::Div(s, hn::Max(path[1], K(kTiny)));
     VF shape[3] = {hn::Zero(DF()), hn::Zero(DF()), hn::Zero(DF())};
-    if (k.multiple) SliceShape<M>(k, seg, shape);
+    if (k.multiple) {
+        // The altitude the higher orders come from (the eye's where there are none).
+        const MF some = hn::Gt(multiple.weight, hn::Zero(DF()));
+        const VF altitude = hn::IfThenElse(
+            some, hn::Div(multiple.altitude, hn::IfThenElse(some, multiple.weight, K(1.0f))),
+            eye_altitude);
+        SliceShape<M>(k, seg, altitude, shape);
+    }
     for (int c = 0; c < 3; ++c) {
         const VF scattering =
             hn::MulAdd(hn::Mul(K(k.rayleigh[c]), phase_r), sunlit_r[c],
                        hn::Mul(hn::Mul(K(k.mie_scattering[c]), phase_m), sunlit_m[c]));
-        const VF multiple = hn::Mul(hn::MulAdd(K(k.rayleigh[c]), multiple_r[c],
-                                               hn::Mul(K(k.mie_scattering[c]), multiple_m[c])),
-                                    shape[c]);
-        const VF value =
-            hn::Mul(hn::MulAdd(scattering, K(k.sun_top[c]), multiple), hn::Mul(path[c], inv_green));
+        const VF higher = hn::Mul(hn::MulAdd(K(k.rayleigh[c]), multiple.r[c],
+                                             hn::Mul(K(k.mie_scattering[c]), multiple.m[c])),
+                                  shape[c]);
+        const VF value = hn::Mul(hn::MulAdd(scattering, K(k.sun_top[c]), higher), s);
         out.InScattering(c, hn::IfThenElseZero(seg.valid, value));
     }
 }
@@ -434,17 +481,17 @@ HWY_INLINE MF HeightVector(const FrameConstants& k, VF x, VF y, VF z, const Out&
     ends.lr1 = hn::IfThenElse(lit1, lf_r1, ends.lr0);
     ends.lm1 = hn::IfThenElse(lit1, lf_m1, ends.lm0);
     ends.active = k.eye_lit ? hn::Eq(zero, zero) : lit1;
+    ends.mu1 = mu1;
 
     VF sunlit_r[3] = {zero, zero, zero};
     VF sunlit_m[3] = {zero, zero, zero};
-    VF multiple_r[3] = {zero, zero, zero};
-    VF multiple_m[3] = {zero, zero, zero};
+    MultipleSums multiple{{zero, zero, zero}, {zero, zero, zero}, zero, zero};
     // The light scattered more than once also reaches segments the sun does not.
     const MF needed = k.multiple ? seg.valid : hn::And(ends.active, seg.valid);
     if (k.k_total > 0.0f && !hn::AllFalse(d, needed)) {
-        SunlitSums<M>(k, seg, profile, ends, sunlit_r, sunlit_m, multiple_r, multiple_m);
+        SunlitSums<M>(k, seg, profile, ends, sunlit_r, sunlit_m, multiple);
     }
-    HeightInScattering<M>(k, seg, tau, extinction, sunlit_r, sunlit_m, multiple_r, multiple_m, out);
+    HeightInScattering<M>(k, seg, sunlit_r, sunlit_m, multiple, profile.h0, out);
     return seg.valid;
 }
 

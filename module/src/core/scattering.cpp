@@ -212,16 +212,17 @@ bool in_planet_shadow(const Frame<T>& f, const Vec3<T>& p_m) {
     return excess < T(0);
 }
 
-/// shape(v) of the frame's slice for the view from the eye along d (length s > 0; the zenith's
-/// shape at s = 0), cos_theta its cosine to the sun.
+/// shape(h, v) of the frame's slice at altitude h for the view from the eye along d (length
+/// s > 0; the zenith's shape at s = 0), cos_theta its cosine to the sun.
 template <class T>
-Vec3<T> multiple_scattering_shape(const Frame<T>& f, const Vec3<T>& d, T s, T cos_theta) {
+Vec3<T> multiple_scattering_shape(const Frame<T>& f, T altitude_m, const Vec3<T>& d, T s,
+                                  T cos_theta) {
     const T mu_v = s > T(0) ? std::clamp(glm::dot(d, f.eye_zenith) / s, T(-1), T(1)) : T(1);
     const T mu_s = f.eye_cos_sun_zenith;
     const T across = std::sqrt(std::max(T(0), (T(1) - mu_v * mu_v) * (T(1) - mu_s * mu_s)));
     const T cos_azimuth =
         across > T(1e-6) ? std::clamp((cos_theta - mu_v * mu_s) / across, T(-1), T(1)) : T(1);
-    return detail::slice_shape(*f.multiple_scattering, mu_v, cos_azimuth);
+    return detail::slice_shape_at(*f.multiple_scattering, altitude_m, mu_v, cos_azimuth);
 }
 
 template <class T>
@@ -276,21 +277,30 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
     const T k_r0 = f.rayleigh_scattering.y * rho_r0;
     const T k_m0 = f.mie_extinction.y * rho_m0;
     const T k_total = k_r0 + k_m0;  // G extinction at the eye, 1/m
-    // G optical depth from the eye to u along the linear altitude profile (closed form).
-    auto tau_to = [&](T u) {
+    // Optical depth of channel c from the eye to u along the linear altitude profile (closed
+    // form), from the components' mean densities over [0, u] relative to the eye's.
+    auto tau_c = [&](int c, T u, T mean_r, T mean_m) {
         return s * u *
-               (k_r0 * detail::exponential_average(a_r * u) +
-                k_m0 * detail::exponential_average(a_m * u));
+               (f.rayleigh_scattering[c] * rho_r0 * mean_r + f.mie_extinction[c] * rho_m0 * mean_m);
     };
-    // sunlit[i] = phi(tau_G) * integral over u of rho_i(u) exp(-tau_G(0, u)) T(u), phi(x) =
-    // (1 - exp(-x)) / x; for a uniform medium in full sun it is rho_i phi(tau_G). The weights are
-    // assembled in log form: dense haze and long segments make their factors overflow floats.
+    auto tau_to = [&](T u) {  // G
+        return tau_c(1, u, detail::exponential_average(a_r * u),
+                     detail::exponential_average(a_m * u));
+    };
+    // sunlit[i][c] = the integral over u of rho_i(u) exp(-tau_c(0, u)) T_c(u); for a uniform
+    // medium in full sun it is rho_i phi(tau_c), phi(x) = (1 - exp(-x)) / x. The quadrature's
+    // nodes and weights follow the G channel; each channel's own attenuation to the node enters
+    // as exp(tau_G(0, u) - tau_c(0, u)) (away from the G channel it decides which part of a long
+    // ray reaches the eye). The weights are assembled in log form: dense haze and long segments
+    // make their factors overflow floats.
     Vec3<T> sunlit[2] = {Vec3<T>(0), Vec3<T>(0)};
     // The same weights times level(h) at the nodes: the light scattered more than once, which
     // also reaches the planet's shadow (height_multiple_scattering.hpp).
     const detail::MultipleScatteringSlice* ms = f.multiple_scattering.get();
     Vec3<T> multiple[2] = {Vec3<T>(0), Vec3<T>(0)};
-    const T tau_mix_g = s * (f.rayleigh_scattering.y * rho_r + f.mie_extinction.y * rho_m);
+    // The altitude the higher orders come from: the nodes' altitudes weighted by their share of
+    // them (G channel); the shape is taken there.
+    T ms_weight = 0, ms_altitude = 0;
     if ((lit0 || lit1 || ms) && k_total > T(0)) {
         const T tau_total = tau_to(T(1));
         const T k_end = k_r0 * std::exp(std::min(-a_r, T(kMaxExponent))) +
@@ -308,21 +318,35 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
             const T fraction = tau_total > T(0) ? std::clamp(tau_fit / tau_total, T(0), T(1)) : y;
             const T u = exponential_quantile(fraction, a_fit);
             const T h = std::max(h0 + rise * u - sag * u * (T(1) - u), min_h);
+            const T mean_r = detail::exponential_average(a_r * u);
+            const T mean_m = detail::exponential_average(a_m * u);
+            const T tau_g = tau_c(1, u, mean_r, mean_m);
             // log of du/dy times the exact over the fitted attenuation, plus the scale.
-            const T log_jacobian = tau_fit - tau_to(u) + a_fit * u + log_scale;
+            const T log_jacobian = tau_fit - tau_g + a_fit * u + log_scale;
             const T w_r =
                 std::exp(std::min(log_jacobian - h * f.inv_rayleigh_scale_height, T(kMaxExponent)));
             const T w_m =
                 std::exp(std::min(log_jacobian - h * f.inv_mie_scale_height, T(kMaxExponent)));
+            Vec3<T> channel(1);  // exp(tau_G - tau_c) to the node, the Gauss weight included
+            for (int c : {0, 2}) {
+                channel[c] = std::exp(std::clamp(tau_g - tau_c(c, u, mean_r, mean_m),
+                                                 T(-kMaxExponent), T(kMaxExponent)));
+            }
+            channel *= T(kSunWeights[n]);
             if (ms) {
-                const Vec3<T> level = T(kSunWeights[n]) * detail::slice_level(*ms, h);
+                // The sun at the node: linear in its cosine between the eye's and the vertex's.
+                const T mu_node = f.eye_cos_sun_zenith + (mu1 - f.eye_cos_sun_zenith) * u;
+                const Vec3<T> level = channel * detail::slice_level(*ms, h, mu_node);
                 multiple[0] += w_r * level;
                 multiple[1] += w_m * level;
+                const T share =
+                    (f.rayleigh_scattering.y * w_r + f.mie_scattering.y * w_m) * level.y;  // G
+                ms_weight += share;
+                ms_altitude += share * h;
             }
             if (!(lit0 || lit1) || in_planet_shadow(f, f.eye_m + d * u)) continue;
-            const Vec3<T> sun =
-                T(kSunWeights[n]) *
-                transmittance_from_log_factors(f, h, lr0 + (lr1 - lr0) * u, lm0 + (lm1 - lm0) * u);
+            const Vec3<T> sun = channel * transmittance_from_log_factors(
+                                              f, h, lr0 + (lr1 - lr0) * u, lm0 + (lm1 - lm0) * u);
             sunlit[0] += w_r * sun;
             sunlit[1] += w_m * sun;
         }
@@ -330,7 +354,8 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
 
     const T phase_r = rayleigh_phase(cos_theta);
     const T phase_m = henyey_greenstein_phase(cos_theta, f.mie_g);
-    const Vec3<T> shape = ms ? multiple_scattering_shape(f, d, s, cos_theta) : Vec3<T>(0);
+    const T ms_h = ms_weight > T(0) ? ms_altitude / ms_weight : h0;
+    const Vec3<T> shape = ms ? multiple_scattering_shape(f, ms_h, d, s, cos_theta) : Vec3<T>(0);
     for (int c = 0; c < 3; ++c) {
         const T beta_ex = f.rayleigh_scattering[c] * rho_r + f.mie_extinction[c] * rho_m;
         const T sunlit_scattering = f.rayleigh_scattering[c] * phase_r * sunlit[0][c] +
@@ -338,14 +363,9 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
         const T multiple_scattering =
             (f.rayleigh_scattering[c] * multiple[0][c] + f.mie_scattering[c] * multiple[1][c]) *
             shape[c];
-        const T tau = beta_ex * s;
-        out.extinction[c] = std::exp(-tau);
-        // The G-channel quadrature carries the profile; each channel keeps its own attenuation
-        // through the closed form phi(tau_c) / phi(tau_G), exact for a uniform medium.
-        const T path =
-            s * detail::one_minus_exp_over_x(tau) / detail::one_minus_exp_over_x(tau_mix_g);
+        out.extinction[c] = std::exp(-beta_ex * s);
         out.in_scattering[c] =
-            (sunlit_scattering * f.sun_irradiance_top[c] + multiple_scattering) * path;
+            (sunlit_scattering * f.sun_irradiance_top[c] + multiple_scattering) * s;
     }
     return out;
 }

@@ -41,7 +41,8 @@ struct FrameConstants {
     float inv_hr, inv_hm, log_hr, log_hm;  // 1/H (1/m), log(H / 1 m)
     float eye_log_chapman_r, eye_log_chapman_m;
     bool eye_lit;
-    float k_r0, k_m0, k_total;  // G extinction at the eye per component and total, 1/m
+    float k_r0, k_m0, k_total;               // G extinction at the eye per component and total, 1/m
+    float k_r0_channel[3], k_m0_channel[3];  // the same per channel
     // in_planet_shadow of eye + d u without cancelling numbers of size R: with c = eye + R up
     // (from the planet centre), along(u) = c.sun + u d.sun and |across(u)|^2 - R^2 =
     // (|A|^2 - R^2) + 2 u A.d + u^2 (|d|^2 - (d.sun)^2), A = c - (c.sun) sun, the two constants
@@ -52,8 +53,10 @@ struct FrameConstants {
     bool multiple;
     float eye_zenith[3], eye_mu_s, eye_sin_s;
     float ms_altitude_scale, ms_two_radius;
-    float ms_level[3][MultipleScatteringSlice::kAltitudeRows];
-    float ms_shape[3][MultipleScatteringSlice::kViewRows * MultipleScatteringSlice::kAzimuthRows];
+    float ms_level[3][MultipleScatteringSlice::kLevelRows];
+    float ms_shape_altitude_scale, ms_shape_inv_knee;
+    float ms_shapes[3][MultipleScatteringSlice::kShapeAltitudeRows *
+                       MultipleScatteringSlice::kShapeRows];
 };
 
 inline FrameConstants make_frame_constants(const Frame<float>& f) {
@@ -107,6 +110,12 @@ inline FrameConstants make_frame_constants(const Frame<float>& f) {
     k.k_r0 = f.rayleigh_scattering.y * std::exp(-f.eye_altitude_m * f.inv_rayleigh_scale_height);
     k.k_m0 = f.mie_extinction.y * std::exp(-f.eye_altitude_m * f.inv_mie_scale_height);
     k.k_total = k.k_r0 + k.k_m0;
+    for (int c = 0; c < 3; ++c) {
+        k.k_r0_channel[c] =
+            f.rayleigh_scattering[c] * std::exp(-f.eye_altitude_m * f.inv_rayleigh_scale_height);
+        k.k_m0_channel[c] =
+            f.mie_extinction[c] * std::exp(-f.eye_altitude_m * f.inv_mie_scale_height);
+    }
     const double radius = f.atmosphere.planet_radius_m;
     const glm::dvec3 centre_to_eye = glm::dvec3(f.eye_m) + f.view.up * radius;
     const double along_eye = glm::dot(centre_to_eye, f.view.sun_dir);
@@ -122,9 +131,11 @@ inline FrameConstants make_frame_constants(const Frame<float>& f) {
         k.eye_sin_s = std::sqrt(std::max(0.0f, 1.0f - k.eye_mu_s * k.eye_mu_s));
         k.ms_altitude_scale = ms.altitude_scale;
         k.ms_two_radius = ms.two_radius_m;
+        k.ms_shape_altitude_scale = ms.shape_altitude_scale;
+        k.ms_shape_inv_knee = ms.shape_inv_knee_m;
         for (int c = 0; c < 3; ++c) {
             for (std::size_t i = 0; i < ms.level.size(); ++i) k.ms_level[c][i] = ms.level[i][c];
-            for (std::size_t i = 0; i < ms.shape.size(); ++i) k.ms_shape[c][i] = ms.shape[i][c];
+            for (std::size_t i = 0; i < ms.shapes.size(); ++i) k.ms_shapes[c][i] = ms.shapes[i][c];
         }
     }
     return k;

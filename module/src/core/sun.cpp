@@ -161,6 +161,43 @@ glm::dvec3 sun_direction_enu(const SunPosition& sun) {
             std::sin(sun.elevation_rad)};
 }
 
+namespace {
+
+/// When the sun's centre crosses `depression_rad` below the horizon before (sign -1) or after
+/// (+1) solar noon `noon` (UTC minutes of the day whose midnight is jd0): fixed-point iteration
+/// with the declination and the equation of time taken at the event itself. Empty, with the
+/// reason, where the sun stays on one side of that depression all day.
+struct HourAngleCrossing {
+    std::optional<double> utc_min;
+    bool never_up = false;    ///< below it all day
+    bool never_down = false;  ///< above it all day
+};
+HourAngleCrossing crossing(double jd0, double noon, double longitude_deg, double latitude_rad,
+                           double depression_rad, int sign) {
+    const double target = std::cos(kPi / 2 + depression_rad);
+    HourAngleCrossing out;
+    double when = noon + sign * 360.0;
+    for (int i = 0; i < 6; ++i) {
+        const SolarCoordinates sc = solar_coordinates(jd0 + when / 1440.0);
+        const double cos_ha = (target - std::sin(latitude_rad) * std::sin(sc.declination_rad)) /
+                              (std::cos(latitude_rad) * std::cos(sc.declination_rad));
+        if (cos_ha > 1.0) {
+            out.never_up = true;
+            return out;
+        }
+        if (cos_ha < -1.0) {
+            out.never_down = true;
+            return out;
+        }
+        const double ha_deg = std::acos(cos_ha) / kDeg;
+        when = 720.0 - 4.0 * longitude_deg - sc.equation_of_time_min + sign * 4.0 * ha_deg;
+    }
+    out.utc_min = when;
+    return out;
+}
+
+}  // namespace
+
 Result<SolarEvents> solar_events(int year, int month, int day, double latitude_rad,
                                  double longitude_rad) {
     if (auto e = validate_date("solar_events", year, month, day)) return *e;
@@ -176,30 +213,21 @@ Result<SolarEvents> solar_events(int year, int month, int day, double latitude_r
     }
     out.solar_noon_utc_min = noon;
     // Sunrise and sunset: the hour angle where the centre is kSunriseDepressionRad below the
-    // horizon, with the declination and EoT taken at the event itself (fixed-point iteration).
-    const double target = std::cos(kPi / 2 + kSunriseDepressionRad);
+    // horizon, with the declination and EoT taken at the event itself.
     for (int sign : {-1, 1}) {
-        double when = noon + sign * 360.0;
-        bool crosses = true;
-        for (int i = 0; i < 6; ++i) {
-            const SolarCoordinates sc = solar_coordinates(jd0 + when / 1440.0);
-            const double cos_ha = (target - std::sin(latitude_rad) * std::sin(sc.declination_rad)) /
-                                  (std::cos(latitude_rad) * std::cos(sc.declination_rad));
-            if (cos_ha > 1.0) {
-                crosses = false;
-                out.polar_night = true;
-                break;
-            }
-            if (cos_ha < -1.0) {
-                crosses = false;
-                out.polar_day = true;
-                break;
-            }
-            const double ha_deg = std::acos(cos_ha) / kDeg;
-            when = 720.0 - 4.0 * longitude_deg - sc.equation_of_time_min + sign * 4.0 * ha_deg;
-        }
-        if (!crosses) continue;
-        (sign < 0 ? out.sunrise_utc_min : out.sunset_utc_min) = when;
+        const HourAngleCrossing c =
+            crossing(jd0, noon, longitude_deg, latitude_rad, kSunriseDepressionRad, sign);
+        out.polar_night = out.polar_night || c.never_up;
+        out.polar_day = out.polar_day || c.never_down;
+        if (c.utc_min) (sign < 0 ? out.sunrise_utc_min : out.sunset_utc_min) = c.utc_min;
+        const HourAngleCrossing civil =
+            crossing(jd0, noon, longitude_deg, latitude_rad, kCivilTwilightDepressionRad, sign);
+        if (civil.utc_min)
+            (sign < 0 ? out.civil_dawn_utc_min : out.civil_dusk_utc_min) = civil.utc_min;
+    }
+    if (!out.civil_dawn_utc_min || !out.civil_dusk_utc_min) {
+        out.civil_dawn_utc_min.reset();
+        out.civil_dusk_utc_min.reset();
     }
     if (out.polar_day && out.polar_night) out.polar_night = false;  // cannot both hold
     if (!out.sunrise_utc_min || !out.sunset_utc_min) {

@@ -215,7 +215,7 @@ ArbLimits arb_reference_limits(ArbHeightFidelity fidelity) {
         case ArbHeightFidelity::multiple_scattering:
             limits.max_instructions = 512;
             limits.max_temporaries = 32;
-            limits.max_parameters = 256;
+            limits.max_parameters = 2048;
             break;
     }
     return limits;

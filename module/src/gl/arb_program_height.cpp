@@ -156,21 +156,38 @@ void write_height_declarations(ProgramWriter& w, const ArbProgramOptions& o,
                    format_float4(S::kViewRows - 2, S::kAzimuthRows - 2, S::kAzimuthRows, 1e-30) +
                    ";",
                "last view and azimuth cells, azimuth rows, tiny");
-        w.line("PARAM msh = " +
-                   format_float4(S::kAltitudeRows - 1, S::kAltitudeRows - 2, 0.0, 0.0) + ";",
-               "last altitude row and cell");
+        w.line(
+            "PARAM msh = " +
+                format_float4(S::kAltitudeRows - 1, S::kAltitudeRows - 2, 0.0, S::kAltitudeRows) +
+                ";",
+            "last altitude row and cell, 0, altitude rows");
+        w.line("PARAM msu = " +
+                   format_float4(S::kMaxSunZenithRad, (S::kSunRows - 1) / S::kMaxSunZenithRad,
+                                 S::kSunRows - 1, S::kSunRows - 2) +
+                   ";",
+               "level's last sun zenith angle, rows per radian, last sun row and cell");
+        // acos(x) ~ sqrt(1 - x) (a0 + a1 x + a2 x^2 + a3 x^3) on [0, 1], within 6.7e-5 rad
+        // (Abramowitz and Stegun 4.4.45), and pi - acos(-x) below 0.
+        w.line("PARAM acs = " + format_float4(1.5707288, -0.2121144, 0.0742610, -0.0187293) + ";",
+               "acos's polynomial");
+        w.line("PARAM acp = " + format_float4(kPi, -2.0, 0.0, 0.0) + ";");
+        w.line("PARAM msy = " +
+                   format_float4(S::kShapeAltitudeRows - 1, S::kShapeAltitudeRows - 2,
+                                 S::kShapeRows, 0.0) +
+                   ";",
+               "last shape altitude row and cell, rows per altitude row");
         w.line("ADDRESS a0;");
-        w.line("TEMP msv, mssr, mssm, msa, msb, msc, msd, mse;");
+        w.line("TEMP msv, mssr, mssm, msa, msb, msc, msd, mse, msf, mst, msw;");
     }
     w.line(full ? "TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc, chp;"
                 : "TEMP seg, view, alt, work, rho, ext, sphi, node, colr, colm, acc;");
 }
 
-/// shape(v) of the light scattered more than once into msv (height_multiple_scattering.hpp),
-/// while seg holds d and node.w 1/s.
-void write_multiple_scattering_shape(ProgramWriter& w) {
-    using S = MultipleScatteringSlice;
-    w.comment("Higher orders: shape(v) bilinear in (view cosine, sin(azimuth/2)) -> msv.");
+/// The view's cell of the shape's table into msv (x: its first row within an altitude row, yz:
+/// the fractions over the view cosine and sin(azimuth/2); height_multiple_scattering.hpp), while
+/// seg holds d and node.w 1/s.
+void write_multiple_scattering_view_cell(ProgramWriter& w) {
+    w.comment("Higher orders: the view's cell in (view cosine, sin(azimuth/2)) -> msv.");
     w.line("DP3 msa.x, seg, msz;");
     w.line("DP3 msa.y, seg, sunc;");
     w.line("MUL msa.xy, msa, node.w;", "mu_v, cos theta");
@@ -195,27 +212,54 @@ void write_multiple_scattering_shape(ProgramWriter& w) {
     w.line("MUL msa.y, msa.y, mss.z;", "azimuth row coordinate");
     w.line("FLR msb.xy, msa;");
     w.line("MIN msb.xy, msb, msl;");
-    w.line("SUB msa.xy, msa, msb;", "fractions");
-    w.line("MAD msb.x, msb.x, msl.z, msb.y;", "first cell's row");
-    w.line("ARL a0.x, msb.x;");
-    const std::string next = std::to_string(S::kAzimuthRows);
-    const std::string next1 = std::to_string(S::kAzimuthRows + 1);
-    w.line("MOV msb, shp[a0.x];");
-    w.line("MOV msc, shp[a0.x + 1];");
-    w.line("SUB msc, msc, msb;");
-    w.line("MAD msb, msc, msa.y, msb;");
-    w.line("MOV msc, shp[a0.x + " + next + "];");
-    w.line("MOV msv, shp[a0.x + " + next1 + "];");
-    w.line("SUB msv, msv, msc;");
-    w.line("MAD msv, msv, msa.y, msc;");
-    w.line("SUB msv, msv, msb;");
-    w.line("MAD msv, msv, msa.x, msb;", "shape(v)");
+    w.line("SUB msv.yz, msa.xxyw, msb.xxyw;", "fractions");
+    w.line("MAD msv.x, msb.x, msl.z, msb.y;", "first cell's row");
 }
 
-/// level(h_n) at the three points (colm.xyz = h_n), summed with the weights before the planet's
-/// shadow (seg.xyz, alt.xyz: the shadow is in msd.xyz) into mssr (Rayleigh) and mssm (Mie).
+/// shape(h, v) into msv: bilinear in the view's cell (msv) on the two altitude rows around the
+/// altitude the higher orders come from (msw.y / msw.x), then linear between them.
+void write_multiple_scattering_shape(ProgramWriter& w) {
+    using S = MultipleScatteringSlice;
+    w.comment("Higher orders: shape(h, v) at their mean altitude -> msv.");
+    w.line("MAX msa.x, msw.x, msl.w;");
+    w.line("RCP msa.x, msa.x;");
+    w.line("MUL msa.x, msw.y, msa.x;", "the higher orders' mean altitude");
+    w.line("MAX msa.x, msa.x, msh.z;");
+    w.line("MAD msa.x, msa.x, msq.x, msk.x;", "1 + h / knee");
+    w.line("LG2 msa.x, msa.x;");
+    w.line("MUL msa.x, msa.x, msq.y;", "altitude row coordinate");
+    w.line("MIN msa.x, msa.x, msy.x;");
+    w.line("FLR msa.y, msa.x;");
+    w.line("MIN msa.y, msa.y, msy.y;");
+    w.line("SUB msa.x, msa.x, msa.y;", "fraction");
+    w.line("MAD msa.y, msa.y, msy.z, msv.x;", "first cell's row");
+    const std::string next = std::to_string(S::kAzimuthRows);
+    const std::string next1 = std::to_string(S::kAzimuthRows + 1);
+    for (int layer = 0; layer < 2; ++layer) {
+        const std::string out = layer == 0 ? "msd" : "mse";
+        if (layer == 1) w.line("ADD msa.y, msa.y, msy.z;", "the altitude row above");
+        w.line("ARL a0.x, msa.y;");
+        w.line("MOV msb, shp[a0.x];");
+        w.line("MOV msc, shp[a0.x + 1];");
+        w.line("SUB msc, msc, msb;");
+        w.line("MAD msb, msc, msv.z, msb;");
+        w.line("MOV msc, shp[a0.x + " + next + "];");
+        w.line("MOV " + out + ", shp[a0.x + " + next1 + "];");
+        w.line("SUB " + out + ", " + out + ", msc;");
+        w.line("MAD " + out + ", " + out + ", msv.z, msc;");
+        w.line("SUB " + out + ", " + out + ", msb;");
+        w.line("MAD " + out + ", " + out + ", msv.y, msb;",
+               layer == 0 ? "shape on the row below" : "and above");
+    }
+    w.line("SUB msv, mse, msd;");
+    w.line("MAD msv, msv, msa.x, msd;", "shape(h, v)");
+}
+
+/// level(h_n, mu_s,n) at the three points (colm.xyz = h_n), summed with the weights before the
+/// planet's shadow (seg.xyz, alt.xyz: the shadow is in msd.xyz) into mssr (Rayleigh) and mssm
+/// (Mie).
 void write_multiple_scattering_levels(ProgramWriter& w) {
-    w.comment("Higher orders: level(h_n) times the weights, summed (mssr: R, mssm: M).");
+    w.comment("Higher orders: level(h_n, mu_n) times the weights, summed (mssr: R, mssm: M).");
     w.line("MAX msa.xyz, colm, msh.z;");
     w.line("MAD msb.xyz, planet.y, num.x, msa;", "2 R + h");
     w.line("MUL msa.xyz, msa, msb;");
@@ -228,20 +272,65 @@ void write_multiple_scattering_levels(ProgramWriter& w) {
     w.line("MIN msa.xyz, msa, msh.x;", "altitude row coordinates");
     w.line("FLR msb.xyz, msa;");
     w.line("MIN msb.xyz, msb, msh.y;");
-    w.line("SUB msa.xyz, msa, msb;");
+    w.line("SUB msa.xyz, msa, msb;", "altitude fractions");
+    w.comment("The sun at the points: linear in its cosine between the eye's and the vertex's.");
+    w.line("ADD mst.x, msw.z, -msz.w;");
+    w.line("MAD mst.xyz, work, mst.x, msz.w;", "mu_s at the points");
+    w.line("MAX mse.xyz, mst, -mst;", "|mu_s|");
+    w.line("MAD msf.xyz, mse, acs.w, acs.z;");
+    w.line("MAD msf.xyz, msf, mse, acs.y;");
+    w.line("MAD msf.xyz, msf, mse, acs.x;");
+    w.line("ADD mse.xyz, msk.x, -mse;");
+    w.line("MAX mse.xyz, mse, msl.w;");
+    w.line("RSQ msc.x, mse.x;");
+    w.line("RSQ msc.y, mse.y;");
+    w.line("RSQ msc.z, mse.z;");
+    w.line("MUL mse.xyz, mse, msc;");
+    w.line("MUL msf.xyz, msf, mse;", "acos |mu_s|");
+    w.line("SLT msc.xyz, mst, msh.z;");
+    w.line("MAD mse.xyz, msf, acp.y, acp.x;");
+    w.line("MAD msf.xyz, msc, mse, msf;", "the sun's zenith angles");
+    w.line("MUL mst.xyz, msf, msu.y;");
+    w.line("MAX mst.xyz, mst, msh.z;");
+    w.line("MIN mst.xyz, mst, msu.z;", "sun row coordinates");
+    w.line("FLR mse.xyz, mst;");
+    w.line("MIN mse.xyz, mse, msu.w;");
+    w.line("SUB mst.xyz, mst, mse;", "sun fractions");
+    w.line("MAD msb.xyz, mse, msh.w, msb;", "first rows");
+    const std::string next = std::to_string(MultipleScatteringSlice::kAltitudeRows);
+    const std::string next1 = std::to_string(MultipleScatteringSlice::kAltitudeRows + 1);
     for (int n = 0; n < 3; ++n) {
         const std::string lane(1, "xyz"[n]);
         w.line("ARL a0.x, msb." + lane + ";");
         w.line("MOV msc, lev[a0.x];");
         w.line("MOV mse, lev[a0.x + 1];");
         w.line("SUB mse, mse, msc;");
-        w.line("MAD msc, mse, msa." + lane + ", msc;", "level at point " + std::to_string(n));
+        w.line("MAD msc, mse, msa." + lane + ", msc;");
+        w.line("MOV mse, lev[a0.x + " + next + "];");
+        w.line("MOV msf, lev[a0.x + " + next1 + "];");
+        w.line("SUB msf, msf, mse;");
+        w.line("MAD mse, msf, msa." + lane + ", mse;");
+        w.line("SUB mse, mse, msc;");
+        w.line("MAD msc, mse, mst." + lane + ", msc;", "level at point " + std::to_string(n));
+        w.line("MUL mse.xyz, extr, rho." + lane + ";");
+        w.line("MAD mse.xyz, extm, sphi." + lane + ", mse;", "-tau_c log2(e)");
+        w.line("EX2 mse.x, mse.x;");
+        w.line("EX2 mse.y, mse.y;");
+        w.line("EX2 mse.z, mse.z;");
+        w.line("MUL msc.xyz, msc, mse;", "times each channel's own attenuation");
+        w.line("MUL mse.w, seg." + lane + ", msr.y;");
+        w.line("MAD mse.w, alt." + lane + ", msm.y, mse.w;");
+        w.line("MUL mse.w, mse.w, msc.y;", "the point's share of them (G)");
         if (n == 0) {
             w.line("MUL mssr, msc, seg.x;");
             w.line("MUL mssm, msc, alt.x;");
+            w.line("MOV msw.x, mse.w;");
+            w.line("MUL msw.y, mse.w, colm.x;");
         } else {
             w.line("MAD mssr, msc, seg." + lane + ", mssr;");
             w.line("MAD mssm, msc, alt." + lane + ", mssm;");
+            w.line("ADD msw.x, msw.x, mse.w;");
+            w.line("MAD msw.y, mse.w, colm." + lane + ", msw.y;", "shares, shares x altitudes");
         }
     }
 }
@@ -277,7 +366,7 @@ void write_segment_and_phases(ProgramWriter& w, const ArbProgramOptions& o) {
 }
 
 /// The vertex altitude h1, h_low and the rise h1 - h0; `full` also the sun's zenith cosine there.
-void write_vertex_altitude(ProgramWriter& w, bool full) {
+void write_vertex_altitude(ProgramWriter& w, bool full, bool multiple) {
     w.comment(
         "Vertex altitude h1 = n / (|p - centre| + R), n = |p|^2 + 2 R p.up (no cancellation);");
     w.comment("alt = (h1, ., h_low, h1 - h0), h_low = min(h0, h1) - s^2/(12 R) (the mean sag).");
@@ -292,6 +381,7 @@ void write_vertex_altitude(ProgramWriter& w, bool full) {
     if (full) {
         w.line("DPH chp.x, seg, sunc;", "(c + d).sun");
         w.line("MUL chp.x, chp.x, alt.z;", "mu: cosine of the sun's zenith angle at the vertex");
+        if (multiple) w.line("MOV msw.z, chp.x;", "kept for the higher orders");
     }
     w.line("MIN alt.z, alt.x, eyealt.x;");
     w.line("MAD alt.z, seg.w, -eyealt.y, alt.z;");
@@ -444,16 +534,19 @@ void write_fitted_profile(ProgramWriter& w, bool full) {
     w.line("MAD alt.y, ext.y, fit.y, -ext.x;", "b, |b| >= eps");
 }
 
-/// F_ex per channel (the primary colour) and (1 - F_ex) / log2(F_ex)'s reciprocals.
-void write_extinction(ProgramWriter& w) {
+/// F_ex per channel (the primary colour) and, below `full`, (1 - F_ex) / log2(F_ex)'s
+/// reciprocals (the per-channel path factor; `full` attenuates each channel in its sums).
+void write_extinction(ProgramWriter& w, bool full) {
     w.comment("Extinction F_ex = exp(-beta s), beta = beta_R rho_R + beta_M rho_M per channel.");
     w.line("MUL ext, extr, rho.x;");
     w.line("MAD ext, extm, rho.y, ext;");
     w.line("MUL ext, ext, view.w;", "log2 F_ex; w = 0");
     w.line("MIN ext.xyz, ext, cst.y;", "never 0");
-    w.line("RCP sphi.xw, ext.x;");
-    w.line("RCP sphi.y, ext.y;");
-    w.line("RCP sphi.z, ext.z;");
+    if (!full) {
+        w.line("RCP sphi.xw, ext.x;");
+        w.line("RCP sphi.y, ext.y;");
+        w.line("RCP sphi.z, ext.z;");
+    }
     w.line("EX2 work.xw, ext.x;");
     w.line("EX2 work.y, ext.y;");
     w.line("EX2 work.z, ext.z;");
@@ -461,7 +554,7 @@ void write_extinction(ProgramWriter& w) {
 }
 
 /// The sunlight points: the Gauss nodes' u along the segment, and the path factor s E/b.
-void write_node_placement(ProgramWriter& w, bool full) {
+void write_node_placement(ProgramWriter& w, bool full, bool exact) {
     w.comment(
         "Sunlight points: Gauss nodes y_n in the share of the G attenuation. The share of the");
     w.comment("optical depth f = -ln(1 - y (1 - F_G)) / tau_G, then the fitted profile's");
@@ -486,18 +579,16 @@ void write_node_placement(ProgramWriter& w, bool full) {
     w.line("LG2 rho.x, node.x;");
     w.line("LG2 rho.y, node.y;");
     w.line("LG2 rho.z, node.z;", "-tau_fit log2(e)");
-    w.line(full ? "MUL node.xyz, rho, acc.w;" : "MUL node.xyz, rho, sphi.y;", "f");
-    w.line("MAD sphi, -work, sphi, sphi;", "(1 - F_ex) / log2(F_ex)");
     if (full) {
-        w.comment("The model's scale phi(tau_total) / phi(tau_G), tau_G with the sag; where float");
-        w.comment("rounds F to 1, (1 - F)/log2(F) is 0 and takes its limit -ln(2) instead.");
+        w.line("MUL node.xyz, rho, acc.w;", "f");
+        w.comment("The model's scale phi(tau_total); where float rounds F to 1, (1 - F)/log2(F)");
+        w.comment("is 0 and takes its limit -ln(2) instead.");
         w.line("MAD acc.y, -acc.z, acc.w, acc.w;", "(1 - F_total) / log2(F_total)");
         w.line("SGE acc.z, acc.y, fit.z;");
         w.line("MAD acc.y, acc.z, lim.x, acc.y;");
-        w.line("SGE acc.z, sphi.y, fit.z;");
-        w.line("MAD acc.z, acc.z, lim.x, sphi.y;");
-        w.line("RCP acc.z, acc.z;");
-        w.line("MUL acc.y, acc.y, acc.z;");
+    } else {
+        w.line("MUL node.xyz, rho, sphi.y;", "f");
+        w.line("MAD sphi, -work, sphi, sphi;", "(1 - F_ex) / log2(F_ex)");
     }
     w.line("EX2 ext.w, -alt.y;");
     w.line("ADD ext.w, ext.w, hg.w;", "E = 2^-b - 1");
@@ -509,7 +600,12 @@ void write_node_placement(ProgramWriter& w, bool full) {
     w.line("MUL work.xyz, node, -ext.z;", "u");
     w.line("MUL ext.w, ext.w, ext.z;");
     w.line("MUL ext.w, ext.w, view.w;", "s E/b = -s ln(2) phi(a)");
-    if (full) w.line("MUL ext.w, ext.w, acc.y;");
+    // Where each channel's attenuation is in the sums, the path factor is the G channel's.
+    if (full) {
+        w.line("MUL ext.w, ext.w, acc.y;");
+    } else if (exact) {
+        w.line("MUL ext.w, ext.w, sphi.y;");
+    }
 }
 
 /// exact_optical_depth and full: the weights' correction exp(tau_fit - tau) at the points.
@@ -528,11 +624,17 @@ void write_exact_optical_depth(ProgramWriter& w, bool full) {
             w.line("EX2 " + r + ", " + r + ";");
         }
     }
-    w.line("ADD ext.x, colm.z, colm.w;");
-    w.line("MAD colr.xyz, -colr, colm.z, ext.x;");
-    w.line("MAD colr.xyz, -acc, colm.w, colr;", "tau log2(e)");
-    w.line("ADD node.xyz, node, rho;");
-    w.line("ADD node.xyz, node, colr;", "-b u - (tau_fit - tau) log2(e)");
+    // Each channel's own attenuation to the points (the CPU model's): the weights keep
+    // exp(tau_fit) and each component's optical depth becomes a column added to the sun's (rho:
+    // Rayleigh, sphi: Mie; tau_i,G / beta_i,G, beta_i,G log2(e) = -extr.y, -extm.y), so that the
+    // transmittance's extr, extm give each channel -tau_c log2(e).
+    w.line("ADD node.xyz, node, rho;", "-b u - tau_fit log2(e)");
+    w.line("MAD rho.xyz, -colr, colm.z, colm.z;", "tau_R log2(e) (G)");
+    w.line("MAD sphi.xyz, -acc, colm.w, colm.w;", "tau_M log2(e) (G)");
+    w.line("RCP colr.w, -extr.y;");
+    w.line("MUL rho.xyz, rho, colr.w;");
+    w.line("RCP colr.w, -extm.y;");
+    w.line("MUL sphi.xyz, sphi, colr.w;");
 }
 
 /// The points' altitudes and their weights (`full`: none in the planet's shadow, bounded like
@@ -581,7 +683,7 @@ void write_node_weights(ProgramWriter& w, bool full, bool multiple) {
 }
 
 /// The sun columns at the points.
-void write_node_columns(ProgramWriter& w, bool full) {
+void write_node_columns(ProgramWriter& w, bool full, bool exact) {
     w.comment("Sun columns at the points: the eye's Chapman factors, the points' densities.");
     if (full) {
         w.line("MAD colr.xyz, work, chp.z, chp.x;", "log2 factors at the points");
@@ -601,6 +703,10 @@ void write_node_columns(ProgramWriter& w, bool full) {
             const std::string r = std::string(reg) + "." + lane;
             w.line("EX2 " + r + ", " + r + ";");
         }
+    }
+    if (exact) {
+        w.line("ADD colr.xyz, colr, rho;", "+ the view's columns to the points");
+        w.line("ADD colm.xyz, colm, sphi;");
     }
 }
 
@@ -626,9 +732,11 @@ void write_transmittance_sums(ProgramWriter& w, bool multiple) {
 }
 
 /// L_in (the secondary colour).
-void write_in_scattering(ProgramWriter& w, bool multiple) {
-    w.comment(
-        "L_in = E0 s phi(tau) phi(a) (beta_R P_R sum_R + beta_M P_M sum_M), exposure included.");
+void write_in_scattering(ProgramWriter& w, bool exact, bool multiple) {
+    w.comment(exact ? "L_in = E0 s phi(tau_total) phi(a) (beta_R P_R sum_R + beta_M P_M sum_M),"
+                      " exposure included."
+                    : "L_in = E0 s phi(tau) phi(a) (beta_R P_R sum_R + beta_M P_M sum_M), exposure "
+                      "included.");
     w.line("MUL colr.xy, view.zyzz, ext.w;");
     w.line("MUL colm, ray, colr.x;");
     w.line("MUL node, node, colm;");
@@ -640,7 +748,11 @@ void write_in_scattering(ProgramWriter& w, bool multiple) {
         w.line("MUL msa, msa, msv;");
         w.line("MAD node, msa, ext.w, node;");
     }
-    w.line("MUL result.color.secondary, node, sphi;");
+    if (exact) {
+        w.line("MOV result.color.secondary, node;", "each channel's attenuation is in the sums");
+    } else {
+        w.line("MUL result.color.secondary, node, sphi;");
+    }
 }
 
 }  // namespace
@@ -682,8 +794,8 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
     write_height_declarations(w, o, fidelity, !exact);
     write_clip_space_position(w, o);
     write_segment_and_phases(w, o);
-    if (multiple) write_multiple_scattering_shape(w);
-    write_vertex_altitude(w, full);
+    if (multiple) write_multiple_scattering_view_cell(w);
+    write_vertex_altitude(w, full, multiple);
     if (full) {
         write_vertex_upward_factors(w);
         write_vertex_below_horizon_factors(w);
@@ -695,14 +807,15 @@ std::string height_program_text(const ArbProgramOptions& o, ArbHeightFidelity fi
         write_quotient_densities(w);
     }
     write_fitted_profile(w, full);
-    write_extinction(w);
-    write_node_placement(w, full);
+    write_extinction(w, full);
+    write_node_placement(w, full, exact);
     if (exact) write_exact_optical_depth(w, full);
     write_node_weights(w, full, multiple);
     if (multiple) write_multiple_scattering_levels(w);
-    write_node_columns(w, full);
+    write_node_columns(w, full, exact);
     write_transmittance_sums(w, multiple);
-    write_in_scattering(w, multiple);
+    if (multiple) write_multiple_scattering_shape(w);
+    write_in_scattering(w, exact, multiple);
     write_texcoords_and_end(w, o);
     return w.str();
 }

@@ -42,10 +42,11 @@ enum HeightParameterIndex {
     kHeightShapeScale,
     kHeightMultipleRayleigh,
     kHeightMultipleMie,
+    kHeightShapeAltitude,
     kHeightLevelRows,
-    kHeightShapeRows = kHeightLevelRows + MultipleScatteringSlice::kAltitudeRows,
-    kHeightMultipleParameterCount = kHeightShapeRows + MultipleScatteringSlice::kViewRows *
-                                                           MultipleScatteringSlice::kAzimuthRows
+    kHeightShapeRows = kHeightLevelRows + MultipleScatteringSlice::kLevelRows,
+    kHeightMultipleParameterCount = kHeightShapeRows + MultipleScatteringSlice::kShapeAltitudeRows *
+                                                           MultipleScatteringSlice::kShapeRows
 };
 
 /// The layout of every level (lengths in metres, log2 the base-2 logarithm, c = eye + R up
@@ -88,11 +89,18 @@ inline constexpr ParameterRow kMultipleLayout[] = {
      "rows per m of sqrt(h (2 R + h)))"},
     {"msr", "xyz: log2(e)^2 exposure beta_R; w: 0"},
     {"msm", "xyz: log2(e)^2 exposure beta_M (scattering); w: 0"},
+    {"msq",
+     "(1 / knee (1/m), ln 2 x shape altitude rows per unit of log(1 + h / knee), 0, 0): the "
+     "shape's altitude rows"},
 };
 /// The arrays after them: one row per table entry.
-inline constexpr ParameterRow kLevelRow = {"lev", "xyz: level(h) at altitude row i; w: 0"};
+inline constexpr ParameterRow kLevelRow = {
+    "lev",
+    "xyz: level(h, mu_s) at sun row i / altitude rows, altitude row i % altitude rows; w: 0"};
 inline constexpr ParameterRow kShapeRow = {
-    "shp", "xyz: shape at view row i / azimuth rows, azimuth row i % azimuth rows; w: 0"};
+    "shp",
+    "xyz: shape at altitude row i / (view rows x azimuth rows), view row (i / azimuth rows) % view "
+    "rows, azimuth row i % azimuth rows; w: 0"};
 // sky.xy's cap: a blocked sun becomes a column of e^40 H_i exp(-h/H_i), out up to 100 km.
 // slr, slm: d lf_i/d mu at the eye (the model's own factors, a central difference) times
 // d mu/d d = (sun - mu0 c/|c|)/|c| (column_slopes).

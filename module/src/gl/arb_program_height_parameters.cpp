@@ -86,11 +86,13 @@ void multiple_scattering_parameters(const Frame<float>& frame, double exposure,
         p[kHeightMultipleMie][c] = light * frame.mie_scattering[c];
     }
     if (!slice) return;
-    for (int i = 0; i < S::kAltitudeRows; ++i) {
+    p[kHeightShapeAltitude] = {slice->shape_inv_knee_m, slice->shape_altitude_scale / kLog2E, 0.0,
+                               0.0};
+    for (std::size_t i = 0; i < slice->level.size(); ++i) {
         for (int c = 0; c < 3; ++c) p[kHeightLevelRows + i][c] = slice->level[i][c];
     }
-    for (std::size_t i = 0; i < slice->shape.size(); ++i) {
-        for (int c = 0; c < 3; ++c) p[kHeightShapeRows + i][c] = slice->shape[i][c];
+    for (std::size_t i = 0; i < slice->shapes.size(); ++i) {
+        for (int c = 0; c < 3; ++c) p[kHeightShapeRows + i][c] = slice->shapes[i][c];
     }
 }
 

@@ -44,13 +44,12 @@ struct Bound {
     double cubemap_lsb;                    // 64^2 RGBA8 cubemap of height-chained, bilinear
     double hp_mean_lsb;                    // the 2002 dome with the fitted radius
 };
-// Against the `reference` with every order: the chained pieces keep the eye's slice of the
-// higher orders (frame_with_eye), whose sun is 0.9 deg lower 100 km away; at a horizon sun that
-// costs 19 steps towards the horizon (docs/sky.md).
+// Against the `reference` with every order (the chained pieces take the higher orders' level at
+// each point's own sun; docs/sky.md).
 constexpr Bound kBounds[] = {
-    {0.0, 0.27, 20, 20, 40, 210},
-    {10.0, 0.031, 2.0, 10, 7, 90},
-    {90.0, 0.034, 0.6, 3.2, 4, 48},
+    {0.0, 0.04, 1.5, 3.4, 12, 210},
+    {10.0, 0.007, 0.5, 8.1, 2.3, 90},
+    {90.0, 0.006, 0.4, 3.2, 3.9, 48},
 };
 
 TEST(Sky, EachMethodAgainstReferenceWithinItsPinnedBound) {

@@ -2,12 +2,14 @@
 // closure in conservative atmospheres over a black ground, the closed forms of the scattering
 // step (a uniform radiance L scatters beta_s L; a uniform sky L gives a ground irradiance pi L),
 // the single-scattering limit, and the convergence report.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <unistd.h>
@@ -445,6 +447,39 @@ TEST(TableCache, StoresReadsBackAndIgnoresWhatDoesNotMatch) {
         aerial::detail::store_cached_table(key, table, report);
         EXPECT_FALSE(fs::exists(dir));
     }
+    fs::remove_all(dir);
+}
+
+TEST(TableCache, KeepsTheRecentlyReadWithinItsLimit) {
+    namespace fs = std::filesystem;
+    const fs::path dir =
+        fs::temp_directory_path() / ("aerial-table-lru-" + std::to_string(long(::getpid())));
+    fs::remove_all(dir);
+    const ScopedEnvironment cache_dir("AERIAL_CACHE_DIR", dir.c_str());
+    const ScopedEnvironment enabled("AERIAL_CACHE_DISABLE", nullptr);
+    const ScopedEnvironment limit("AERIAL_CACHE_MAX_MB", "1");
+    const std::vector<dvec3> table(17000, dvec3(1.0));  // 408 kB: two fit in 1 MB, three do not
+    const aerial::MultipleScatteringReport report;
+    std::vector<std::string> keys;
+    for (int i = 0; i < 3; ++i) {
+        Atmosphere a;
+        a.mie_g = 0.1 * i;
+        keys.push_back(aerial::detail::table_cache_key(a, aerial::MultipleScatteringSettings{}));
+    }
+    std::vector<dvec3> read;
+    aerial::MultipleScatteringReport read_report;
+    const auto pause = [] { std::this_thread::sleep_for(std::chrono::milliseconds(20)); };
+    aerial::detail::store_cached_table(keys[0], table, report);
+    pause();
+    aerial::detail::store_cached_table(keys[1], table, report);
+    pause();
+    // Reading the first renews it: the second is now the least recently used.
+    ASSERT_TRUE(aerial::detail::load_cached_table(keys[0], table.size(), read, read_report));
+    pause();
+    aerial::detail::store_cached_table(keys[2], table, report);
+    EXPECT_TRUE(aerial::detail::load_cached_table(keys[0], table.size(), read, read_report));
+    EXPECT_FALSE(aerial::detail::load_cached_table(keys[1], table.size(), read, read_report));
+    EXPECT_TRUE(aerial::detail::load_cached_table(keys[2], table.size(), read, read_report));
     fs::remove_all(dir);
 }
 

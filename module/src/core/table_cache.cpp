@@ -65,7 +65,19 @@ void write_value(std::ostream& out, const T& value) {
     out.write(reinterpret_cast<const char*>(&value), sizeof value);
 }
 
-/// Removes the oldest tables while the directory holds more than kMaxCacheBytes.
+/// The cache's size limit: $AERIAL_CACHE_MAX_MB megabytes when that is a whole number above 0,
+/// else kMaxCacheBytes.
+unsigned long long max_cache_bytes() {
+    if (const char* text = environment("AERIAL_CACHE_MAX_MB")) {
+        char* end = nullptr;
+        const unsigned long long mb = std::strtoull(text, &end, 10);
+        if (end && *end == '\0' && mb > 0 && mb < (1ull << 40)) return mb << 20;
+    }
+    return kMaxCacheBytes;
+}
+
+/// Removes the least recently used tables (by their time stamps, which a read renews) while the
+/// directory holds more than max_cache_bytes().
 void trim(const fs::path& dir) {
     std::error_code ec;
     std::vector<std::pair<fs::file_time_type, fs::path>> files;
@@ -80,7 +92,7 @@ void trim(const fs::path& dir) {
     }
     std::sort(files.begin(), files.end());
     for (const auto& file : files) {
-        if (total <= kMaxCacheBytes) break;
+        if (total <= max_cache_bytes()) break;
         const auto size = fs::file_size(file.second, ec);
         if (fs::remove(file.second, ec)) total -= ec ? 0 : size;
     }
@@ -145,6 +157,9 @@ bool load_cached_table(const std::string& key, std::size_t size, std::vector<glm
     density = std::move(table);
     report = std::move(r);
     report.from_cache = true;
+    // A read renews the file's time stamp: the trim removes the least recently used.
+    std::error_code ec;
+    fs::last_write_time(dir / file_name(key), fs::file_time_type::clock::now(), ec);
     return true;
 }
 

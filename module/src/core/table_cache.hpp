@@ -8,8 +8,9 @@
 // A file holds its key (every input of the table, exactly) and the table in this machine's byte
 // order; one that does not match, is short or is unreadable is ignored and recomputed. Files are
 // written to a temporary name and renamed, so concurrent processes never read half a file; the
-// oldest files go when the directory passes kMaxCacheBytes. Nothing here is ever an error: a
-// cache that cannot be read or written is a cache miss.
+// least recently used files go when the directory passes kMaxCacheBytes ($AERIAL_CACHE_MAX_MB
+// sets another limit). Nothing here is ever an error: a cache that cannot be read or written is
+// a cache miss.
 #pragma once
 
 #include <string>
@@ -22,7 +23,8 @@
 
 namespace aerial::detail {
 
-/// The cache directory's size above which the oldest files are removed.
+/// The cache directory's size above which the least recently used files are removed (unless
+/// $AERIAL_CACHE_MAX_MB sets another).
 inline constexpr unsigned long long kMaxCacheBytes = 256ull << 20;
 
 /// Every input of a table, exactly (hexadecimal floats): the atmosphere without its

@@ -8,6 +8,32 @@
 
 namespace aerial::detail::arb {
 
+namespace {
+
+/// out = the bilinear interpolation of `array` around a0.x: entries +0 and +1 by t_column, the
+/// same on the row +stride, then between the rows by t_row (10 instructions; scratch_a and
+/// scratch_b are overwritten).
+void write_array_bilinear(ProgramWriter& w, const std::string& array, int stride,
+                          const std::string& t_column, const std::string& t_row,
+                          const std::string& out, const std::string& scratch_a,
+                          const std::string& scratch_b) {
+    const auto entry = [&](int offset) {
+        return array + (offset == 0 ? "[a0.x]" : "[a0.x + " + std::to_string(offset) + "]");
+    };
+    const auto lerp = [&](int offset, const std::string& to) {
+        w.line("MOV " + scratch_a + ", " + entry(offset) + ";");
+        w.line("MOV " + to + ", " + entry(offset + 1) + ";");
+        w.line("SUB " + to + ", " + to + ", " + scratch_a + ";");
+        w.line("MAD " + to + ", " + to + ", " + t_column + ", " + scratch_a + ";");
+    };
+    lerp(0, out);
+    lerp(stride, scratch_b);
+    w.line("SUB " + scratch_b + ", " + scratch_b + ", " + out + ";");
+    w.line("MAD " + out + ", " + scratch_b + ", " + t_row + ", " + out + ";");
+}
+
+}  // namespace
+
 void write_multiple_scattering_declarations(ProgramWriter& w) {
     using S = MultipleScatteringSlice;
     w.line("PARAM msk = " + format_float4(1.0, -1.0, 0.5, 1e-6) + ";",
@@ -83,23 +109,11 @@ void write_multiple_scattering_shape(ProgramWriter& w) {
     w.line("MIN msa.y, msa.y, msy.y;");
     w.line("SUB msa.x, msa.x, msa.y;", "fraction");
     w.line("MAD msa.y, msa.y, msy.z, msv.x;", "first cell's row");
-    const std::string next = std::to_string(S::kAzimuthRows);
-    const std::string next1 = std::to_string(S::kAzimuthRows + 1);
     for (int layer = 0; layer < 2; ++layer) {
-        const std::string out = layer == 0 ? "msd" : "mse";
         if (layer == 1) w.line("ADD msa.y, msa.y, msy.z;", "the altitude row above");
         w.line("ARL a0.x, msa.y;");
-        w.line("MOV msb, shp[a0.x];");
-        w.line("MOV msc, shp[a0.x + 1];");
-        w.line("SUB msc, msc, msb;");
-        w.line("MAD msb, msc, msv.z, msb;");
-        w.line("MOV msc, shp[a0.x + " + next + "];");
-        w.line("MOV " + out + ", shp[a0.x + " + next1 + "];");
-        w.line("SUB " + out + ", " + out + ", msc;");
-        w.line("MAD " + out + ", " + out + ", msv.z, msc;");
-        w.line("SUB " + out + ", " + out + ", msb;");
-        w.line("MAD " + out + ", " + out + ", msv.y, msb;",
-               layer == 0 ? "shape on the row below" : "and above");
+        write_array_bilinear(w, "shp", S::kAzimuthRows, "msv.z", "msv.y",
+                             layer == 0 ? "msd" : "mse", "msb", "msc");
     }
     w.line("SUB msv, mse, msd;");
     w.line("MAD msv, msv, msa.x, msd;", "shape(h, v)");
@@ -144,21 +158,12 @@ void write_multiple_scattering_levels(ProgramWriter& w) {
     w.line("MIN mse.xyz, mse, msu.w;");
     w.line("SUB mst.xyz, mst, mse;", "sun fractions");
     w.line("MAD msb.xyz, mse, msh.w, msb;", "first rows");
-    const std::string next = std::to_string(MultipleScatteringSlice::kAltitudeRows);
-    const std::string next1 = std::to_string(MultipleScatteringSlice::kAltitudeRows + 1);
     for (int n = 0; n < 3; ++n) {
         const std::string lane(1, "xyz"[n]);
         w.line("ARL a0.x, msb." + lane + ";");
-        w.line("MOV msc, lev[a0.x];");
-        w.line("MOV mse, lev[a0.x + 1];");
-        w.line("SUB mse, mse, msc;");
-        w.line("MAD msc, mse, msa." + lane + ", msc;");
-        w.line("MOV mse, lev[a0.x + " + next + "];");
-        w.line("MOV msf, lev[a0.x + " + next1 + "];");
-        w.line("SUB msf, msf, mse;");
-        w.line("MAD mse, msf, msa." + lane + ", mse;");
-        w.line("SUB mse, mse, msc;");
-        w.line("MAD msc, mse, mst." + lane + ", msc;", "level at point " + std::to_string(n));
+        w.comment("level at point " + std::to_string(n));
+        write_array_bilinear(w, "lev", MultipleScatteringSlice::kAltitudeRows, "msa." + lane,
+                             "mst." + lane, "msc", "mse", "msf");
         w.line("MUL mse.xyz, extr, rho." + lane + ";");
         w.line("MAD mse.xyz, extm, sphi." + lane + ", mse;", "-tau_c log2(e)");
         w.line("EX2 mse.x, mse.x;");

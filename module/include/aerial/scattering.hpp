@@ -124,7 +124,7 @@ struct Frame {
     /// Unit local zenith at the eye and the sun's cosine to it.
     glm::vec<3, T> eye_zenith{0, 0, 1};
     T eye_cos_sun_zenith = 1;
-    /// The `height` model's light scattered more than once, cut at the eye of prepare_frame
+    /// The `height` model's light scattered more than once, cut for the sun at prepare_frame's eye
     /// (frame_with_eye keeps it); null for the other models and where nothing scatters.
     std::shared_ptr<const detail::MultipleScatteringSlice> multiple_scattering;
 };

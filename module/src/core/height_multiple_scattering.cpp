@@ -22,11 +22,11 @@ constexpr int kMeanCosines = 16, kMeanAzimuths = 8;
 struct SliceKey {
     const MultipleScatteringTable* table;
     double sun_irradiance[3];
-    double eye_altitude_m, eye_cos_sun_zenith;
+    double eye_cos_sun_zenith;
     bool operator==(const SliceKey& o) const {
         return table == o.table &&
                std::equal(sun_irradiance, sun_irradiance + 3, o.sun_irradiance) &&
-               eye_altitude_m == o.eye_altitude_m && eye_cos_sun_zenith == o.eye_cos_sun_zenith;
+               eye_cos_sun_zenith == o.eye_cos_sun_zenith;
     }
 };
 
@@ -135,7 +135,7 @@ std::shared_ptr<const LevelRows> level_rows(
 
 std::shared_ptr<const MultipleScatteringSlice> cut_slice(
     const Atmosphere& a, const std::shared_ptr<const MultipleScatteringTable>& table,
-    double eye_altitude_m, double eye_cos_sun_zenith) {
+    double eye_cos_sun_zenith) {
     using S = MultipleScatteringSlice;
     auto slice = std::make_shared<S>();
     const double radius = a.planet_radius_m, top = a.atmosphere_radius_m;
@@ -160,7 +160,6 @@ std::shared_ptr<const MultipleScatteringSlice> cut_slice(
             }
         }
     };
-    cut_shape(eye_altitude_m, slice->shape.data());
     slice->shape_altitude_scale = float(shape_altitude_scale(a));
     slice->shape_inv_knee_m = float(1.0 / shape_knee_m(a));
     for (int r = 0; r < S::kShapeAltitudeRows; ++r) {
@@ -189,7 +188,7 @@ MultipleScatteringSettings height_table_settings() {
 }
 
 std::shared_ptr<const MultipleScatteringSlice> multiple_scattering_slice(
-    const Atmosphere& atmosphere, double eye_altitude_m, double eye_cos_sun_zenith) {
+    const Atmosphere& atmosphere, double eye_cos_sun_zenith) {
     const glm::dvec3 beta = atmosphere.rayleigh_scattering + atmosphere.mie_scattering;
     if (std::max({beta.x, beta.y, beta.z}) <= 0.0) return nullptr;
     const auto table = multiple_scattering_table(atmosphere, height_table_settings());
@@ -201,13 +200,12 @@ std::shared_ptr<const MultipleScatteringSlice> multiple_scattering_slice(
     const SliceKey key{
         table.get(),
         {atmosphere.sun_irradiance.x, atmosphere.sun_irradiance.y, atmosphere.sun_irradiance.z},
-        eye_altitude_m,
         eye_cos_sun_zenith};
     {
         std::lock_guard<std::mutex> lock(mutex);
         if (last_slice && last_key == key) return last_slice;
     }
-    auto slice = cut_slice(atmosphere, table, eye_altitude_m, eye_cos_sun_zenith);
+    auto slice = cut_slice(atmosphere, table, eye_cos_sun_zenith);
     std::lock_guard<std::mutex> lock(mutex);
     last_table = table;  // keeps the key's table alive, so its address stays unique
     last_key = key;
@@ -233,28 +231,12 @@ glm::vec<3, T> slice_level(const MultipleScatteringSlice& s, T altitude_m, T mu_
            (at(k + 1, i) * (T(1) - f) + at(k + 1, i + 1) * f) * g;
 }
 
-template <class T>
-glm::vec<3, T> slice_shape(const MultipleScatteringSlice& s, T mu_v, T cos_azimuth) {
-    using S = MultipleScatteringSlice;
-    int a, b;
-    T fa, fb;
-    slice_cell((mu_v + T(1)) * T(0.5 * (S::kViewRows - 1)), S::kViewRows, a, fa);
-    const T sin_half = std::sqrt(std::max(T(0), (T(1) - cos_azimuth) * T(0.5)));
-    slice_cell(sin_half * T(S::kAzimuthRows - 1), S::kAzimuthRows, b, fb);
-    auto at = [&](int row, int column) {
-        return glm::vec<3, T>(s.shape[row * S::kAzimuthRows + column]);
-    };
-    return (at(a, b) * (T(1) - fb) + at(a, b + 1) * fb) * (T(1) - fa) +
-           (at(a + 1, b) * (T(1) - fb) + at(a + 1, b + 1) * fb) * fa;
-}
-
 double slice_shape_row_altitude_m(const Atmosphere& a, int r) {
     return shape_knee_m(a) * std::expm1(r / shape_altitude_scale(a));
 }
 
 template <class T>
-glm::vec<3, T> slice_shape_at(const MultipleScatteringSlice& s, T altitude_m, T mu_v,
-                              T cos_azimuth) {
+glm::vec<3, T> slice_shape(const MultipleScatteringSlice& s, T altitude_m, T mu_v, T cos_azimuth) {
     using S = MultipleScatteringSlice;
     int r, a, b;
     T fr, fa, fb;
@@ -274,11 +256,9 @@ glm::vec<3, T> slice_shape_at(const MultipleScatteringSlice& s, T altitude_m, T 
     return plane(r) * (T(1) - fr) + plane(r + 1) * fr;
 }
 
-template glm::vec3 slice_shape_at<float>(const MultipleScatteringSlice&, float, float, float);
-template glm::dvec3 slice_shape_at<double>(const MultipleScatteringSlice&, double, double, double);
+template glm::vec3 slice_shape<float>(const MultipleScatteringSlice&, float, float, float);
+template glm::dvec3 slice_shape<double>(const MultipleScatteringSlice&, double, double, double);
 template glm::vec3 slice_level<float>(const MultipleScatteringSlice&, float, float);
 template glm::dvec3 slice_level<double>(const MultipleScatteringSlice&, double, double);
-template glm::vec3 slice_shape<float>(const MultipleScatteringSlice&, float, float);
-template glm::dvec3 slice_shape<double>(const MultipleScatteringSlice&, double, double);
 
 }  // namespace aerial::detail

@@ -47,9 +47,6 @@ struct MultipleScatteringSlice {
     static constexpr int kShapeAltitudeRows = 8;  ///< evenly in log(1 + h / knee), h in [0, top]
     static constexpr int kShapeRows = kViewRows * kAzimuthRows;
 
-    /// shape(v) at the eye, row-major in the view cosine: shape[a * kAzimuthRows + b] (the ARB
-    /// program's).
-    std::array<glm::vec3, kShapeRows> shape{};
     /// shape(h, v): the shape at kShapeAltitudeRows altitudes, shapes[r * kShapeRows + a *
     /// kAzimuthRows + b] (slice_shape_row_altitude_m). The CPU paths take it at the altitude
     /// where a segment's higher orders come from.
@@ -72,11 +69,11 @@ double slice_row_altitude_m(const Atmosphere& atmosphere, int i);
 /// their cost and what the coarseness costs in accuracy).
 MultipleScatteringSettings height_table_settings();
 
-/// The slice for an eye at `eye_altitude_m` with the sun at cosine `eye_cos_sun_zenith` to its
+/// The slice for an eye with the sun at cosine `eye_cos_sun_zenith` to its
 /// zenith; null when the atmosphere scatters nothing. Computes (or finds in the cache) the
 /// atmosphere's table: the first frame of an atmosphere costs a fraction of a second.
 std::shared_ptr<const MultipleScatteringSlice> multiple_scattering_slice(
-    const Atmosphere& atmosphere, double eye_altitude_m, double eye_cos_sun_zenith);
+    const Atmosphere& atmosphere, double eye_cos_sun_zenith);
 
 /// The cell coordinate and fraction of a value on rows evenly spaced over [lo, hi].
 template <class T>
@@ -91,15 +88,10 @@ inline void slice_cell(T coordinate, int rows, int& cell, T& fraction) {
 template <class T>
 glm::vec<3, T> slice_level(const MultipleScatteringSlice& s, T altitude_m, T mu_s);
 
-/// shape(v) at the eye for a view cosine mu_v to the eye's zenith and the cosine of its azimuth
-/// from the sun.
+/// shape(h, v) at altitude h (m) for a view cosine mu_v to the eye's zenith and the cosine of its
+/// azimuth from the sun: trilinear between the rows.
 template <class T>
-glm::vec<3, T> slice_shape(const MultipleScatteringSlice& s, T mu_v, T cos_azimuth);
-
-/// shape(h, v): as slice_shape, at altitude h (m), linear between the altitude rows.
-template <class T>
-glm::vec<3, T> slice_shape_at(const MultipleScatteringSlice& s, T altitude_m, T mu_v,
-                              T cos_azimuth);
+glm::vec<3, T> slice_shape(const MultipleScatteringSlice& s, T altitude_m, T mu_v, T cos_azimuth);
 
 /// The altitude (m) of row r of MultipleScatteringSlice::shapes.
 double slice_shape_row_altitude_m(const Atmosphere& atmosphere, int r);

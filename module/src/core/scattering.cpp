@@ -222,7 +222,7 @@ Vec3<T> multiple_scattering_shape(const Frame<T>& f, T altitude_m, const Vec3<T>
     const T across = std::sqrt(std::max(T(0), (T(1) - mu_v * mu_v) * (T(1) - mu_s * mu_s)));
     const T cos_azimuth =
         across > T(1e-6) ? std::clamp((cos_theta - mu_v * mu_s) / across, T(-1), T(1)) : T(1);
-    return detail::slice_shape_at(*f.multiple_scattering, altitude_m, mu_v, cos_azimuth);
+    return detail::slice_shape(*f.multiple_scattering, altitude_m, mu_v, cos_azimuth);
 }
 
 template <class T>
@@ -441,8 +441,8 @@ Result<Frame<T>> prepare_frame(const Atmosphere& atmosphere, const View& view, M
     f.min_altitude_m = T(min_density_altitude_m(atmosphere));
     set_frame_eye(f, eye_m, true);
     if (model == Model::height && options.multiple_scattering) {
-        f.multiple_scattering = detail::multiple_scattering_slice(
-            atmosphere, double(f.eye_altitude_m), double(f.eye_cos_sun_zenith));
+        f.multiple_scattering =
+            detail::multiple_scattering_slice(atmosphere, double(f.eye_cos_sun_zenith));
     }
     return f;
 }

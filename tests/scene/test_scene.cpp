@@ -322,4 +322,21 @@ TEST(SceneFile, MessagesAreFunctionFieldExpectedGot) {
               "aerial::scene::load_scene_file(): " + missing + ": cannot open the scene file");
 }
 
+// Geometry whose vertices a float cannot hold is refused by name, never built as infinities.
+TEST(SceneFile, GeometryBeyondTheFloatRangeIsRefused) {
+    const std::string head = R"({"camera": {"eye": [0, 0, 100], "direction": [0, 1, 0]},)"
+                             R"( "sun": {"elevation_deg": 30, "azimuth_deg": 0}, )";
+    const auto field_of = [&](const std::string& rest) {
+        const auto parsed = scene_file_from_json(head + rest + "}");
+        return parsed ? std::string("accepted") : parsed.error().field;
+    };
+    EXPECT_EQ(field_of(R"("terrain": {"size": 1e300})"), "terrain");
+    EXPECT_EQ(field_of(R"("terrain": {"height_amplitude": 1e39})"), "terrain");
+    EXPECT_EQ(field_of(R"("terrain": {"texture_repeat": 1e-300})"), "terrain");
+    EXPECT_EQ(field_of(R"("boxes": [{"center": [0, 0, 0], "size": [1, 1, 1]},)"
+                       R"( {"center": [1e10, 0, 0], "size": [1, 1, 1]}])"),
+              "boxes[1]");
+    EXPECT_EQ(field_of(R"("terrain": {"size": 1e6, "height_amplitude": 1e4})"), "accepted");
+}
+
 }  // namespace

@@ -7,6 +7,7 @@
 #include <initializer_list>
 #include <iterator>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
@@ -344,6 +345,41 @@ std::optional<Error> read_box(const Json& j, const std::string& path, BoxSpec& b
     return std::nullopt;
 }
 
+/// The largest coordinate (scene units) or texture coordinate the geometry may reach: well inside
+/// a float's range, so every vertex the scene builds is finite.
+constexpr double kMaxCoordinate = 1e9;
+
+/// An error when geometry spanning `reach` (scene units, largest |coordinate|) with textures
+/// repeating every `repeat` units would leave the range the vertex arrays (floats) hold.
+std::optional<Error> check_reach(const std::string& field, double reach, double repeat) {
+    const std::string limit = "at most " + number(kMaxCoordinate);
+    if (!(reach <= kMaxCoordinate))
+        return invalid(field, "geometry whose coordinates are " + limit + " units", number(reach));
+    if (!(reach / repeat <= kMaxCoordinate)) {
+        return invalid(field, "texture coordinates (coordinate / texture_repeat) " + limit,
+                       number(reach / repeat));
+    }
+    return std::nullopt;
+}
+
+/// Every vertex of the scene's geometry within kMaxCoordinate (procedural heights are at most
+/// the terrain's amplitude above 0).
+std::optional<Error> check_geometry_reach(const SceneFile& s) {
+    const double repeat = s.terrain ? s.terrain->texture_repeat : TerrainSpec{}.texture_repeat;
+    if (s.terrain) {
+        const TerrainSpec& t = *s.terrain;
+        const double reach = std::max({std::abs(t.center.x) + 0.5 * t.size,
+                                       std::abs(t.center.y) + 0.5 * t.size, t.height_amplitude});
+        if (auto e = check_reach("terrain", reach, repeat)) return e;
+    }
+    for (std::size_t i = 0; i < s.boxes.size(); ++i) {
+        const glm::dvec3 reach = glm::abs(s.boxes[i].center) + 0.5 * s.boxes[i].size;
+        const std::string field = "boxes[" + std::to_string(i) + "]";
+        if (auto e = check_reach(field, std::max({reach.x, reach.y, reach.z}), repeat)) return e;
+    }
+    return std::nullopt;
+}
+
 std::optional<Error> read_scene(const Json& root, SceneFile& s) {
     if (!root.is_object()) return invalid("scene", "a JSON object", describe(root));
     const Object o(root, "");
@@ -397,6 +433,7 @@ std::optional<Error> read_scene(const Json& root, SceneFile& s) {
         return bad("terrain",
                    "the scene has no geometry: give "
                    "terrain or boxes");
+    if (auto e = check_geometry_reach(s)) return e;
     if (auto e = validate(s.view())) return aerial::detail::from(kFromJson, *e);
     return std::nullopt;
 }

@@ -361,8 +361,7 @@ int main(int argc, char** argv) {
         if (stats && !stats->error.empty())
             return fail("frame " + std::to_string(i) + ": " + stats->error, 1);
         const int refreshes = stats ? stats->recomputes : 0;
-        const double refresh_ms =
-            stats && stats->recomputed_last_frame ? stats->last_recompute_ms : 0.0;
+        const double refresh_ms = stats ? stats->last_refresh_ms : 0.0;
         if (!sky_stats->error.empty())
             return fail("frame " + std::to_string(i) + ": adaptive sky: " + sky_stats->error, 1);
         char row[704];
@@ -393,8 +392,7 @@ int main(int argc, char** argv) {
         kTool, frames, width, height, preset.c_str(), model_text.c_str(), backend_text.c_str(),
         no_policy ? "off" : "on", sample::sky_name(config.sky), tessellation_text.c_str(),
         date.c_str(), latitude_deg, longitude_deg, world.tiles, world.vertices, total_ms / frames,
-        total_shaded / frames, refreshes,
-        refreshes > 0 ? sky->stats->total_recompute_ms / refreshes : 0.0, api.caps.renderer.c_str(),
-        out.c_str());
+        total_shaded / frames, refreshes, sky->stats ? sky->stats->total_refresh_ms / frames : 0.0,
+        api.caps.renderer.c_str(), out.c_str());
     return 0;
 }

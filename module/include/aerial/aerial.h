@@ -380,11 +380,11 @@ aerial_status aerial_sky_shade_dome(const aerial_sky* sky, const aerial_position
  * -X, +Y, -Y, +Z, -Z, as glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + i) takes them, row t = 0
  * first), 4 bytes a texel in `format` (RGBA8 or BGRA8; ARGB32 is BGRA8 on little-endian
  * machines), face i at faces + i * size * size * 4. capacity_bytes >= 6 * size * size * 4.
- * The radiance is recomputed only when the sun turned by more than 0.05 degrees, the eye's
- * altitude moved by more than 10 m, or the atmosphere or size changed; *changed (may be NULL)
- * is 1 when the texels were recomputed or re-encoded (another display, format or size) since the
- * previous call (upload them then), else 0 (the same texels). Texels below the horizon repeat
- * the horizon. */
+ * The texels are rewritten only when a texel could have moved by half an 8-bit step since they
+ * were made (the sun, the eye's altitude, the exposure), or the atmosphere, tone curve, format or
+ * size changed (aerial::SkyCubemapCache with its default options; a recompute may be spread over
+ * a few calls); *changed (may be NULL) is 1 when the texels differ from the previous call's
+ * (upload them then), else 0 (the same texels). Texels below the horizon repeat the horizon. */
 aerial_status aerial_sky_cubemap(aerial_sky* sky, int size, aerial_colour_format format,
                                  const aerial_display* display, unsigned char* faces,
                                  size_t capacity_bytes, int* changed);

@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string_view>
 #include <vector>
 
@@ -156,37 +157,56 @@ std::array<std::vector<std::uint8_t>, 6> cubemap_to_rgba8(const SkyCubemap& cube
 glm::dvec3 sample_cubemap_rgba8(const std::array<std::vector<std::uint8_t>, 6>& faces, int size,
                                 const glm::dvec3& direction);
 
-/// Recomputes a cubemap only when it has to: when the sun turned by more than
-/// `max_sun_angle_rad`, the eye's altitude moved by more than `max_altitude_change_m`, the
-/// method or size changed, or any atmosphere field changed at all.
+/// Keeps a sky cubemap current for a moving eye, sun and exposure, doing only the work whose
+/// result could show (the sky's counterpart of ShadingCache):
+/// - the sky itself (SkyViewTable's few hundred directions, the costly part) is recomputed when
+///   a texel could have moved by `max_change_steps` 8-bit steps since the sky shown was made:
+///   a first-order bound from the sky's sensitivity to the sun's elevation and the eye's
+///   altitude, measured at probe directions when each sky is made. Any change of the atmosphere,
+///   the up axis or the display's tone curve recomputes it at once;
+/// - a recompute is spread over `spread_updates` updates while the shown sky stays within
+///   `max_lag_steps` of the current one, and shown whole when done (every texel at once: no
+///   seam between faces);
+/// - the texels are re-encoded from the sky shown when the sun's direction (the phase angle of
+///   each texel, its azimuth) or the exposure moved them by the same bound, or a new sky is
+///   shown.
 class SkyCubemapCache {
   public:
     struct Options {
-        int size = 64;
+        int size = 64;  ///< texels along a face, 1 .. 4096
         SkyMethod method = SkyMethod::height_chained;
-        /// 0.05 deg: the sky moves by at most one 8-bit step at the default exposure
-        /// (pinned by tests/core/test_sky.cpp).
-        double max_sun_angle_rad = 0.05 * 3.14159265358979323846 / 180.0;
-        double max_altitude_change_m = 10.0;
+        double max_change_steps = 0.5;  ///< >= 0; 0 recomputes whenever anything moved
+        int spread_updates = 4;         ///< >= 1; 1 recomputes within one update
+        double max_lag_steps = 2.0;     ///< >= max_change_steps
     };
-    SkyCubemapCache() = default;
-    explicit SkyCubemapCache(const Options& options) : options_(options) {}
+    /// What the cache did; the cost figures are those of the last update.
+    struct Stats {
+        int recomputes = 0;              ///< skies completed and shown
+        int encodes = 0;                 ///< times the RGBA8 texels were rewritten
+        int directions_last_update = 0;  ///< sky directions evaluated by the last update
+        double bound_steps = 0.0;        ///< how far the shown texels could be off (the bound)
+        double last_switch_steps = 0.0;  ///< largest texel change when the last sky was shown
+        bool building = false;           ///< a recompute is under way
+    };
+    SkyCubemapCache();
+    explicit SkyCubemapCache(const Options& options);
+    ~SkyCubemapCache();
+    SkyCubemapCache(SkyCubemapCache&&) noexcept;
+    SkyCubemapCache& operator=(SkyCubemapCache&&) noexcept;
 
-    /// Makes the cubemap current for this atmosphere and view; returns true when it recomputed.
-    Result<bool> update(const Atmosphere& atmosphere, const View& view);
-    /// The cubemap of the last recompute (empty before the first update).
-    const SkyCubemap& cubemap() const { return cubemap_; }
-    int recomputes() const { return recomputes_; }
+    /// Brings the texels up to date for this atmosphere, view and display; true when rgba8()
+    /// changed. Errors name the field (options included) and leave the cache as it was.
+    Result<bool> update(const Atmosphere& atmosphere, const View& view, const Display& display);
+    /// The linear radiance of the texels shown (empty before the first update).
+    const SkyCubemap& cubemap() const;
+    /// The texels shown after the display of the last update (GL's face order; alpha 255).
+    const std::array<std::vector<std::uint8_t>, 6>& rgba8() const;
+    const Stats& stats() const;
+    int recomputes() const { return stats().recomputes; }
 
   private:
-    Options options_;
-    SkyCubemap cubemap_;
-    bool valid_ = false;
-    Atmosphere atmosphere_;
-    glm::dvec3 sun_dir_{0.0};
-    glm::dvec3 up_{0.0};
-    double eye_altitude_m_ = 0;
-    int recomputes_ = 0;
+    struct State;
+    std::unique_ptr<State> state_;
 };
 
 // ---- Sun sprite ------------------------------------------------------------------------------

@@ -34,8 +34,7 @@ struct aerial_sky {
     /// The cubemap: its cache and what the last call encoded.
     std::optional<aerial::SkyCubemapCache> cubemap;
     int cubemap_size = 0;
-    int encoded_recomputes = -1;
-    aerial::Display encoded_display;
+    bool encoded = false;  ///< the caller has texels of this cubemap
     aerial::ColourFormat encoded_format = aerial::ColourFormat::rgba8;
     std::string last_error;
 };
@@ -345,22 +344,19 @@ aerial_status aerial_sky_cubemap(aerial_sky* sky, int size, aerial_colour_format
             options.method = capi::cubemap_method(sky->method, context.frame.model);
             sky->cubemap.emplace(options);
             sky->cubemap_size = size;
-            sky->encoded_recomputes = -1;
+            sky->encoded = false;
         }
-        capi::value_or_fail(sky->cubemap->update(context.atmosphere, context.view),
-                            AERIAL_ERROR_INVALID_VIEW);
-        const bool fresh = sky->cubemap->recomputes() != sky->encoded_recomputes ||
-                           sky->encoded_display.exposure != d.exposure ||
-                           sky->encoded_display.tone != d.tone || sky->encoded_format != f;
-        const auto texels = cubemap_to_rgba8(sky->cubemap->cubemap(), d.exposure, d.tone);
+        const bool recoded = capi::value_or_fail(
+            sky->cubemap->update(context.atmosphere, context.view, d), AERIAL_ERROR_INVALID_VIEW);
+        const bool fresh = recoded || sky->encoded_format != f || !sky->encoded;
+        const auto& texels = sky->cubemap->rgba8();
         for (int face = 0; face < 6; ++face) {
             const std::vector<std::uint8_t>& t = texels[std::size_t(face)];
             unsigned char* dst = faces + std::size_t(face) * face_bytes;
             for (std::size_t i = 0; i < face_bytes; i += 4)
                 store_colour(dst + i, f, t[i], t[i + 1], t[i + 2], t[i + 3]);
         }
-        sky->encoded_recomputes = sky->cubemap->recomputes();
-        sky->encoded_display = d;
+        sky->encoded = true;
         sky->encoded_format = f;
         if (changed) *changed = fresh ? 1 : 0;
     });

@@ -13,6 +13,7 @@
 #include "aerial/phase.hpp"
 #include "height_constants.hpp"
 #include "height_multiple_scattering.hpp"
+#include "height_parts.hpp"
 #include "math.hpp"
 
 namespace aerial {
@@ -225,8 +226,10 @@ Vec3<T> multiple_scattering_shape(const Frame<T>& f, T altitude_m, const Vec3<T>
     return detail::slice_shape(*f.multiple_scattering, altitude_m, mu_v, cos_azimuth);
 }
 
+}  // namespace
+
 template <class T>
-Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
+detail::HeightParts<T> detail::height_parts(const Frame<T>& f, const Vec3<T>& p_m) {
     const Vec3<T> d = p_m - f.eye_m;
     const T s = glm::length(d);
     const T cos_theta = s > T(0) ? glm::dot(d, f.sun_dir) / s : T(1);
@@ -248,7 +251,7 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
         std::exp(-h_low * f.inv_rayleigh_scale_height) * detail::one_minus_exp_over_x(x_r);
     const T rho_m = std::exp(-h_low * f.inv_mie_scale_height) * detail::one_minus_exp_over_x(x_m);
 
-    Scattering<T> out;
+    HeightParts<T> out;
     // Sun at the vertex, and the log Chapman factors at both ends of the segment.
     const T mu1 = sun_cos_zenith_at(f, p_m);
     const T lf_r1 =
@@ -352,21 +355,34 @@ Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
         }
     }
 
-    const T phase_r = rayleigh_phase(cos_theta);
-    const T phase_m = henyey_greenstein_phase(cos_theta, f.mie_g);
     const T ms_h = ms_weight > T(0) ? ms_altitude / ms_weight : h0;
     const Vec3<T> shape = ms ? multiple_scattering_shape(f, ms_h, d, s, cos_theta) : Vec3<T>(0);
     for (int c = 0; c < 3; ++c) {
         const T beta_ex = f.rayleigh_scattering[c] * rho_r + f.mie_extinction[c] * rho_m;
-        const T sunlit_scattering = f.rayleigh_scattering[c] * phase_r * sunlit[0][c] +
-                                    f.mie_scattering[c] * phase_m * sunlit[1][c];
-        const T multiple_scattering =
-            (f.rayleigh_scattering[c] * multiple[0][c] + f.mie_scattering[c] * multiple[1][c]) *
-            shape[c];
+        const T sun_s = f.sun_irradiance_top[c] * s;
         out.extinction[c] = std::exp(-beta_ex * s);
-        out.in_scattering[c] =
-            (sunlit_scattering * f.sun_irradiance_top[c] + multiple_scattering) * s;
+        out.rayleigh[c] = f.rayleigh_scattering[c] * sunlit[0][c] * sun_s;
+        out.mie[c] = f.mie_scattering[c] * sunlit[1][c] * sun_s;
+        out.multiple[c] =
+            (f.rayleigh_scattering[c] * multiple[0][c] + f.mie_scattering[c] * multiple[1][c]) *
+            shape[c] * s;
     }
+    return out;
+}
+
+namespace {
+
+template <class T>
+Scattering<T> height_model(const Frame<T>& f, const Vec3<T>& p_m) {
+    const detail::HeightParts<T> parts = detail::height_parts(f, p_m);
+    const Vec3<T> d = p_m - f.eye_m;
+    const T s = glm::length(d);
+    const T cos_theta = s > T(0) ? glm::dot(d, f.sun_dir) / s : T(1);
+    Scattering<T> out;
+    out.extinction = parts.extinction;
+    out.sun_irradiance = parts.sun_irradiance;
+    out.in_scattering =
+        parts.in_scattering(rayleigh_phase(cos_theta), henyey_greenstein_phase(cos_theta, f.mie_g));
     return out;
 }
 
@@ -502,7 +518,8 @@ Result<Scattering<double>> evaluate(const Atmosphere& atmosphere, const View& vi
     template Result<Frame<T>> prepare_frame<T>(const Atmosphere&, const View&, Model,              \
                                                const FrameOptions&);                               \
     template Frame<T> frame_with_eye<T>(const Frame<T>&, const glm::dvec3&);                       \
-    template Scattering<T> scatter<T>(const Frame<T>&, const Vec3<T>&);
+    template Scattering<T> scatter<T>(const Frame<T>&, const Vec3<T>&);                            \
+    template detail::HeightParts<T> detail::height_parts<T>(const Frame<T>&, const Vec3<T>&);
 AERIAL_INSTANTIATE(float)
 AERIAL_INSTANTIATE(double)
 #undef AERIAL_INSTANTIATE

@@ -15,6 +15,7 @@
 #include "../common/names.hpp"
 #include "aerial/phase.hpp"
 #include "sky_internal.hpp"
+#include "sky_view_table.hpp"
 
 namespace aerial {
 namespace {
@@ -317,24 +318,9 @@ Result<SkyCubemap> compute_sky_cubemap(const SkyContext& sky, int size) {
     if (size < 1 || size > 4096) {
         return invalid("compute_sky_cubemap", "size", "1 .. 4096", number(size));
     }
-    SkyCubemap out;
-    out.size = size;
-    for (int face = 0; face < 6; ++face) {
-        auto& texels = out.faces[std::size_t(face)];
-        texels.resize(std::size_t(size) * std::size_t(size));
-        for (int j = 0; j < size; ++j) {
-            for (int i = 0; i < size; ++i) {
-                dvec3 d = cubemap_texel_direction(face, i, j, size);
-                // Below the horizon the faces repeat the horizon (terrain covers them there;
-                // the much darker ray to the ground would bleed into the horizon when filtered).
-                const double along_up = glm::dot(d, sky.view.up);
-                if (along_up < 0) d = glm::normalize(d - sky.view.up * along_up);
-                texels[std::size_t(j) * std::size_t(size) + std::size_t(i)] =
-                    glm::vec3(sky_radiance(sky, d));
-            }
-        }
-    }
-    return out;
+    detail::SkyViewTable table(sky);
+    table.compute_rows(0, detail::SkyViewTable::kRows);
+    return detail::cubemap_from_table(table, size);
 }
 
 std::array<std::vector<std::uint8_t>, 6> cubemap_to_rgba8(const SkyCubemap& cubemap,
@@ -387,34 +373,6 @@ glm::dvec3 sample_cubemap_rgba8(const std::array<std::vector<std::uint8_t>, 6>& 
     const int i0 = int(fs), j0 = int(ft);
     return (texel(i0, j0) * (1 - ws) + texel(i0 + 1, j0) * ws) * (1 - wt) +
            (texel(i0, j0 + 1) * (1 - ws) + texel(i0 + 1, j0 + 1) * ws) * wt;
-}
-
-Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& view) {
-    constexpr const char* kFunction = "SkyCubemapCache::update";
-    if (auto e = validate(atmosphere)) return detail::from(kFunction, *e);
-    if (auto e = validate(view)) return detail::from(kFunction, *e);
-    const dvec3 sun = glm::normalize(view.sun_dir);
-    const dvec3 up = glm::normalize(view.up);
-    const double altitude = altitude_above_sphere(dvec3(view.eye * view.meters_per_unit), up,
-                                                  atmosphere.planet_radius_m);
-    if (valid_ && cubemap_.size == options_.size && atmosphere == atmosphere_ &&
-        std::acos(std::clamp(glm::dot(sun, sun_dir_), -1.0, 1.0)) <= options_.max_sun_angle_rad &&
-        glm::dot(up, up_) > 1.0 - 1e-12 &&
-        std::abs(altitude - eye_altitude_m_) <= options_.max_altitude_change_m) {
-        return false;
-    }
-    auto sky = prepare_sky(atmosphere, view, options_.method);
-    if (!sky) return detail::from(kFunction, sky.error());
-    auto cubemap = compute_sky_cubemap(*sky, options_.size);
-    if (!cubemap) return detail::from(kFunction, cubemap.error());
-    cubemap_ = std::move(cubemap).value();
-    atmosphere_ = atmosphere;
-    sun_dir_ = sun;
-    up_ = up;
-    eye_altitude_m_ = altitude;
-    valid_ = true;
-    ++recomputes_;
-    return true;
 }
 
 // ---- Sun sprite ------------------------------------------------------------------------------

@@ -19,9 +19,7 @@ struct CubemapSky {
     SkyCubemapCache cache;
     std::optional<gl::SkyCubemapTexture> sky_texture;
     std::optional<gl::SunSpriteTexture> sun_texture;
-    int sky_made_from = -1;  ///< cache.recomputes() the sky texels were encoded from
-    float sky_exposure = -1.0f;
-    ToneCurve sky_tone = ToneCurve::clamp;
+    bool updated_this_frame = false;  ///< by the sky drawer, for the sun drawer
     int sun_made_from = -1;
     float sun_exposure = -1.0f;
     ToneCurve sun_tone = ToneCurve::clamp;
@@ -38,14 +36,15 @@ struct CubemapSky {
         return view;
     }
 
-    /// Brings the cubemap up to date; false (and stats->error set) on failure.
-    bool update_cache(const SkyDrawContext& c) {
-        auto changed = cache.update(c.settings->atmosphere, view_of(c));
+    /// Brings the texels up to date; nullopt (and stats->error set) on failure, else whether
+    /// they changed.
+    std::optional<bool> update_cache(const SkyDrawContext& c) {
+        auto changed = cache.update(c.settings->atmosphere, view_of(c), c.settings->display);
         if (!changed) {
             stats->error = "sky cubemap: " + changed.error().message;
-            return false;
+            return std::nullopt;
         }
-        return true;
+        return *changed;
     }
 };
 
@@ -71,39 +70,36 @@ void draw_sky(CubemapSky& sky, const SkyDrawContext& c) {
     const auto start = std::chrono::steady_clock::now();
     CubemapSkyStats& stats = *sky.stats;
     const int before = sky.cache.recomputes();
-    if (!sky.update_cache(c)) return;
-    const bool recomputed = sky.cache.recomputes() != before;
-    stats.recomputed_last_frame = recomputed;
-    if (recomputed) ++stats.recomputes;
-    const Display& display = c.settings->display;
-    if (!sky.sky_texture || sky.sky_made_from != sky.cache.recomputes() ||
-        sky.sky_exposure != display.exposure || sky.sky_tone != display.tone) {
-        const SkyCubemap& cubemap = sky.cache.cubemap();
-        const auto faces = cubemap_to_rgba8(cubemap, display.exposure, display.tone);
+    const auto changed = sky.update_cache(c);
+    if (!changed) return;
+    sky.updated_this_frame = true;
+    const SkyCubemapCache::Stats& cache = sky.cache.stats();
+    stats.recomputed_last_frame = sky.cache.recomputes() != before;
+    stats.recomputes = sky.cache.recomputes();
+    stats.directions_last_frame = cache.directions_last_update;
+    stats.bound_steps = cache.bound_steps;
+    stats.last_switch_steps = cache.last_switch_steps;
+    if (!sky.sky_texture || *changed) {
+        const auto& faces = sky.cache.rgba8();
+        const int size = sky.cache.cubemap().size;
         if (sky.sky_texture) {
-            if (auto e = sky.sky_texture->update(faces, cubemap.size)) {
+            if (auto e = sky.sky_texture->update(faces, size)) {
                 stats.error = "sky cubemap: " + e->message;
                 return;
             }
         } else {
-            auto texture = gl::SkyCubemapTexture::create(*c.api, faces, cubemap.size);
+            auto texture = gl::SkyCubemapTexture::create(*c.api, faces, size);
             if (!texture) {
                 stats.error = "sky cubemap: " + texture.error().message;
                 return;
             }
             sky.sky_texture.emplace(std::move(texture.value()));
         }
-        sky.sky_made_from = sky.cache.recomputes();
-        sky.sky_exposure = display.exposure;
-        sky.sky_tone = display.tone;
         ++stats.uploads;
     }
-    if (recomputed) {
-        stats.last_recompute_ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-                .count();
-        stats.total_recompute_ms += stats.last_recompute_ms;
-    }
+    stats.last_refresh_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    stats.total_refresh_ms += stats.last_refresh_ms;
     if (auto e = gl::draw_sky_box(*c.api, *sky.sky_texture,
                                   gl::sky_box_view_from_current_matrices(*c.api))) {
         stats.error = "sky box: " + e->message;
@@ -112,7 +108,10 @@ void draw_sky(CubemapSky& sky, const SkyDrawContext& c) {
 
 void draw_sun(CubemapSky& sky, const SkyDrawContext& c) {
     CubemapSkyStats& stats = *sky.stats;
-    if (!sky.update_cache(c)) return;
+    // The sky drawer, called first each frame, brings the cache up to date; without a sky
+    // node in the scene the sun does.
+    if (!sky.updated_this_frame && !sky.update_cache(c)) return;
+    sky.updated_this_frame = false;
     const Display& display = c.settings->display;
     if (!sky.sun_texture || sky.sun_made_from != sky.cache.recomputes() ||
         sky.sun_exposure != display.exposure || sky.sun_tone != display.tone) {

@@ -13,7 +13,9 @@
 #include "aerial/headless.hpp"
 #include "aerial/scene_renderer.hpp"
 #include "aerial/scene_sky.hpp"
+#include "fog_compare.hpp"
 #include "support/cli.hpp"
+#include "support/png.hpp"
 #include "world.hpp"
 
 namespace {
@@ -30,6 +32,34 @@ struct Totals {
     double shading_ms = 0;
     double hp_nodes = 0, height_nodes = 0;
 };
+
+int run_flythrough(const aerial::gl::Api& api, const sample::World& world, aerial::Model model,
+                   aerial::scene::Backend backend, const std::string& sky, int width, int height,
+                   int frames, int rounds, const std::string& out) {
+    sample::GameConfig config;
+    config.model = model;
+    config.backend = backend;
+    config.readout = false;
+    config.sky = sky == "dome" ? sample::SkyKind::dome : sample::SkyKind::cubemap;
+    config.sun = sample::default_sun_schedule();
+    config.width = width;
+    config.height = height;
+    if (auto e = aerial::tools::make_parent_directories(out + "/fog_compare.csv"))
+        return fail("--out " + *e);
+    auto summary =
+        sample::run_fog_compare(api, world, config, frames, rounds, out + "/fog_compare.csv");
+    if (!summary) return fail("--flythrough: " + summary.error().message, 1);
+    std::printf(
+        "flythrough: frames=%d rounds=%d (means over the last %d, fastest round) world_km=%.0f "
+        "tiles=%zu aerial_ms=%.2f "
+        "fog_ms=%.2f ratio=%.3f still_aerial_ms=%.2f still_fog_ms=%.2f still_ratio=%.3f "
+        "sky=%s size=%dx%d renderer=\"%s\" -> %s/fog_compare.csv\n",
+        frames, rounds, summary->frames, world.options.size_m / 1000.0, world.tiles,
+        summary->aerial_ms, summary->fog_ms, summary->ratio(), summary->still_aerial_ms,
+        summary->still_fog_ms, summary->still_ratio(), sky.c_str(), width, height,
+        api.caps.renderer.c_str(), out.c_str());
+    return 0;
+}
 
 }  // namespace
 
@@ -50,9 +80,26 @@ int main(int argc, char** argv) {
     std::string sky_text = "dome";
     app.add_option("--sky", sky_text, "dome (the renderer's) or cubemap (install_cubemap_sky)")
         ->capture_default_str();
+    bool flythrough = false;
+    std::string out = "build/out/fog-compare";
+    double world_km = sample::WorldOptions{}.size_m / 1000.0;
+    app.add_flag(
+        "--flythrough", flythrough,
+        "Instead of the scenarios: the sample's scripted flythrough (its defaults: cubemap "
+        "sky, update policy) against the same flight with GL fog only, frame by frame, "
+        "each frame also repeated with nothing moved; writes OUT/fog_compare.csv");
+    int rounds = 3;
+    app.add_option("--rounds", rounds, "--flythrough: flights, 1..100 (each frame's fastest kept)")
+        ->capture_default_str();
+    app.add_option("--out", out, "--flythrough: directory of fog_compare.csv")
+        ->capture_default_str();
+    app.add_option("--world-size", world_km, "Side of the terrain square in km, 1..128")
+        ->capture_default_str();
     if (auto exit_code = aerial::tools::parse_command_line(app, argc, argv, kTool)) {
         return *exit_code;
     }
+    if (!(world_km >= 1.0 && world_km <= 128.0)) return fail("--world-size: expected 1..128 km");
+    if (rounds < 1 || rounds > 100) return fail("--rounds: expected 1..100");
     if (frames < 2 || frames > 10000) return fail("--frames: expected 2..10000");
     if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 16 || height < 16 ||
         width > 4096 || height > 4096) {
@@ -68,10 +115,17 @@ int main(int argc, char** argv) {
     if (sky_text != "dome" && sky_text != "cubemap") {
         return fail("--sky: '" + sky_text + "' is unknown (expected dome or cubemap)");
     }
-    const sample::World world = sample::build_world({});
+    sample::WorldOptions world_options;
+    world_options.size_m = world_km * 1000.0;
+    const sample::World world = sample::build_world(world_options);
     auto context = aerial::headless::Context::create({*gl_backend, width, height});
     if (!context) return fail("--gl: " + context.error().message, 1);
     const aerial::gl::Api& api = context->api();
+    if (flythrough) {
+        return run_flythrough(api, world, *model, *backend,
+                              app.count("--sky") > 0 ? sky_text : "cubemap", width, height, frames,
+                              rounds, out);
+    }
 
     const sample::FlightState start = sample::flight_at(world, 0.1, sample::default_sun_schedule());
     struct Scenario {

@@ -180,6 +180,10 @@ int main(int argc, char** argv) {
     app.add_option("--tile-resolution", tile_resolution,
                    "Vertices along a terrain tile's side, 2..65 (fewer: a cheaper world)")
         ->capture_default_str();
+    double world_km = sample::WorldOptions{}.size_m / 1000.0;
+    app.add_option("--world-size", world_km,
+                   "Side of the terrain square in km, 1..128 (the flight path scales with it)")
+        ->capture_default_str();
     app.add_option("--cube-size", cube_size,
                    "Texels along a face of the cubemap sky, 1..512 (fewer: a cheaper refresh)")
         ->capture_default_str();
@@ -262,6 +266,9 @@ int main(int argc, char** argv) {
     if (cube_size < 1 || cube_size > 512) {
         return fail("--cube-size: expected 1..512, got " + std::to_string(cube_size));
     }
+    if (!(world_km >= 1.0 && world_km <= 128.0)) {
+        return fail("--world-size: expected 1..128 km, got " + std::to_string(world_km));
+    }
     if (tile_resolution < 2 || tile_resolution > 65) {
         return fail("--tile-resolution: expected 2..65, got " + std::to_string(tile_resolution));
     }
@@ -272,6 +279,7 @@ int main(int argc, char** argv) {
     sample::WorldOptions world_options;
     world_options.seed = seed;
     world_options.tile_resolution = tile_resolution;
+    world_options.size_m = world_km * 1000.0;
     const sample::World world = sample::build_world(world_options);
     sample::GameConfig config;
     config.preset = preset;
@@ -335,7 +343,7 @@ int main(int argc, char** argv) {
     csv << "frame,t,utc,solar_time,sun_elevation_deg,sun_azimuth_deg,fog,exposure,"
            "vertices_shaded,vertices_drawn,cache_hits,culled,skipped,nodes_hoffman_preetham,"
            "nodes_height,nodes_reference,method,shading_ms,ms,sky,sky_refreshes,sky_refresh_ms,"
-           "tessellation,sky_vertices\n";
+           "tessellation,sky_vertices,sky_directions,sky_bound_steps\n";
 
     std::vector<aerial::tools::Rgb8Image> thumbnails;
     const int factor = std::max(1, width / kThumbnailWidth);
@@ -368,7 +376,7 @@ int main(int argc, char** argv) {
         std::snprintf(
             row, sizeof row,
             "%d,%.4f,%s,%s,%.2f,%.2f,%d,%.3f,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%s,%.3f,%.3f,%s,%d,"
-            "%.2f,%s,%zu\n",
+            "%.2f,%s,%zu,%d,%.2f\n",
             i, t, sample::clock_text(std::fmod(state.utc_min / 60.0 + 24.0, 24.0)).c_str(),
             sample::clock_text(state.clock_hours).c_str(), sun_deg, state.sun_azimuth_rad / kDegree,
             state.fog ? 1 : 0, double(outcome->settings.display.exposure), report.vertices_shaded,
@@ -376,7 +384,8 @@ int main(int argc, char** argv) {
             report.shaded_hoffman_preetham, report.shaded_height, report.shaded_reference,
             report.main_method().c_str(), report.shading_milliseconds, ms,
             sample::sky_name(config.sky), refreshes, refresh_ms, tessellation_text.c_str(),
-            adaptive_sky ? sky_stats->vertices : std::size_t(0));
+            adaptive_sky ? sky_stats->vertices : std::size_t(0),
+            stats ? stats->directions_last_frame : 0, stats ? stats->bound_steps : 0.0);
         csv << row;
     }
     if (auto e = aerial::tools::write_png(out + "/contact_sheet.png", contact_sheet(thumbnails))) {

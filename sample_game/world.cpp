@@ -205,16 +205,18 @@ double ground_height(const World& world, double x, double y) {
 FlightState flight_at(const World& world, double t, const SunSchedule& schedule) {
     t = std::clamp(t, 0.0, 1.0);
     FlightState s;
-    // North from the south edge, weaving, turning west in the second half.
+    // North from the south edge, weaving, turning west in the second half; the path scales with
+    // the world (12 km over the default 16 km).
+    const double scale = world.options.size_m / WorldOptions{}.size_m;
     const double heading = -0.7 * smoothstep(0.35, 1.0, t);
     s.heading_rad = heading + 0.15 * std::sin(6.0 * t);
-    double x = 0.0, y = -6500.0;
+    double x = 0.0, y = -6500.0 * scale;
     const int steps = 200;
-    for (int i = 0; i < steps; ++i) {  // integrate the heading along 12 km
+    for (int i = 0; i < steps; ++i) {  // integrate the heading along the path
         const double u = t * (i + 0.5) / steps;
         const double h = -0.7 * smoothstep(0.35, 1.0, u) + 0.15 * std::sin(6.0 * u);
-        x += std::sin(h) * 12000.0 * t / steps;
-        y += std::cos(h) * 12000.0 * t / steps;
+        x += std::sin(h) * 12000.0 * scale * t / steps;
+        y += std::cos(h) * 12000.0 * scale * t / steps;
     }
     s.x = x;
     s.y = y;

@@ -86,9 +86,9 @@ struct FlightState {
 /// from aerial::sun_position, the local apparent solar time from the equation of time.
 void place_sun(FlightState& state, const SunSchedule& schedule, double day);
 
-/// The scripted flythrough at t in [0, 1]: 12 km northwards turning west, 250 m above the
-/// ground; the sun from solar noon to just after sunset (place_sun with day = t); fog for
-/// 0.4 < t < 0.6.
+/// The scripted flythrough at t in [0, 1]: 12 km northwards turning west (over the default
+/// 16 km world; the path scales with WorldOptions::size_m), 250 m above the ground; the sun from
+/// solar noon to just after sunset (place_sun with day = t); fog for 0.4 < t < 0.6.
 FlightState flight_at(const World& world, double t, const SunSchedule& schedule);
 
 aerial::scene::Camera camera_for(const World& world, const FlightState& state, double aspect);

@@ -12,6 +12,9 @@
 
 namespace {
 
+/// The renderer's memo of validated meshes, shared by the tests (each has its own meshes).
+aerial::scene::detail::ValidatedMeshes validated_;
+
 using aerial::Model;
 using aerial::scene::Backend;
 using aerial::scene::Method;
@@ -52,7 +55,8 @@ struct Planner {
     NodeState state;
 
     aerial::scene::detail::NodePlan plan(const aerial::scene::Node& node) {
-        auto inputs = aerial::scene::detail::prepare_frame_inputs(node, camera, settings, backend);
+        auto inputs = aerial::scene::detail::prepare_frame_inputs(node, camera, settings, backend,
+                                                                  validated_);
         EXPECT_TRUE(inputs.ok()) << (inputs.ok() ? "" : inputs.error().message);
         FrameInputs frame = std::move(inputs).value();
         frame.ambient = settings.ambient;
@@ -112,18 +116,41 @@ TEST(FramePlan, InputsTheBackendCannotDrawAreErrorsNamingTheField) {
     const auto node = aerial::scene::make_mesh("m", square(100.0, 10.0));
     const aerial::scene::Camera camera;
     auto reference = settings_for(Model::reference, true, 2.0);
-    auto e = aerial::scene::detail::prepare_frame_inputs(*node, camera, reference, Backend::arb);
+    auto e = aerial::scene::detail::prepare_frame_inputs(*node, camera, reference, Backend::arb,
+                                                         validated_);
     ASSERT_FALSE(e.ok());
     EXPECT_EQ(e.error().field, "model");
     auto dark = settings_for(Model::height, true, 2.0);
     dark.display.exposure = 0.0f;
-    e = aerial::scene::detail::prepare_frame_inputs(*node, camera, dark, Backend::cpu);
+    e = aerial::scene::detail::prepare_frame_inputs(*node, camera, dark, Backend::cpu, validated_);
     ASSERT_FALSE(e.ok());
     EXPECT_EQ(e.error().field, "display.exposure");
     auto negative = settings_for(Model::height, true, -1.0);
-    e = aerial::scene::detail::prepare_frame_inputs(*node, camera, negative, Backend::cpu);
+    e = aerial::scene::detail::prepare_frame_inputs(*node, camera, negative, Backend::cpu,
+                                                    validated_);
     ASSERT_FALSE(e.ok());
     EXPECT_EQ(e.error().field, "error_target_lsb");
+}
+
+}  // namespace
+
+namespace {
+
+// A mesh is checked when first seen and again when any of its arrays moved or changed size: a
+// valid mesh grown by a NaN vertex is caught, the unchanged one is not checked again.
+TEST(ValidatedMeshes, AMeshIsCheckedOnceAndAgainWhenItsArraysChange) {
+    aerial::scene::detail::ValidatedMeshes memo;
+    auto mesh = square(500.0, 100.0);
+    auto node = aerial::scene::make_mesh("square", mesh);
+    EXPECT_FALSE(aerial::scene::detail::validate(*node, memo));
+    EXPECT_TRUE(memo.contains(*mesh));
+    mesh->positions.insert(mesh->positions.end(), {0.0f, 0.0f, std::nanf("")});
+    mesh->normals.insert(mesh->normals.end(), {0.0f, 0.0f, 1.0f});
+    EXPECT_FALSE(memo.contains(*mesh));
+    const auto e = aerial::scene::detail::validate(*node, memo);
+    ASSERT_TRUE(e);
+    EXPECT_NE(e->message.find("positions"), std::string::npos) << e->message;
+    EXPECT_FALSE(memo.contains(*mesh)) << "an invalid mesh is checked every frame";
 }
 
 }  // namespace

@@ -142,6 +142,7 @@ std::size_t shade_range_rgba8(const Plan& plan, std::size_t first, std::size_t l
                                                   : detail::KernelPrecision::accurate;
     detail::Rgba8Job job;
     job.exposure = plan.settings.display.exposure;
+    job.exponential_tone = plan.settings.display.tone == ToneCurve::exponential;
     job.extinction_stride = plan.extinction_rgba8_stride;
     job.lit_stride = plan.lit_rgba8_stride;
     job.in_scattering_stride = plan.in_scattering_rgba8_stride;
@@ -373,8 +374,7 @@ Result<BatchStats> shade_into(const Frame<float>& frame, const Positions& positi
     const bool one_pass_rgba8 =
         (frame.model == Model::hoffman_preetham || frame.model == Model::height) &&
         settings.kernel != Kernel::scalar && !out.extinction_rgb && !out.in_scattering_rgb &&
-        !out.sun_irradiance_rgb &&
-        ((!out.in_scattering_rgba8 && !out.lit_rgba8) || settings.display.tone == ToneCurve::clamp);
+        !out.sun_irradiance_rgb;
     const Plan plan{frame,
                     positions,
                     out,

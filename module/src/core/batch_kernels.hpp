@@ -69,6 +69,7 @@ struct Rgba8Job {
     std::uint8_t* in_scattering = nullptr;  ///< codes of L_in * exposure, or null
     std::size_t in_scattering_stride = 4;
     float exposure = 1.0f;
+    bool exponential_tone = false;  ///< ToneCurve::exponential for L_in and lit, else clamp
 };
 
 /// Shades job.count vertices of the hoffman-preetham or height frame `frame` into the job's

@@ -79,7 +79,8 @@ std::size_t ShadeRgba8For(const FrameConstants& k, Model model, const Rgba8Job& 
         if (!in_scattering) {
             return ShadeRgba8HoffmanPreetham<M, true, false, M::kInterleave>(k, job);
         }
-        if (!FoldedInScattering(k, job.exposure)) {
+        // The folded kernel's exposure is the clamp's.
+        if (job.exponential_tone || !FoldedInScattering(k, job.exposure)) {
             return ShadeRgba8<M, HoffmanPreethamShader<M, true, false>, true, false>(k, job);
         }
         return job.extinction ? ShadeRgba8HoffmanPreetham<M, true, true, M::kInterleave>(k, job)

@@ -192,24 +192,36 @@ std::shared_ptr<const MultipleScatteringSlice> multiple_scattering_slice(
     const glm::dvec3 beta = atmosphere.rayleigh_scattering + atmosphere.mie_scattering;
     if (std::max({beta.x, beta.y, beta.z}) <= 0.0) return nullptr;
     const auto table = multiple_scattering_table(atmosphere, height_table_settings());
-    // The last slice: evaluate() and the tests prepare one frame per vertex for the same eye.
+    // The last few slices: evaluate() and the tests prepare one frame per vertex for the same
+    // eye, and a frame of the scene renderer prepares several (its models, the sky and its
+    // probes, the sun sprite) for two or three suns.
+    struct Entry {
+        std::shared_ptr<const MultipleScatteringTable> table;  // keeps the key's address unique
+        SliceKey key;
+        std::shared_ptr<const MultipleScatteringSlice> slice;
+    };
+    constexpr std::size_t kKept = 4;
     static std::mutex mutex;
-    static std::shared_ptr<const MultipleScatteringTable> last_table;
-    static SliceKey last_key{};
-    static std::shared_ptr<const MultipleScatteringSlice> last_slice;
+    static std::vector<Entry> kept;  // most recent last
     const SliceKey key{
         table.get(),
         {atmosphere.sun_irradiance.x, atmosphere.sun_irradiance.y, atmosphere.sun_irradiance.z},
         eye_cos_sun_zenith};
     {
         std::lock_guard<std::mutex> lock(mutex);
-        if (last_slice && last_key == key) return last_slice;
+        for (std::size_t i = 0; i < kept.size(); ++i) {
+            if (kept[i].key == key) {
+                Entry hit = kept[i];
+                kept.erase(kept.begin() + std::ptrdiff_t(i));
+                kept.push_back(hit);
+                return hit.slice;
+            }
+        }
     }
     auto slice = cut_slice(atmosphere, table, eye_cos_sun_zenith);
     std::lock_guard<std::mutex> lock(mutex);
-    last_table = table;  // keeps the key's table alive, so its address stays unique
-    last_key = key;
-    last_slice = slice;
+    if (kept.size() == kKept) kept.erase(kept.begin());
+    kept.push_back({table, key, slice});
     return slice;
 }
 

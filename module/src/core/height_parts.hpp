@@ -29,4 +29,9 @@ struct HeightParts {
 template <class T>
 HeightParts<T> height_parts(const Frame<T>& frame, const glm::vec<3, T>& p_m);
 
+/// frame_with_eye in place: the frame's eye moved to eye_m (metres), nothing copied (the sky's
+/// chained segments move one frame along the ray).
+template <class T>
+void move_frame_eye(Frame<T>& frame, const glm::dvec3& eye_m);
+
 }  // namespace aerial::detail

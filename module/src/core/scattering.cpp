@@ -471,6 +471,11 @@ Frame<T> frame_with_eye(const Frame<T>& base, const glm::dvec3& eye_m) {
 }
 
 template <class T>
+void detail::move_frame_eye(Frame<T>& frame, const glm::dvec3& eye_m) {
+    set_frame_eye(frame, eye_m, frame.model == Model::hoffman_preetham);
+}
+
+template <class T>
 Scattering<T> scatter(const Frame<T>& f, const Vec3<T>& vertex) {
     const Vec3<T> p_m = vertex * f.meters_per_unit;
     const T distance = glm::length(p_m - f.eye_m);
@@ -519,7 +524,8 @@ Result<Scattering<double>> evaluate(const Atmosphere& atmosphere, const View& vi
                                                const FrameOptions&);                               \
     template Frame<T> frame_with_eye<T>(const Frame<T>&, const glm::dvec3&);                       \
     template Scattering<T> scatter<T>(const Frame<T>&, const Vec3<T>&);                            \
-    template detail::HeightParts<T> detail::height_parts<T>(const Frame<T>&, const Vec3<T>&);
+    template detail::HeightParts<T> detail::height_parts<T>(const Frame<T>&, const Vec3<T>&);      \
+    template void detail::move_frame_eye<T>(Frame<T>&, const glm::dvec3&);
 AERIAL_INSTANTIATE(float)
 AERIAL_INSTANTIATE(double)
 #undef AERIAL_INSTANTIATE

@@ -94,9 +94,10 @@ HWY_INLINE void StoreWords(hn::Vec<DI> words, std::uint8_t* out, std::size_t str
 /// when job.packed_xyz, else three arrays), F_ex, the lit colour (kLit) and L_in (kInScattering)
 /// computed in registers by the Shader and stored as codes, no float arrays in between; the last,
 /// partial step goes through zero-padded copies. `exposure` multiplies L_in and the lit colour
-/// before the clamp (ToneCurve::clamp). The codes are those of the float path (the block kernels,
-/// then batch.cpp's lit colour and the 8-bit rule), bit for bit: the same operations in the same
-/// order, no fused multiply-adds where batch.cpp has none.
+/// before the tone curve. With ToneCurve::clamp the codes are those of the float path (the block
+/// kernels, then batch.cpp's lit colour and the 8-bit rule), bit for bit: the same operations in
+/// the same order, no fused multiply-adds where batch.cpp has none; the exponential curve is
+/// Highway's expm1 where the float path calls std::exp, which moves a code by one now and then.
 template <class M, class Shader, bool kInScattering, bool kLit>
 std::size_t ShadeRgba8(const FrameConstants& constants, const Rgba8Job& work) {
     // Local copies: the byte stores below cannot alias them, so the constants stay in registers.
@@ -109,6 +110,13 @@ std::size_t ShadeRgba8(const FrameConstants& constants, const Rgba8Job& work) {
     const std::size_t lanes = hn::Lanes(d);
     const std::size_t step = kN * lanes;
     const VF exposure = K(job.exposure);
+    // The tone curve of an exposed value: clamp (the 8-bit rule clamps) or 1 - exp(-v) for
+    // v > 0 and 0 otherwise (NaN included), as display_value.
+    auto tone = [&](VF v) {
+        if (!job.exponential_tone) return v;
+        const VF positive = hn::Max(v, zero);  // Max first: 0 for NaN
+        return hn::Neg(M::Expm1Far(hn::Neg(positive)));
+    };
     // Codes of vector j of a step, n lanes of it stored from vertex `first`.
     auto store = [&](const VF(&extinction)[3], const VF(&in_scattering)[3], const VF(&sun)[3],
                      std::size_t first, std::size_t n) {
@@ -141,16 +149,16 @@ std::size_t ShadeRgba8(const FrameConstants& constants, const Rgba8Job& work) {
                 // aerial::lit_value, in the same order.
                 const VF lit = hn::Mul(hn::Mul(extinction[c], K(job.albedo[c])),
                                        hn::Add(hn::Mul(sun[c], n_dot_l), K(job.ambient[c])));
-                code[c] = Unorm8(hn::Mul(lit, exposure));
+                code[c] = Unorm8(tone(hn::Mul(lit, exposure)));
             }
             StoreWords(PackWords(code[0], code[1], code[2]), job.lit + first * job.lit_stride,
                        job.lit_stride, n);
         }
         if constexpr (kInScattering) {
             constexpr bool kPositive = Shader::kInScatteringNonNegative;
-            StoreWords(PackWords(Unorm8<kPositive>(hn::Mul(in_scattering[0], exposure)),
-                                 Unorm8<kPositive>(hn::Mul(in_scattering[1], exposure)),
-                                 Unorm8<kPositive>(hn::Mul(in_scattering[2], exposure))),
+            StoreWords(PackWords(Unorm8<kPositive>(tone(hn::Mul(in_scattering[0], exposure))),
+                                 Unorm8<kPositive>(tone(hn::Mul(in_scattering[1], exposure))),
+                                 Unorm8<kPositive>(tone(hn::Mul(in_scattering[2], exposure)))),
                        job.in_scattering + first * job.in_scattering_stride,
                        job.in_scattering_stride, n);
         }

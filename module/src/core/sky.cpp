@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <utility>
@@ -377,6 +379,70 @@ glm::dvec3 sample_cubemap_rgba8(const std::array<std::vector<std::uint8_t>, 6>& 
 
 // ---- Sun sprite ------------------------------------------------------------------------------
 
+namespace {
+
+/// What a sun sprite's texels take from its geometry alone, over the texel's subsamples: the
+/// mean halo phase max(0, P_HG(theta, halo_g) - P_HG(theta, g)) and the share of the disc.
+struct SpriteGeometry {
+    SunSpriteOptions options;
+    double mie_g = 0;
+    std::vector<double> halo, disc;  ///< by texel, row j = 0 first
+};
+
+SpriteGeometry compute_sprite_geometry(const SunSpriteOptions& o, double mie_g) {
+    SpriteGeometry g{o, mie_g, {}, {}};
+    const double tan_half = std::tan(o.half_width_rad);
+    const double cos_radius = std::cos(o.sun_radius_rad);
+    const int ss = o.disc_supersampling;
+    for (int j = 0; j < o.size; ++j) {
+        for (int i = 0; i < o.size; ++i) {
+            // The sprite is a square on the plane one unit towards the sun: texel (i, j) looks
+            // along (1, x, y) in the sprite's frame.
+            double halo = 0, cover = 0;
+            for (int sj = 0; sj < ss; ++sj) {
+                for (int si = 0; si < ss; ++si) {
+                    const double x = (2.0 * (i + (si + 0.5) / ss) / o.size - 1.0) * tan_half;
+                    const double y = (2.0 * (j + (sj + 0.5) / ss) / o.size - 1.0) * tan_half;
+                    const double cos_theta = 1.0 / std::sqrt(1.0 + x * x + y * y);
+                    if (cos_theta >= cos_radius) cover += 1.0;
+                    halo += std::max(henyey_greenstein_phase(cos_theta, o.halo_g) -
+                                         henyey_greenstein_phase(cos_theta, mie_g),
+                                     0.0);
+                }
+            }
+            g.halo.push_back(halo / double(ss * ss));
+            g.disc.push_back(cover / double(ss * ss));
+        }
+    }
+    return g;
+}
+
+/// The geometry of the last few sprites (a renderer remakes its sprite as the sun moves, with
+/// the same options).
+std::shared_ptr<const SpriteGeometry> sprite_geometry(const SunSpriteOptions& o, double mie_g) {
+    static std::mutex mutex;
+    static std::vector<std::shared_ptr<const SpriteGeometry>> kept;  // most recent last
+    const auto same = [&](const SpriteGeometry& g) {
+        const SunSpriteOptions& k = g.options;
+        return k.size == o.size && k.half_width_rad == o.half_width_rad &&
+               k.sun_radius_rad == o.sun_radius_rad && k.halo_g == o.halo_g &&
+               k.disc_supersampling == o.disc_supersampling && g.mie_g == mie_g;
+    };
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        for (const auto& g : kept) {
+            if (same(*g)) return g;
+        }
+    }
+    auto g = std::make_shared<const SpriteGeometry>(compute_sprite_geometry(o, mie_g));
+    std::lock_guard<std::mutex> lock(mutex);
+    if (kept.size() == 4) kept.erase(kept.begin());
+    kept.push_back(g);
+    return g;
+}
+
+}  // namespace
+
 Result<SunSprite> make_sun_sprite(const SkyContext& sky, double exposure, ToneCurve curve,
                                   const SunSpriteOptions& o) {
     constexpr const char* kFunction = "make_sun_sprite";
@@ -420,33 +486,15 @@ Result<SunSprite> make_sun_sprite(const SkyContext& sky, double exposure, ToneCu
     sprite.size = o.size;
     sprite.half_width_rad = o.half_width_rad;
     sprite.rgba.resize(std::size_t(o.size) * std::size_t(o.size) * 4);
-    const double tan_half = std::tan(o.half_width_rad);
-    const int ss = o.disc_supersampling;
-    for (int j = 0; j < o.size; ++j) {
-        for (int i = 0; i < o.size; ++i) {
-            // The sprite is a square on the plane one unit towards the sun: texel (i, j) looks
-            // along (1, x, y) in the sprite's frame.
-            dvec3 radiance(0.0);
-            double disc_cover = 0;
-            for (int sj = 0; sj < ss; ++sj) {
-                for (int si = 0; si < ss; ++si) {
-                    const double x = (2.0 * (i + (si + 0.5) / ss) / o.size - 1.0) * tan_half;
-                    const double y = (2.0 * (j + (sj + 0.5) / ss) / o.size - 1.0) * tan_half;
-                    const double cos_theta = 1.0 / std::sqrt(1.0 + x * x + y * y);
-                    if (cos_theta >= std::cos(o.sun_radius_rad)) disc_cover += 1.0;
-                    const double extra = henyey_greenstein_phase(cos_theta, o.halo_g) -
-                                         henyey_greenstein_phase(cos_theta, a.mie_g);
-                    radiance += e_sun * tau_mie * std::max(extra, 0.0);
-                }
-            }
-            radiance = radiance / double(ss * ss) + disc_radiance * (disc_cover / (ss * ss));
-            const dvec3 v = quantised(display_8bit(radiance, exposure, curve));
-            const std::size_t k = (std::size_t(j) * std::size_t(o.size) + std::size_t(i)) * 4;
-            sprite.rgba[k] = std::uint8_t(v.x);
-            sprite.rgba[k + 1] = std::uint8_t(v.y);
-            sprite.rgba[k + 2] = std::uint8_t(v.z);
-            sprite.rgba[k + 3] = std::uint8_t(std::max({v.x, v.y, v.z}));
-        }
+    const auto geometry = sprite_geometry(o, a.mie_g);
+    for (std::size_t t = 0; t < geometry->halo.size(); ++t) {
+        const dvec3 radiance =
+            e_sun * tau_mie * geometry->halo[t] + disc_radiance * geometry->disc[t];
+        const dvec3 v = quantised(display_8bit(radiance, exposure, curve));
+        sprite.rgba[4 * t] = std::uint8_t(v.x);
+        sprite.rgba[4 * t + 1] = std::uint8_t(v.y);
+        sprite.rgba[4 * t + 2] = std::uint8_t(v.z);
+        sprite.rgba[4 * t + 3] = std::uint8_t(std::max({v.x, v.y, v.z}));
     }
     return sprite;
 }

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <thread>
 #include <utility>
 
 #include <glm/geometric.hpp>
@@ -11,6 +12,7 @@
 #include "aerial/sky.hpp"
 #include "sky_internal.hpp"
 #include "sky_view_table.hpp"
+#include "worker_pool.hpp"
 
 namespace aerial {
 namespace {
@@ -22,8 +24,8 @@ constexpr const char* kUpdate = "SkyCubemapCache::update";
 /// The probes' steps: the sun raised by 0.2 degrees, the eye by 25 m.
 constexpr double kSunStepRad = 0.2 * kPi / 180.0;
 constexpr double kAltitudeStepM = 25.0;
-/// Probe directions: every 4th row and 5th column of the table's nodes.
-constexpr int kProbeRowStride = 4;
+/// Probe directions: every 8th row and 5th column of the table's nodes.
+constexpr int kProbeRowStride = 8;
 constexpr int kProbeColumnStride = 5;
 /// The up axis counts as unchanged within this (1 - cos of the angle).
 constexpr double kUpTolerance = 1e-12;
@@ -95,19 +97,20 @@ struct SkyCubemapCache::State {
     SkyCubemap cubemap;
     std::array<std::vector<std::uint8_t>, 6> rgba8;
 
-    /// How far texels made at `from` could be from the sky at `to` (steps at display d).
-    double bound(const Sky& sky, const ViewState& from, const ViewState& to,
-                 const Display& d) const;
+    /// How far texels made at `from` could be from the sky at `to` (steps at display d); with
+    /// `with_turn` false without the sun's turn about up (which turns the sky, not its table).
+    double bound(const Sky& sky, const ViewState& from, const ViewState& to, const Display& d,
+                 bool with_turn = true) const;
     void finish(Sky& sky);
     void encode(const dvec3& sun, const ViewState& now, const Display& d, bool switched);
 };
 
 double SkyCubemapCache::State::bound(const Sky& sky, const ViewState& from, const ViewState& to,
-                                     const Display& d) const {
+                                     const Display& d, bool with_turn) const {
     const double rise = std::abs(to.sun_elevation_rad - from.sun_elevation_rad);
     const double climb = std::abs(to.altitude_m - from.altitude_m);
     double turn = std::abs(to.sun_azimuth_rad - from.sun_azimuth_rad);
-    turn = std::min(turn, 2.0 * kPi - turn);
+    turn = with_turn ? std::min(turn, 2.0 * kPi - turn) : 0.0;
     double most = 0.0;
     for (const Probe& p : sky.probes)
         most = std::max(most, steps(p.radiance, rise * p.per_rad + climb * p.per_m, d));
@@ -120,18 +123,24 @@ void SkyCubemapCache::State::finish(Sky& sky) {
     const SkyContext& base = sky.table.sky();
     auto raised = perturbed(base, kSunStepRad, 0.0);
     auto climbed = perturbed(base, 0.0, kAltitudeStepM);
-    sky.probes.clear();
+    std::vector<dvec3> directions;
     for (int row = 0; row < SkyViewTable::kRows; row += kProbeRowStride) {
-        for (int column = 0; column < SkyViewTable::kColumns; column += kProbeColumnStride) {
-            const dvec3 d = sky.table.node_direction(row, column);
-            Probe p;
+        for (int column = 0; column < SkyViewTable::kColumns; column += kProbeColumnStride)
+            directions.push_back(sky.table.node_direction(row, column));
+    }
+    sky.probes.assign(directions.size(), Probe{});
+    const auto task = [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) {
+            const dvec3& d = directions[i];
+            Probe& p = sky.probes[i];
             p.radiance = sky_radiance(base, d);
             if (raised) p.per_rad = (sky_radiance(*raised, d) - p.radiance) / kSunStepRad;
             if (climbed) p.per_m = (sky_radiance(*climbed, d) - p.radiance) / kAltitudeStepM;
-            sky.probes.push_back(p);
-            stats.directions_last_update += 3;
         }
-    }
+    };
+    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    detail::WorkerPool::instance().run(threads, directions.size(), 4, task);
+    stats.directions_last_update += 3 * int(directions.size());
     constexpr int kRows = SkyViewTable::kRows, kColumns = SkyViewTable::kColumns;
     constexpr double kColumnRad = kPi / (kColumns - 1);
     sky.node_radiance.assign(std::size_t(kRows * kColumns), dvec3(0.0));
@@ -253,15 +262,15 @@ Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& v
         return std::nullopt;
     };
     // How far the shown texels could be from this view, and whether to catch up at once.
-    const double behind = reset ? 0.0 : s.bound(*s.shown, s.shown->state, now, display);
+    const double behind = reset ? 0.0 : s.bound(*s.shown, s.shown->state, now, display, false);
     bool at_once = reset || behind >= s.options.max_lag_steps;
     if (reset) {
         if (auto e = start()) return *e;
     } else if (s.building) {
         // The sky under way is for an earlier view: when the shown one is too far behind,
         // finish it if it is close enough to this view, else start over.
-        if (at_once &&
-            s.bound(*s.shown, s.building->state, now, display) >= s.options.max_change_steps) {
+        if (at_once && s.bound(*s.shown, s.building->state, now, display, false) >=
+                           s.options.max_change_steps) {
             if (auto e = start()) return *e;
         }
     } else if (behind >= s.options.max_change_steps) {

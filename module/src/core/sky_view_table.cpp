@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 
 #include <glm/common.hpp>
 #include <glm/exponential.hpp>
@@ -10,6 +11,7 @@
 
 #include "aerial/phase.hpp"
 #include "sky_internal.hpp"
+#include "worker_pool.hpp"
 
 namespace aerial::detail {
 namespace {
@@ -72,10 +74,11 @@ HeightParts<double> sky_radiance_parts(const SkyContext& sky, const dvec3& dir) 
             // sky_radiance's chain, part by part: the phase is the same along the whole ray.
             const double length = sky_ray_length_m(sky, dir);
             dvec3 transmittance(1.0), start = sky.eye_m;
+            Frame<double> piece = sky.frame;  // moved along the ray, one piece after the other
             for (int i = 1; i <= sky.segments; ++i) {
                 const double f = double(i) / sky.segments;
                 const dvec3 end = sky.eye_m + dir * (length * f * f);
-                const Frame<double> piece = i == 1 ? sky.frame : frame_with_eye(sky.frame, start);
+                if (i > 1) move_frame_eye(piece, start);
                 const HeightParts<double> p = scaled(height_parts(piece, end), transmittance);
                 out.rayleigh += p.rayleigh;
                 out.mie += p.mie;
@@ -113,16 +116,24 @@ dvec3 SkyViewTable::node_direction(int row, int column) const {
 }
 
 void SkyViewTable::compute_rows(int first, int count) {
-    const int end = std::min(kRows, first + count);
-    for (int row = std::max(0, first); row < end; ++row) {
-        HeightParts<double>* out = &nodes_[std::size_t(row) * kColumns];
-        if (row == kRows - 1) {  // the zenith: one direction for every column
-            const HeightParts<double> zenith = logs(sky_radiance_parts(sky_, sky_.view.up));
-            std::fill(out, out + kColumns, zenith);
-        } else {
-            for (int column = 0; column < kColumns; ++column)
-                out[column] = logs(sky_radiance_parts(sky_, node_direction(row, column)));
+    const int begin = std::max(0, first), end = std::min(kRows, first + count);
+    if (end <= begin) return;
+    // Nodes are independent: spread over the worker threads (the zenith row is one direction).
+    const std::size_t items = std::size_t(end - begin) * kColumns;
+    const auto task = [&](std::size_t a, std::size_t b) {
+        for (std::size_t k = a; k < b; ++k) {
+            const int row = begin + int(k / kColumns), column = int(k % kColumns);
+            if (row == kRows - 1 && column > 0) continue;
+            const dvec3 d = row == kRows - 1 ? sky_.view.up : node_direction(row, column);
+            nodes_[std::size_t(row) * kColumns + std::size_t(column)] =
+                logs(sky_radiance_parts(sky_, d));
         }
+    };
+    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    WorkerPool::instance().run(threads, items, kColumns, task);
+    if (end == kRows) {
+        HeightParts<double>* zenith = &nodes_[std::size_t(kRows - 1) * kColumns];
+        std::fill(zenith + 1, zenith + kColumns, zenith[0]);
     }
     rows_done_ = std::max(rows_done_, end);
 }

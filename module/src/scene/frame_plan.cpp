@@ -159,11 +159,12 @@ PreparedShadingKey key_for(FrameInputs& f, Model m, const glm::vec3& albedo, boo
 }  // namespace
 
 Result<FrameInputs> prepare_frame_inputs(const Node& root, const Camera& camera,
-                                         const FrameSettings& settings, Backend backend) {
+                                         const FrameSettings& settings, Backend backend,
+                                         ValidatedMeshes& validated) {
     using aerial::detail::from;
     using aerial::detail::invalid;
     using aerial::detail::number;
-    if (auto e = validate(root)) return from(kRender, *e);
+    if (auto e = validate(root, validated)) return from(kRender, *e);
     if (auto e = validate(camera)) return from(kRender, *e);
     if (!(settings.error_target_lsb >= 0.0)) {
         return invalid(kRender, "error_target_lsb", "a value >= 0",
@@ -213,6 +214,23 @@ glm::vec3 frame_ambient(SkyAmbientCache& cache, const FrameSettings& settings) {
         cache.valid = true;
     }
     return cache.ambient;
+}
+
+void prepare_shading_keys(FrameInputs& f) {
+    if (f.backend == Backend::none) return;
+    key_for(f, Model::hoffman_preetham, glm::vec3(1.0f), false);
+    key_for(f, f.settings->model, glm::vec3(1.0f), false);
+}
+
+void add_counts(FrameReport& total, const FrameReport& part) {
+    total.vertices_shaded += part.vertices_shaded;
+    total.vertices_drawn += part.vertices_drawn;
+    total.culled += part.culled;
+    total.skipped += part.skipped;
+    total.cache_hits += part.cache_hits;
+    total.shaded_hoffman_preetham += part.shaded_hoffman_preetham;
+    total.shaded_height += part.shaded_height;
+    total.shaded_reference += part.shaded_reference;
 }
 
 NodePlan plan_node(FrameInputs& f, NodeState& st, const Node& node) {

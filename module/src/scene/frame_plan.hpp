@@ -16,6 +16,7 @@
 #include "aerial/scattering.hpp"
 #include "aerial/scene.hpp"
 #include "aerial/scene_renderer.hpp"
+#include "validated_meshes.hpp"
 
 namespace aerial::scene::detail {
 
@@ -70,15 +71,23 @@ struct FrameInputs {
 /// The public function the errors of a frame are attributed to.
 inline constexpr const char* kRender = "scene::SceneRenderer::render";
 
-/// Checks the frame's scene, camera and settings against the backend and prepares its frames;
-/// the errors are render()'s (kRender).
+/// Checks the frame's scene (its meshes once: `validated`), camera and settings against the
+/// backend and prepares its frames; the errors are render()'s (kRender).
 Result<FrameInputs> prepare_frame_inputs(const Node& root, const Camera& camera,
-                                         const FrameSettings& settings, Backend backend);
+                                         const FrameSettings& settings, Backend backend,
+                                         ValidatedMeshes& validated);
 
 /// settings.ambient, or (when negative) the sky's irradiance at sea level (aerial::sky_ambient,
 /// whatever settings.model), estimated again only when the sun turned by more than a quarter of
 /// a degree or the atmosphere or up axis changed.
 glm::vec3 frame_ambient(SkyAmbientCache& cache, const FrameSettings& settings);
+
+/// Prepares the frame's shading keys of both models the policy chooses between, so that
+/// plan_node only reads `f` (nodes are planned on several threads).
+void prepare_shading_keys(FrameInputs& f);
+
+/// Adds the node counts of `part` (what one node's shading counted) to `total`.
+void add_counts(FrameReport& total, const FrameReport& part);
 
 /// How a visible node is coloured this frame.
 struct NodePlan {
@@ -91,7 +100,8 @@ struct NodePlan {
 /// by half a step with scattering (policy on); cached, when the node's colours (cpu) or choice
 /// (arb) still hold within half a step (policy on); otherwise the 2002 model where it differs
 /// from settings.model by at most error_target_lsb over the node's samples (policy on), else
-/// settings.model. Records a new choice in `st` (model, cache, has_choice).
+/// settings.model. Records a new choice in `st` (model, cache, has_choice). Nodes may be planned
+/// on several threads at once once prepare_shading_keys(frame) ran.
 NodePlan plan_node(FrameInputs& frame, NodeState& st, const Node& node);
 
 /// The colours of a skipped node: lighting only (albedo, sun at the eye, ambient) for terrain,

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <thread>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
@@ -16,6 +17,7 @@
 
 #include "../common/error_text.hpp"
 #include "../common/names.hpp"
+#include "../core/worker_pool.hpp"
 #include "adaptive_node.hpp"
 #include "aerial/arb_program.hpp"
 #include "aerial/cache.hpp"
@@ -95,6 +97,7 @@ struct SceneRenderer::Impl {
     SkyDrawer sky = default_sky_drawer();
     SkyDrawer sun = default_sun_drawer();
     std::unordered_map<const Node*, detail::NodeState> nodes;
+    detail::ValidatedMeshes validated;
     std::map<const Texture*, std::pair<std::shared_ptr<const Texture>, GLuint>> textures;
     GLuint light_texture = 0;  ///< arb backend: 1×1 lighting factor on unit 1
     detail::SkyAmbientCache ambient;
@@ -102,11 +105,24 @@ struct SceneRenderer::Impl {
 
     ~Impl() { release_gl(); }
 
-    /// Updates, culls, plans, shades and draws one mesh or terrain node.
-    std::optional<Error> render_node(const Node& node, const glm::dmat4& world,
-                                     detail::FrameInputs& frame,
-                                     const std::array<glm::dvec4, 6>& planes,
-                                     const gl::ApplyOptions& apply, int units, FrameReport& report);
+    /// A visible node of this frame: its state, and what planning and shading it gave.
+    struct Visible {
+        const Node* node = nullptr;
+        detail::NodeState* state = nullptr;
+        std::size_t report_index = 0;  ///< in FrameReport::nodes
+        detail::NodePlan plan;
+        FrameReport counts;  ///< shade_node's counts, merged in traversal order
+        std::optional<Error> error;
+    };
+    /// Updates one mesh or terrain node's geometry and culls it: the visible ones are returned
+    /// to be planned, shaded and drawn.
+    std::optional<Error> prepare_node(const Node& node, const glm::dmat4& world,
+                                      const detail::FrameInputs& frame,
+                                      const std::array<glm::dvec4, 6>& planes, FrameReport& report,
+                                      std::vector<Visible>& visible);
+    /// Plans and shades the visible nodes, spread over the worker threads (each node is
+    /// independent; the frame's shading keys are prepared first so that planning only reads it).
+    void plan_and_shade(detail::FrameInputs& frame, std::vector<Visible>& visible);
     /// The node's colours as planned: lighting only (skipped), shade_into (cpu), none (cached,
     /// arb); counts them in the report.
     std::optional<Error> shade_node(const Node& node, detail::NodeState& st,
@@ -495,11 +511,11 @@ std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const deta
     return std::nullopt;
 }
 
-std::optional<Error> SceneRenderer::Impl::render_node(const Node& node, const glm::dmat4& world,
-                                                      detail::FrameInputs& frame,
-                                                      const std::array<glm::dvec4, 6>& planes,
-                                                      const gl::ApplyOptions& apply, int units,
-                                                      FrameReport& report) {
+std::optional<Error> SceneRenderer::Impl::prepare_node(const Node& node, const glm::dmat4& world,
+                                                       const detail::FrameInputs& frame,
+                                                       const std::array<glm::dvec4, 6>& planes,
+                                                       FrameReport& report,
+                                                       std::vector<Visible>& visible) {
     detail::NodeState& st = nodes[&node];
     st.last_frame = frame_number;
     if (node.adaptive) {
@@ -512,18 +528,29 @@ std::optional<Error> SceneRenderer::Impl::render_node(const Node& node, const gl
     if (st.bounds.radius < 0.0 || sphere_outside(planes, st.bounds.centre, st.bounds.radius)) {
         nr.method = Method::culled;
         ++report.culled;
-        report.nodes.push_back(nr);
-        return std::nullopt;
+    } else {
+        Visible v;
+        v.node = &node;
+        v.state = &st;
+        v.report_index = report.nodes.size();
+        visible.push_back(std::move(v));
     }
-    const auto shading_start = std::chrono::steady_clock::now();
-    const detail::NodePlan plan = detail::plan_node(frame, st, node);
-    nr.method = plan.method;
     report.nodes.push_back(nr);
-    if (auto e = shade_node(node, st, plan, frame, report)) return e;
-    report.shading_milliseconds +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - shading_start)
-            .count();
-    return draw_node(node, st, plan, frame, apply, units);
+    return std::nullopt;
+}
+
+void SceneRenderer::Impl::plan_and_shade(detail::FrameInputs& frame,
+                                         std::vector<Visible>& visible) {
+    detail::prepare_shading_keys(frame);
+    const auto task = [&](std::size_t first, std::size_t last) {
+        for (std::size_t i = first; i < last; ++i) {
+            Visible& v = visible[i];
+            v.plan = detail::plan_node(frame, *v.state, *v.node);
+            v.error = shade_node(*v.node, *v.state, v.plan, frame, v.counts);
+        }
+    };
+    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    aerial::detail::WorkerPool::instance().run(threads, visible.size(), 1, task);
 }
 
 Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera,
@@ -532,7 +559,8 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
     Impl& im = *impl_;
     const gl::Api& api = *im.api;
     if (auto e = gl::no_current_context(api)) return aerial::detail::from(detail::kRender, *e);
-    auto inputs = detail::prepare_frame_inputs(root, camera, settings, im.options.backend);
+    auto inputs =
+        detail::prepare_frame_inputs(root, camera, settings, im.options.backend, im.validated);
     if (!inputs) return inputs.error();
     detail::FrameInputs& frame = inputs.value();
     frame.ambient = detail::frame_ambient(im.ambient, settings);
@@ -563,12 +591,28 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
         if (im.sky && detail::has_kind(root, NodeKind::sky_dome)) im.sky(sky_context);
         if (im.sun && detail::has_kind(root, NodeKind::sun)) im.sun(sky_context);
 
-        api.Enable(GL_DEPTH_TEST);
-        api.DepthMask(GL_TRUE);
+        std::vector<Impl::Visible> visible;
         traverse(root, [&](const Node& node, const glm::dmat4& world) {
             if (failure || (node.kind != NodeKind::mesh && node.kind != NodeKind::terrain)) return;
-            failure = im.render_node(node, world, frame, planes, apply, gl_state.units(), report);
+            failure = im.prepare_node(node, world, frame, planes, report, visible);
         });
+        if (!failure) {
+            const auto shading_start = std::chrono::steady_clock::now();
+            im.plan_and_shade(frame, visible);
+            report.shading_milliseconds = std::chrono::duration<double, std::milli>(
+                                              std::chrono::steady_clock::now() - shading_start)
+                                              .count();
+        }
+        api.Enable(GL_DEPTH_TEST);
+        api.DepthMask(GL_TRUE);
+        for (const Impl::Visible& v : visible) {
+            if (failure) break;
+            failure = v.error;
+            if (failure) break;
+            report.nodes[v.report_index].method = v.plan.method;
+            detail::add_counts(report, v.counts);
+            failure = im.draw_node(*v.node, *v.state, v.plan, frame, apply, gl_state.units());
+        }
     }
     if (failure) return *failure;
 

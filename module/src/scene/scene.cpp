@@ -7,6 +7,7 @@
 
 #include "../common/error_text.hpp"
 #include "../common/names.hpp"
+#include "validated_meshes.hpp"
 
 namespace aerial::scene {
 namespace {
@@ -52,7 +53,8 @@ double value_noise(double x, double y, std::uint32_t seed) {
     return bottom + (top - bottom) * v;
 }
 
-std::optional<Error> validate_node(const Node& node, const std::string& path) {
+std::optional<Error> validate_node(const Node& node, const std::string& path,
+                                   detail::ValidatedMeshes* memo) {
     for (int c = 0; c < 4; ++c) {
         for (int r = 0; r < 4; ++r) {
             if (!std::isfinite(node.transform[c][r])) {
@@ -74,7 +76,10 @@ std::optional<Error> validate_node(const Node& node, const std::string& path) {
     } else if (node.kind == NodeKind::mesh || node.kind == NodeKind::terrain) {
         if (!node.mesh)
             return bad_node(path, std::string(node_kind_name(node.kind)) + " without a mesh");
-        if (auto e = validate(*node.mesh)) return bad_part(path, "mesh", *e);
+        if (!memo || !memo->contains(*node.mesh)) {
+            if (auto e = validate(*node.mesh)) return bad_part(path, "mesh", *e);
+            if (memo) memo->add(*node.mesh);
+        }
         if (node.kind == NodeKind::terrain && node.mesh->normals.empty())
             return bad_node(path, "terrain mesh without normals (lighting needs them)");
     }
@@ -88,7 +93,7 @@ std::optional<Error> validate_node(const Node& node, const std::string& path) {
     }
     for (const auto& child : node.children) {
         if (!child) return bad_node(path, "a null child");
-        if (auto e = validate_node(*child, path + "/" + child->name)) return e;
+        if (auto e = validate_node(*child, path + "/" + child->name, memo)) return e;
     }
     return std::nullopt;
 }
@@ -306,7 +311,11 @@ std::unique_ptr<Node> make_sun(std::string name) {
     return make_node(NodeKind::sun, std::move(name));
 }
 
-std::optional<Error> validate(const Node& root) { return validate_node(root, root.name); }
+std::optional<Error> validate(const Node& root) { return validate_node(root, root.name, nullptr); }
+
+std::optional<Error> detail::validate(const Node& root, detail::ValidatedMeshes& memo) {
+    return validate_node(root, root.name, &memo);
+}
 
 void traverse(const Node& root, const std::function<void(const Node&, const glm::dmat4&)>& visit) {
     traverse_node(root, glm::dmat4(1.0), visit);

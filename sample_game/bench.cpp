@@ -14,6 +14,7 @@
 #include "aerial/scene_renderer.hpp"
 #include "aerial/scene_sky.hpp"
 #include "fog_compare.hpp"
+#include "sky_motion.hpp"
 #include "support/cli.hpp"
 #include "support/png.hpp"
 #include "world.hpp"
@@ -32,6 +33,23 @@ struct Totals {
     double shading_ms = 0;
     double hp_nodes = 0, height_nodes = 0;
 };
+
+int run_sky_motion(int frames) {
+    sample::SkyMotionOptions options;
+    options.frames = frames;
+    auto r = sample::run_sky_motion(options);
+    if (!r) return fail("--sky-motion: " + r.error().message, 1);
+    std::printf(
+        "sky-motion: frames=%d sun=%.3f deg/frame climb=%.1f m/frame cube=%d spread=%d "
+        "recomputes=%d encodes=%d mean_directions=%.1f max_directions=%d mean_update_ms=%.3f "
+        "max_bound_steps=%.2f max_steps_from_fresh=%d max_switch_steps=%.0f "
+        "max_fresh_change_steps_per_%d_frames=%.0f\n",
+        r->frames, options.sun_deg_per_frame, options.climb_m_per_frame, options.cache.size,
+        options.cache.spread_updates, r->recomputes, r->encodes, r->mean_directions,
+        r->max_directions, r->mean_update_ms, r->max_bound_steps, r->max_steps_from_fresh,
+        r->max_switch_steps, options.check_every, r->max_fresh_change_steps);
+    return 0;
+}
 
 int run_flythrough(const aerial::gl::Api& api, const sample::World& world, aerial::Model model,
                    aerial::scene::Backend backend, const std::string& sky, int width, int height,
@@ -95,12 +113,18 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--world-size", world_km, "Side of the terrain square in km, 1..128")
         ->capture_default_str();
+    bool sky_motion = false;
+    app.add_flag("--sky-motion", sky_motion,
+                 "Instead of the scenarios: the cubemap sky's cache over --frames frames of a sun "
+                 "sinking 0.01 deg and an eye climbing 1 m a frame (no GL): recomputes, work a "
+                 "frame, its bound, the texels against a fresh sky every 10th frame, and popping");
     if (auto exit_code = aerial::tools::parse_command_line(app, argc, argv, kTool)) {
         return *exit_code;
     }
     if (!(world_km >= 1.0 && world_km <= 128.0)) return fail("--world-size: expected 1..128 km");
     if (rounds < 1 || rounds > 100) return fail("--rounds: expected 1..100");
     if (frames < 2 || frames > 10000) return fail("--frames: expected 2..10000");
+    if (sky_motion) return run_sky_motion(frames);
     if (std::sscanf(size.c_str(), "%dx%d", &width, &height) != 2 || width < 16 || height < 16 ||
         width > 4096 || height > 4096) {
         return fail("--size: expected WxH with sides in 16..4096, got '" + size + "'");

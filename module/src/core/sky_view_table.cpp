@@ -65,30 +65,41 @@ HeightParts<double> scaled(const HeightParts<double>& p, const dvec3& t) {
 
 }  // namespace
 
+namespace {
+
+/// sky_radiance's chain of `height` segments, part by part (the phase is the same along the
+/// whole ray), in the precision of `frame` (the sky's, or the table's float copy of it).
+template <class T>
+HeightParts<double> chained_parts(const SkyContext& sky, const Frame<T>& frame, const dvec3& dir) {
+    using V = glm::vec<3, T>;
+    HeightParts<double> out;
+    const double length = sky_ray_length_m(sky, dir);
+    dvec3 transmittance(1.0), start = sky.eye_m;
+    Frame<T> piece = frame;  // moved along the ray, one piece after the other
+    for (int i = 1; i <= sky.segments; ++i) {
+        const double f = double(i) / sky.segments;
+        const dvec3 end = sky.eye_m + dir * (length * f * f);
+        if (i > 1) move_frame_eye(piece, start);
+        const HeightParts<T> p = height_parts(piece, V(end));
+        out.rayleigh += transmittance * dvec3(p.rayleigh);
+        out.mie += transmittance * dvec3(p.mie);
+        out.multiple += transmittance * dvec3(p.multiple);
+        transmittance *= dvec3(p.extinction);
+        start = end;
+    }
+    out.extinction = transmittance;
+    return out;
+}
+
+}  // namespace
+
 HeightParts<double> sky_radiance_parts(const SkyContext& sky, const dvec3& dir) {
     HeightParts<double> out;
     switch (sky.method) {
         case SkyMethod::dome_height:
             return height_parts(sky.frame, sky.eye_m + dir * sky_ray_length_m(sky, dir));
-        case SkyMethod::height_chained: {
-            // sky_radiance's chain, part by part: the phase is the same along the whole ray.
-            const double length = sky_ray_length_m(sky, dir);
-            dvec3 transmittance(1.0), start = sky.eye_m;
-            Frame<double> piece = sky.frame;  // moved along the ray, one piece after the other
-            for (int i = 1; i <= sky.segments; ++i) {
-                const double f = double(i) / sky.segments;
-                const dvec3 end = sky.eye_m + dir * (length * f * f);
-                if (i > 1) move_frame_eye(piece, start);
-                const HeightParts<double> p = scaled(height_parts(piece, end), transmittance);
-                out.rayleigh += p.rayleigh;
-                out.mie += p.mie;
-                out.multiple += p.multiple;
-                transmittance *= p.extinction;
-                start = end;
-            }
-            out.extinction = transmittance;
-            return out;
-        }
+        case SkyMethod::height_chained:
+            return chained_parts(sky, sky.frame, dir);
         default:
             out.multiple = sky_radiance(sky, dir);
             return out;
@@ -96,6 +107,12 @@ HeightParts<double> sky_radiance_parts(const SkyContext& sky, const dvec3& dir) 
 }
 
 SkyViewTable::SkyViewTable(const SkyContext& sky) : sky_(sky), nodes_(std::size_t(kNodes)) {
+    if (sky_.method == SkyMethod::height_chained) {
+        // The chain in float: libm's float functions are about twice as fast, and a node's
+        // radiance needs no more digits than a texel shows.
+        auto frame = prepare_frame<float>(sky_.atmosphere, sky_.view, Model::height);
+        if (frame) float_frame_ = std::move(frame).value();
+    }
     const dvec3& up = sky_.view.up;
     toward_sun_ = horizontal(sky_.view.sun_dir, up, any_horizontal(up));
     across_ = glm::cross(up, toward_sun_);
@@ -125,8 +142,8 @@ void SkyViewTable::compute_rows(int first, int count) {
             const int row = begin + int(k / kColumns), column = int(k % kColumns);
             if (row == kRows - 1 && column > 0) continue;
             const dvec3 d = row == kRows - 1 ? sky_.view.up : node_direction(row, column);
-            nodes_[std::size_t(row) * kColumns + std::size_t(column)] =
-                logs(sky_radiance_parts(sky_, d));
+            nodes_[std::size_t(row) * kColumns + std::size_t(column)] = logs(
+                float_frame_ ? chained_parts(sky_, *float_frame_, d) : sky_radiance_parts(sky_, d));
         }
     };
     const unsigned threads = std::max(1u, std::thread::hardware_concurrency());

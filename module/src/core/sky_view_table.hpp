@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -64,8 +65,9 @@ class SkyViewTable {
 
   private:
     SkyContext sky_;
-    glm::dvec3 toward_sun_{1, 0, 0};  ///< horizontal, towards the sun's azimuth
-    glm::dvec3 across_{0, 1, 0};      ///< up x toward_sun_
+    std::optional<Frame<float>> float_frame_;  ///< height_chained: the chain in float
+    glm::dvec3 toward_sun_{1, 0, 0};           ///< horizontal, towards the sun's azimuth
+    glm::dvec3 across_{0, 1, 0};               ///< up x toward_sun_
     std::vector<HeightParts<double>> nodes_;
     int rows_done_ = 0;
 };

@@ -109,10 +109,11 @@ PointOutputs point_outputs(const Frame<float>& frame, const glm::vec3& p, const 
     return out;
 }
 
-/// The largest 8-bit difference between the 2002 model and `frame`'s over the node's samples.
+/// The largest 8-bit difference between the 2002 model and `frame`'s over the node's samples,
+/// or the first one above `stop_above` (the policy only asks whether it is within its target).
 double model_difference_lsb(const Frame<float>& hp, const Frame<float>& frame, const NodeState& st,
                             bool lit, const glm::vec3& albedo, const glm::vec3& ambient,
-                            const Display& display) {
+                            const Display& display, double stop_above) {
     double worst = 0.0;
     const auto compare = [&](const glm::vec3& p, const glm::vec3* n) {
         const PointOutputs a = point_outputs(hp, p, n, lit, albedo, ambient, display);
@@ -126,6 +127,7 @@ double model_difference_lsb(const Frame<float>& hp, const Frame<float>& frame, c
     for (int c = 0; c < 8; ++c) {
         compare(glm::vec3((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z),
                 nullptr);
+        if (worst > stop_above) return worst;
     }
     const std::size_t n = st.positions.size() / 3;
     const std::size_t step = std::max<std::size_t>(1, n / kMethodSampleVertices);
@@ -136,6 +138,7 @@ double model_difference_lsb(const Frame<float>& hp, const Frame<float>& frame, c
                 ? glm::vec3(0.0f)
                 : glm::vec3(st.normals[3 * i], st.normals[3 * i + 1], st.normals[3 * i + 2]);
         compare(p, st.normals.empty() ? nullptr : &normal);
+        if (worst > stop_above) return worst;
     }
     return worst;
 }
@@ -269,7 +272,8 @@ NodePlan plan_node(FrameInputs& f, NodeState& st, const Node& node) {
     Model model = settings.model;
     if (settings.policy && settings.model != Model::hoffman_preetham &&
         model_difference_lsb(f.hoffman_preetham, f.model, st, plan.lit, albedo, f.ambient,
-                             settings.display) <= settings.error_target_lsb) {
+                             settings.display,
+                             settings.error_target_lsb) <= settings.error_target_lsb) {
         model = Model::hoffman_preetham;
     }
     st.model = model;

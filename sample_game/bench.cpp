@@ -42,12 +42,15 @@ int run_sky_motion(int frames) {
     std::printf(
         "sky-motion: frames=%d sun=%.3f deg/frame climb=%.1f m/frame cube=%d spread=%d "
         "recomputes=%d encodes=%d mean_directions=%.1f max_directions=%d mean_update_ms=%.3f "
+        "max_update_ms=%.3f whole_sky_ms=%.3f us_per_texel=%.2f "
         "max_bound_steps=%.2f max_steps_from_fresh=%d max_switch_steps=%.0f "
         "max_fresh_change_steps_per_%d_frames=%.0f\n",
         r->frames, options.sun_deg_per_frame, options.climb_m_per_frame, options.cache.size,
         options.cache.spread_updates, r->recomputes, r->encodes, r->mean_directions,
-        r->max_directions, r->mean_update_ms, r->max_bound_steps, r->max_steps_from_fresh,
-        r->max_switch_steps, options.check_every, r->max_fresh_change_steps);
+        r->max_directions, r->mean_update_ms, r->max_update_ms, r->whole_sky_ms,
+        1000.0 * r->whole_sky_ms / (6.0 * options.cache.size * options.cache.size),
+        r->max_bound_steps, r->max_steps_from_fresh, r->max_switch_steps, options.check_every,
+        r->max_fresh_change_steps);
     return 0;
 }
 

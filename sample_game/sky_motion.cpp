@@ -40,9 +40,11 @@ aerial::Result<SkyMotionReport> run_sky_motion(const SkyMotionOptions& o) {
         const int before = cache.recomputes();
         const auto start = std::chrono::steady_clock::now();
         auto changed = cache.update(*atmosphere, view, display);
-        total_ms +=
+        const double ms =
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
                 .count();
+        total_ms += ms;
+        if (i > 0) r.max_update_ms = std::max(r.max_update_ms, ms);
         if (!changed) return changed.error();
         const auto& s = cache.stats();
         directions += s.directions_last_update;
@@ -64,6 +66,19 @@ aerial::Result<SkyMotionReport> run_sky_motion(const SkyMotionOptions& o) {
             }
             previous_fresh = codes;
         }
+    }
+    {
+        // A whole sky at once: the sun 5 degrees lower than the last frame's, beyond any lag.
+        const double e = (o.start_sun_deg - o.sun_deg_per_frame * o.frames - 5.0) * kDegree;
+        aerial::View view;
+        view.eye = {0.0, 0.0, 500.0 + o.climb_m_per_frame * o.frames};
+        view.sun_dir = {std::cos(e) * 0.6, std::cos(e) * 0.8, std::sin(e)};
+        const auto start = std::chrono::steady_clock::now();
+        auto changed = cache.update(*atmosphere, view, {8.0f, aerial::ToneCurve::exponential});
+        if (!changed) return changed.error();
+        r.whole_sky_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count();
     }
     r.frames = o.frames;
     r.recomputes = cache.recomputes();

@@ -28,6 +28,11 @@ struct SkyMotionReport {
     int max_steps_from_fresh = 0;  ///< largest texel difference to a fresh sky (checked frames)
     double max_fresh_change_steps = 0;  ///< largest change of the fresh sky between checks
     double mean_update_ms = 0;
+    /// The slowest update after the first (which also builds tables): a whole sky made at once
+    /// when the motion demands it, else the most a spread recompute took in one frame.
+    double max_update_ms = 0;
+    /// A whole sky made and encoded at once, after the motion (the time-lapse's case), ms.
+    double whole_sky_ms = 0;
 };
 
 /// Flies options.frames frames over the `earth` preset at 500 m with the sample's exposure.

@@ -106,6 +106,15 @@ void draw_sky(CubemapSky& sky, const SkyDrawContext& c) {
     }
 }
 
+/// At most how many 8-bit steps a texel made at exposure `made` moves at display.exposure: the
+/// code 255 t(e x) changes by 255 x e t'(e x) per unit of ln e, at most 255 / e for the
+/// exponential curve (x e^-x peaks at 1 / e) and 255 for the clamp.
+double exposure_steps(float made, const Display& display) {
+    if (!(made > 0.0f)) return 1e300;
+    const double slope = display.tone == ToneCurve::exponential ? 255.0 / std::exp(1.0) : 255.0;
+    return slope * std::abs(std::log(double(display.exposure) / double(made)));
+}
+
 void draw_sun(CubemapSky& sky, const SkyDrawContext& c) {
     CubemapSkyStats& stats = *sky.stats;
     // The sky drawer, called first each frame, brings the cache up to date; without a sky
@@ -114,7 +123,8 @@ void draw_sun(CubemapSky& sky, const SkyDrawContext& c) {
     sky.updated_this_frame = false;
     const Display& display = c.settings->display;
     if (!sky.sun_texture || sky.sun_made_from != sky.cache.recomputes() ||
-        sky.sun_exposure != display.exposure || sky.sun_tone != display.tone) {
+        exposure_steps(sky.sun_exposure, display) >= sky.options.cache.max_change_steps ||
+        sky.sun_tone != display.tone) {
         // The sprite needs the sky at the eye (E_sun there, the Mie optical depth to the sun).
         auto context = prepare_sky(c.settings->atmosphere, sky.view_of(c), SkyMethod::dome_height);
         if (!context) {

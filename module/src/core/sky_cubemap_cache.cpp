@@ -17,6 +17,7 @@
 namespace aerial {
 namespace {
 
+using detail::any_horizontal;
 using detail::SkyViewTable;
 using glm::dvec3;
 
@@ -76,7 +77,7 @@ Result<SkyContext> perturbed(const SkyContext& base, double rise, double climb_m
     const dvec3& up = view.up;
     const double elevation = std::asin(std::clamp(glm::dot(view.sun_dir, up), -1.0, 1.0));
     dvec3 toward = view.sun_dir - up * glm::dot(view.sun_dir, up);
-    toward = glm::length(toward) > 1e-9 ? glm::normalize(toward) : glm::cross(up, dvec3(1, 0, 0));
+    toward = glm::length(toward) > 1e-9 ? glm::normalize(toward) : any_horizontal(up);
     const double e = std::min(elevation + rise, kPi / 2);
     view.sun_dir = std::cos(e) * toward + std::sin(e) * up;
     view.eye = base.eye_m + up * climb_m;
@@ -239,13 +240,11 @@ Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& v
     const dvec3 sun = glm::normalize(view.sun_dir);
     const bool reset =
         !s.shown || !(atmosphere == s.atmosphere) || glm::dot(up, s.up) < 1.0 - kUpTolerance;
-    if (reset) {
-        const dvec3 helper = std::abs(up.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
-        s.axis = glm::normalize(helper - up * glm::dot(helper, up));
-    }
+    // Azimuths are taken from a horizontal axis fixed while the up axis holds.
+    const dvec3 axis = reset ? any_horizontal(up) : s.axis;
     ViewState now;
     now.sun_elevation_rad = std::asin(std::clamp(glm::dot(sun, up), -1.0, 1.0));
-    now.sun_azimuth_rad = std::atan2(glm::dot(sun, glm::cross(up, s.axis)), glm::dot(sun, s.axis));
+    now.sun_azimuth_rad = std::atan2(glm::dot(sun, glm::cross(up, axis)), glm::dot(sun, axis));
     now.altitude_m = altitude_above_sphere(dvec3(view.eye * view.meters_per_unit), up,
                                            atmosphere.planet_radius_m);
     s.stats.directions_last_update = 0;
@@ -266,6 +265,7 @@ Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& v
     bool at_once = reset || behind >= s.options.max_lag_steps;
     if (reset) {
         if (auto e = start()) return *e;
+        s.axis = axis;
     } else if (s.building) {
         // The sky under way is for an earlier view: when the shown one is too far behind,
         // finish it if it is close enough to this view, else start over.

@@ -25,12 +25,6 @@ dvec3 horizontal(const dvec3& v, const dvec3& up, const dvec3& fallback) {
     return length > 1e-9 ? h / length : fallback;
 }
 
-/// Any unit vector perpendicular to unit `up`.
-dvec3 any_horizontal(const dvec3& up) {
-    const dvec3 helper = std::abs(up.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
-    return glm::normalize(helper - up * glm::dot(helper, up));
-}
-
 /// Rows: elevation = (k u^2 + (1 - k) u) 90 deg for u in [0, 1], twice as dense at the horizon
 /// (where the sky changes fastest by day) as at the zenith, but not sparse above it (where the
 /// twilight sky has its structure).
@@ -54,18 +48,6 @@ HeightParts<double> logs(const HeightParts<double>& p) {
     out.multiple = glm::log(glm::max(p.multiple, dvec3(kFloor)));
     return out;
 }
-
-HeightParts<double> scaled(const HeightParts<double>& p, const dvec3& t) {
-    HeightParts<double> out = p;
-    out.rayleigh *= t;
-    out.mie *= t;
-    out.multiple *= t;
-    return out;
-}
-
-}  // namespace
-
-namespace {
 
 /// sky_radiance's chain of `height` segments, part by part (the phase is the same along the
 /// whole ray), in the precision of `frame` (the sky's, or the table's float copy of it).
@@ -92,6 +74,11 @@ HeightParts<double> chained_parts(const SkyContext& sky, const Frame<T>& frame, 
 }
 
 }  // namespace
+
+dvec3 any_horizontal(const dvec3& up) {
+    const dvec3 helper = std::abs(up.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
+    return glm::normalize(helper - up * glm::dot(helper, up));
+}
 
 HeightParts<double> sky_radiance_parts(const SkyContext& sky, const dvec3& dir) {
     HeightParts<double> out;

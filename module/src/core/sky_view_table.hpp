@@ -17,6 +17,9 @@
 
 namespace aerial::detail {
 
+/// Any unit vector perpendicular to the unit vector `up`.
+glm::dvec3 any_horizontal(const glm::dvec3& up);
+
 /// The sky radiance along a unit direction in parts: for dome_height and height_chained the
 /// `height` model's parts (chained like sky_radiance); for the other methods all of it in
 /// `multiple` (their phase is interpolated with the rest).

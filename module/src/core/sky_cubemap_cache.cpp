@@ -252,7 +252,10 @@ Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& v
         SkyViewTable& table = s.building->table;
         const int done = table.rows_done();
         table.compute_rows(done, rows);
-        s.stats.directions_last_update += (table.rows_done() - done) * SkyViewTable::kColumns;
+        // The zenith row is one direction.
+        const bool zenith = table.complete() && done < SkyViewTable::kRows;
+        s.stats.directions_last_update += (table.rows_done() - done) * SkyViewTable::kColumns -
+                                          (zenith ? SkyViewTable::kColumns - 1 : 0);
     };
     const auto start = [&]() -> std::optional<Error> {
         auto sky = prepare_sky(atmosphere, view, s.options.method);

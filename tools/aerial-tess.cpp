@@ -21,10 +21,12 @@
 #include <CLI/CLI.hpp>
 #include <glm/geometric.hpp>
 
+#include "aerial/adaptive_scene.hpp"
 #include "aerial/aerial.hpp"
 #include "aerial/mesh.hpp"
 #include "support/cli.hpp"
 #include "tess/gl_grade.hpp"
+#include "tess/mesh_files.hpp"
 
 namespace {
 
@@ -55,10 +57,10 @@ struct Scene {
 };
 
 struct Row {
-    std::string scene, method;
+    std::string scene, method, level;  ///< level: the sweep's parameter, or a mesh file's stem
     std::size_t vertices = 0, triangles = 0;
     aerial::tools::LsbDifferences error;
-    double build_ms = 0.0;
+    double build_ms = 0.0, grade_ms = 0.0;
 };
 
 struct Settings {
@@ -72,6 +74,7 @@ struct Settings {
     double colour_edge_angle = -1.0;
     int relocate = -1;  ///< AdaptiveSettings::relocate (-1: the library's default, 0 off, 1 on)
     aerial::tess::GlGrader* grader = nullptr;
+    std::string export_dir;  ///< --export-meshes: every graded mesh written here as OBJ
 };
 
 aerial::Frame<float> make_frame(const char* preset, double mie_g, const glm::dvec3& eye,
@@ -129,15 +132,26 @@ Scene terrain_scene(double eye_m, double sun_deg) {
     return s;
 }
 
-Row grade(const Scene& scene, const std::string& method, const Mesh& mesh, double build_ms,
-          const Settings& settings) {
+Row grade(const Scene& scene, const std::string& method, const std::string& level, const Mesh& mesh,
+          double build_ms, const Settings& settings) {
     Row row;
     row.scene = scene.name;
     row.method = method;
+    row.level = level;
     row.vertices = aerial::mesh::live_vertices(mesh);
     row.triangles = aerial::mesh::live_faces(mesh);
     row.build_ms = build_ms;
+    if (!settings.export_dir.empty()) {
+        const std::string path =
+            settings.export_dir + "/" + scene.name + "/" + method + "-" + level + ".obj";
+        if (auto e = aerial::tess::write_obj(path, aerial::scene::mesh_data_from(mesh))) {
+            std::fprintf(stderr, "%s: %s: %s\n", kTool, e->field.c_str(), e->message.c_str());
+            std::exit(1);
+        }
+    }
+    const auto start = Clock::now();
     auto graded = settings.grader->grade(mesh, scene.frame, scene.colour, scene.grading);
+    row.grade_ms = ms_since(start);
     if (!graded) {
         std::fprintf(stderr, "%s: grading %s %s: %s\n", kTool, scene.name.c_str(), method.c_str(),
                      graded.error().message.c_str());
@@ -162,7 +176,9 @@ void sweep(const Scene& scene, const std::string& method, const std::vector<doub
     auto run = [&](double level) {
         double build_ms = 0.0;
         const Mesh mesh = build(level, build_ms);
-        rows.push_back(grade(scene, method, mesh, build_ms, settings));
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", level);
+        rows.push_back(grade(scene, method, text, mesh, build_ms, settings));
         return rows.back().error.max_lsb;
     };
     std::size_t clearly_failing = 0;  // index of the last level with max >= 3 steps
@@ -444,6 +460,76 @@ int bench_update(int frames, int relocate) {
 
 }  // namespace
 
+// Whether a mesh is of a scene's kind: a dome's vertices all lie on its sphere (within 1 %);
+// any other mesh is graded on the terrain scenes.
+bool fits(const Scene& scene, const aerial::scene::MeshData& data) {
+    bool on_sphere = true;
+    const glm::dvec3 centre = scene.dome_options.centre;
+    const double radius = scene.dome_options.radius_m;
+    for (std::size_t i = 0; i < data.vertex_count() && on_sphere; ++i) {
+        const glm::dvec3 p(data.positions[3 * i], data.positions[3 * i + 1],
+                           data.positions[3 * i + 2]);
+        on_sphere = std::abs(glm::length(p - centre) - radius) <= 0.01 * radius;
+    }
+    return scene.dome == on_sphere;
+}
+
+// The fewest vertices of each method meeting `ok` per scene ("-" not graded, ">N" none did).
+std::string fewest_table(const std::vector<Scene>& scenes, const std::vector<Row>& rows,
+                         const std::vector<std::string>& methods,
+                         const std::function<bool(const Row&)>& ok) {
+    std::string text;
+    char cell[64];
+    std::snprintf(cell, sizeof cell, "%-24s", "scene");
+    text += cell;
+    for (const auto& m : methods) {
+        std::snprintf(cell, sizeof cell, " %20s", m.c_str());
+        text += cell;
+    }
+    text += "\n";
+    for (const Scene& s : scenes) {
+        std::snprintf(cell, sizeof cell, "%-24s", s.name.c_str());
+        text += cell;
+        for (const auto& m : methods) {
+            std::string value = "-";
+            std::size_t most = 0, fewest = 0;
+            bool seen = false;
+            for (const Row& r : rows) {
+                if (r.scene != s.name || r.method != m) continue;
+                seen = true;
+                most = std::max(most, r.vertices);
+                if (ok(r) && (fewest == 0 || r.vertices < fewest)) fewest = r.vertices;
+            }
+            if (fewest > 0) value = std::to_string(fewest);
+            if (seen && value == "-") value = ">" + std::to_string(most);
+            std::snprintf(cell, sizeof cell, " %20s", value.c_str());
+            text += cell;
+        }
+        text += "\n";
+    }
+    return text;
+}
+
+// The summary: the fewest vertices for max <= 1 step, and for the criterion one pixel cannot
+// flip: at most 1e-4 of the pixels more than 1 step off.
+std::string summary_tables(const std::vector<Scene>& scenes, const std::vector<Row>& rows,
+                           int face_pixels, bool quick) {
+    std::vector<std::string> methods;
+    for (const Row& r : rows)
+        if (std::find(methods.begin(), methods.end(), r.method) == methods.end())
+            methods.push_back(r.method);
+    char head[256];
+    std::snprintf(head, sizeof head,
+                  "GL images against the per-pixel reference, six cube faces of %d x %d pixels "
+                  "a mesh%s\n",
+                  face_pixels, face_pixels,
+                  quick ? "; QUICK RUN: a subset of scenes and levels, coarser grading" : "");
+    return std::string(head) + "\nvertices for max <= 1 LSB\n" +
+           fewest_table(scenes, rows, methods, [](const Row& r) { return r.error.max_lsb <= 1; }) +
+           "\nvertices for at most 1e-4 of the pixels over 1 LSB (one pixel cannot flip it)\n" +
+           fewest_table(scenes, rows, methods, [](const Row& r) { return r.error.over1 <= 1e-4; });
+}
+
 int main(int argc, char** argv) {
     CLI::App app{
         "aerial-tess: vertices needed for per-vertex colour within 1 LSB, adaptive "
@@ -486,6 +572,18 @@ int main(int argc, char** argv) {
     app.add_option("--face-pixels", face_pixels,
                    "Pixels a side of each of the six cube faces the GL grading renders "
                    "(default 128, --quick 64), 16 .. 2048");
+    std::vector<std::string> mesh_paths;
+    std::string own_method;
+    bool no_builtin = false;
+    std::string export_dir;
+    app.add_option("--mesh", mesh_paths,
+                   "Grade your own meshes (OBJ, OFF or PLY files, or directories of them: one "
+                   "budget level a file, by name) on the scenes of their kind, like the built-in "
+                   "methods; in the scenes' coordinates (see --export-meshes)");
+    app.add_option("--method", own_method, "The name of the --mesh method in the CSV and tables");
+    app.add_flag("--no-builtin", no_builtin, "With --mesh: grade only those meshes");
+    app.add_option("--export-meshes", export_dir,
+                   "Write every built-in mesh graded as DIR/SCENE/METHOD-LEVEL.obj");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
     if (frames < 1 || frames > 100000)
         return aerial::tools::fail(kTool,
@@ -527,6 +625,22 @@ int main(int argc, char** argv) {
                                                   std::to_string(colour_edge_angle));
         settings.colour_edge_angle = colour_edge_angle;
     }
+    if (!mesh_paths.empty() && own_method.empty())
+        return aerial::tools::fail(kTool, "--method: required with --mesh (the name of its rows)");
+    if (mesh_paths.empty() && (!own_method.empty() || no_builtin))
+        return aerial::tools::fail(kTool, "--method and --no-builtin go with --mesh");
+    std::vector<std::pair<std::string, aerial::scene::MeshData>> own_meshes;
+    for (const std::string& path : mesh_paths) {
+        auto files = aerial::tess::mesh_files(path);
+        if (!files)
+            return aerial::tools::fail(kTool, files.error().field + ": " + files.error().message);
+        for (const std::string& file : *files) {
+            auto data = aerial::scene::load_mesh_file(file);
+            if (!data) return aerial::tools::fail(kTool, "--mesh: " + data.error().message);
+            own_meshes.emplace_back(aerial::tess::mesh_file_stem(file), std::move(data).value());
+        }
+    }
+    settings.export_dir = export_dir;
     auto grader = aerial::tess::GlGrader::create(settings.face_pixels);
     if (!grader) return aerial::tools::fail(kTool, "GL grading: " + grader.error().message);
     settings.grader = &grader.value();
@@ -555,54 +669,46 @@ int main(int argc, char** argv) {
     }
     std::vector<Row> rows;
     const auto start = Clock::now();
-    for (std::size_t i = 0; i < scenes.size(); ++i)
+    for (std::size_t i = 0; i < scenes.size() && !no_builtin; ++i)
         run_scene(scenes[i], settings, !quick || i == 0, rows);
+    for (const Scene& scene : scenes) {
+        for (const auto& [stem, data] : own_meshes) {
+            if (!fits(scene, data)) continue;
+            auto mesh = aerial::tess::mesh_from_data(data);
+            if (!mesh)
+                return aerial::tools::fail(kTool, "--mesh " + stem + ": " + mesh.error().message);
+            rows.push_back(grade(scene, own_method, stem, *mesh, 0.0, settings));
+        }
+    }
+    if (rows.empty()) {
+        return aerial::tools::fail(kTool,
+                                   "--mesh: no mesh fits a selected scene (a dome's vertices "
+                                   "lie on its sphere; anything else is graded as terrain)");
+    }
 
     const std::string csv_path = out + "/tess.csv";
     std::system(("mkdir -p '" + out + "'").c_str());
     std::ofstream csv(csv_path);
     if (!csv) return aerial::tools::fail(kTool, "--out: cannot write " + csv_path);
-    csv << "scene,method,vertices,triangles,max_lsb,p99_lsb,rmse_lsb,over1,over2,build_ms\n";
+    csv << "scene,method,level,vertices,triangles,max_lsb,p99_lsb,rmse_lsb,over1,over2,pixels,"
+           "face_pixels,quick,build_ms,grade_ms\n";
     for (const Row& r : rows) {
         char line[512];
-        std::snprintf(line, sizeof line, "%s,%s,%zu,%zu,%d,%d,%.4f,%.6f,%.6f,%.2f\n",
-                      r.scene.c_str(), r.method.c_str(), r.vertices, r.triangles, r.error.max_lsb,
-                      r.error.p99_lsb, r.error.rmse_lsb, r.error.over1, r.error.over2, r.build_ms);
+        std::snprintf(
+            line, sizeof line, "%s,%s,%s,%zu,%zu,%d,%d,%.4f,%.8f,%.8f,%zu,%d,%d,%.2f,%.2f\n",
+            r.scene.c_str(), r.method.c_str(), r.level.c_str(), r.vertices, r.triangles,
+            r.error.max_lsb, r.error.p99_lsb, r.error.rmse_lsb, r.error.over1, r.error.over2,
+            r.error.count, settings.face_pixels, quick ? 1 : 0, r.build_ms, r.grade_ms);
         csv << line;
     }
     csv.close();
 
-    // The table: per scene, the fewest vertices of each method with max <= 1 LSB.
-    std::vector<std::string> methods;
-    for (const Row& r : rows)
-        if (std::find(methods.begin(), methods.end(), r.method) == methods.end())
-            methods.push_back(r.method);
-    std::printf(
-        "vertices for max <= 1 LSB (GL images against the per-pixel reference, cube faces "
-        "of %d pixels)\n%-24s",
-        settings.face_pixels, "scene");
-    for (const auto& m : methods) std::printf(" %20s", m.c_str());
-    std::printf("\n");
-    for (const Scene& s : scenes) {
-        std::printf("%-24s", s.name.c_str());
-        for (const auto& m : methods) {
-            std::string cell = "-";
-            std::size_t most = 0, fewest = 0;
-            bool seen = false;
-            for (const Row& r : rows) {
-                if (r.scene != s.name || r.method != m) continue;
-                seen = true;
-                most = std::max(most, r.vertices);
-                if (r.error.max_lsb <= 1 && (fewest == 0 || r.vertices < fewest))
-                    fewest = r.vertices;
-            }
-            if (fewest > 0) cell = std::to_string(fewest);
-            if (seen && cell == "-") cell = ">" + std::to_string(most);
-            std::printf(" %20s", cell.c_str());
-        }
-        std::printf("\n");
-    }
-    std::printf("total %.1f s; wrote %s\n", ms_since(start) / 1000.0, csv_path.c_str());
+    // The tables: per scene, the fewest vertices of each method meeting each criterion.
+    const std::string summary = summary_tables(scenes, rows, settings.face_pixels, quick);
+    std::fputs(summary.c_str(), stdout);
+    std::ofstream(out + "/summary.txt") << summary;
+    std::printf("total %.1f s; wrote %s and %s/summary.txt\n", ms_since(start) / 1000.0,
+                csv_path.c_str(), out.c_str());
     if (!no_chart) {
         const std::string command = std::string("'") + AERIAL_TESS_PYTHON + "' '" +
                                     AERIAL_TESS_PLOT_SCRIPT + "' '" + csv_path + "' '" + out +

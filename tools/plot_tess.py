@@ -5,6 +5,7 @@ reference); 0 is drawn at 0.5 so that it stays on the log scale.  Each method's 
 joined in order of vertices (the sweep's fine search runs between coarse levels).
 Usage: plot_tess.py tess.csv tess.png"""
 import sys
+import textwrap
 
 from plot_common import first_seen, label_panel, panel_grid, read_rows
 
@@ -29,6 +30,13 @@ def main():
         ax.set_yscale("log")
         label_panel(ax, scene, "vertices", "max error (LSB)")
         ax.legend(fontsize=6)
+    face = rows[0].get("face_pixels", "?") if rows else "?"
+    quick = rows and rows[0].get("quick") == "1"
+    title = ("Max error of the drawn image against the per-pixel reference (8-bit steps) by "
+             "vertex count; six cube faces of %s x %s pixels%s" %
+             (face, face, " - QUICK RUN (subset, coarser grading)" if quick else ""))
+    width = fig.get_size_inches()[0]
+    fig.suptitle(textwrap.fill(title, max(40, int(width * 14))), fontsize=8)
     fig.tight_layout()
     fig.savefig(sys.argv[2], dpi=90)
     return 0

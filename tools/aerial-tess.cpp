@@ -15,6 +15,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,7 +25,9 @@
 #include "aerial/adaptive_scene.hpp"
 #include "aerial/aerial.hpp"
 #include "aerial/mesh.hpp"
+#include "common/image_metrics.hpp"
 #include "support/cli.hpp"
+#include "support/png.hpp"
 #include "tess/gl_grade.hpp"
 #include "tess/mesh_files.hpp"
 
@@ -75,6 +78,7 @@ struct Settings {
     int relocate = -1;  ///< AdaptiveSettings::relocate (-1: the library's default, 0 off, 1 on)
     aerial::tess::GlGrader* grader = nullptr;
     std::string export_dir;  ///< --export-meshes: every graded mesh written here as OBJ
+    std::string images_dir;  ///< --save-images: drawn, reference and difference PNGs here
 };
 
 aerial::Frame<float> make_frame(const char* preset, double mie_g, const glm::dvec3& eye,
@@ -132,6 +136,25 @@ Scene terrain_scene(double eye_m, double sun_deg) {
     return s;
 }
 
+// PREFIX-drawn.png, PREFIX-reference.png and PREFIX-diff.png (aerial-compare's difference
+// image: equal pixels dimmed grey, others coloured by their steps) of a grading's images.
+std::optional<std::string> save_images(const aerial::tess::GlGradeOptions::Images& images,
+                                       const std::string& prefix) {
+    aerial::tools::Rgb8Image drawn, reference, diff;
+    drawn.width = reference.width = images.width;
+    drawn.height = reference.height = images.height;
+    drawn.rgb = images.drawn;
+    reference.rgb = images.reference;
+    aerial::tools::compare_images(drawn, reference, &diff);
+    for (const auto& [suffix, image] :
+         {std::pair<const char*, const aerial::tools::Rgb8Image*>{"-drawn.png", &drawn},
+          {"-reference.png", &reference},
+          {"-diff.png", &diff}}) {
+        if (auto e = aerial::tools::write_png(prefix + suffix, *image)) return e;
+    }
+    return std::nullopt;
+}
+
 Row grade(const Scene& scene, const std::string& method, const std::string& level, const Mesh& mesh,
           double build_ms, const Settings& settings) {
     Row row;
@@ -149,9 +172,19 @@ Row grade(const Scene& scene, const std::string& method, const std::string& leve
             std::exit(1);
         }
     }
+    aerial::tess::GlGradeOptions grading = scene.grading;
+    aerial::tess::GlGradeOptions::Images images;
+    if (!settings.images_dir.empty()) grading.images = &images;
     const auto start = Clock::now();
-    auto graded = settings.grader->grade(mesh, scene.frame, scene.colour, scene.grading);
+    auto graded = settings.grader->grade(mesh, scene.frame, scene.colour, grading);
     row.grade_ms = ms_since(start);
+    if (graded && grading.images) {
+        if (auto e = save_images(
+                images, settings.images_dir + "/" + scene.name + "/" + method + "-" + level)) {
+            std::fprintf(stderr, "%s: --save-images: %s\n", kTool, e->c_str());
+            std::exit(1);
+        }
+    }
     if (!graded) {
         std::fprintf(stderr, "%s: grading %s %s: %s\n", kTool, scene.name.c_str(), method.c_str(),
                      graded.error().message.c_str());
@@ -584,6 +617,11 @@ int main(int argc, char** argv) {
     app.add_flag("--no-builtin", no_builtin, "With --mesh: grade only those meshes");
     app.add_option("--export-meshes", export_dir,
                    "Write every built-in mesh graded as DIR/SCENE/METHOD-LEVEL.obj");
+    std::string images_dir;
+    app.add_option("--save-images", images_dir,
+                   "Write the drawn and reference images of every mesh graded, and their "
+                   "difference, as DIR/SCENE/METHOD-LEVEL-{drawn,reference,diff}.png (the six "
+                   "cube faces side by side)");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
     if (frames < 1 || frames > 100000)
         return aerial::tools::fail(kTool,
@@ -641,6 +679,7 @@ int main(int argc, char** argv) {
         }
     }
     settings.export_dir = export_dir;
+    settings.images_dir = images_dir;
     auto grader = aerial::tess::GlGrader::create(settings.face_pixels);
     if (!grader) return aerial::tools::fail(kTool, "GL grading: " + grader.error().message);
     settings.grader = &grader.value();

@@ -40,7 +40,8 @@ Result<GlGrader> GlGrader::create(int face_pixels) {
     if (face_pixels < 16 || face_pixels > 2048)
         return Error{"face_pixels",
                      "face_pixels: expected 16 .. 2048, got " + std::to_string(face_pixels)};
-    auto context = headless::Context::create({headless::Platform::osmesa, face_pixels, face_pixels});
+    auto context =
+        headless::Context::create({headless::Platform::osmesa, face_pixels, face_pixels});
     if (!context) return context.error();
     auto impl = std::make_unique<Impl>(std::move(context.value()));
     auto renderer = scene::SceneRenderer::create(impl->context.api());
@@ -103,7 +104,19 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
         in_scattering;
     std::vector<std::size_t> pixels;
     api.Viewport(0, 0, size, size);
-    for (const auto& [forward, up] : faces) {
+    if (options.images) {
+        options.images->width = 6 * size;
+        options.images->height = size;
+        options.images->drawn.assign(std::size_t(6 * size) * std::size_t(size) * 3, 0);
+        options.images->reference = options.images->drawn;
+    }
+    // Pixel i of a face (top row first) in the six-face images.
+    const auto image_index = [&](std::size_t face, std::size_t i) {
+        return 3 * ((i / std::size_t(size)) * std::size_t(6 * size) + face * std::size_t(size) +
+                    i % std::size_t(size));
+    };
+    for (std::size_t face = 0; face < faces.size(); ++face) {
+        const auto& [forward, up] = faces[face];
         camera.target = camera.eye + forward;
         camera.up = up;
         api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -111,6 +124,10 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
         if (!drawn) return drawn.error();
         api.Finish();
         const std::vector<std::uint8_t> rgba = g.context.read_rgba8();
+        if (options.images) {
+            for (std::size_t i = 0; i < std::size_t(size) * std::size_t(size); ++i)
+                std::copy_n(&rgba[4 * i], 3, &options.images->drawn[image_index(face, i)]);
+        }
         api.PixelStorei(GL_PACK_ALIGNMENT, 1);
         api.ReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, depth.data());
         validation::positions_from_depth(depth, size, size, scene::projection_matrix(camera),
@@ -144,6 +161,8 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
                 reference[c] = to_unorm8(texel_value[c] * extinction[3 * i + c] +
                                          display_value(colour.display, in_scattering[3 * i + c]));
             const int lsb = histogram.add(&rgba[4 * pixels[i]], reference);
+            if (options.images)
+                std::copy_n(reference, 3, &options.images->reference[image_index(face, pixels[i])]);
             if (options.report && lsb >= options.report_lsb) {
                 GlGradeOptions::Pixel pixel;
                 pixel.point = {points[3 * i], points[3 * i + 1], points[3 * i + 2]};

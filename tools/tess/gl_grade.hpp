@@ -41,6 +41,14 @@ struct GlGradeOptions {
     };
     std::vector<Pixel>* report = nullptr;
     int report_lsb = 2;
+    /// When set, the drawn and the reference images (RGB, top row first), the six faces side by
+    /// side (+x, -x, +y, -y, +z, -z): 6 face_pixels wide, face_pixels high; pixels the mesh does
+    /// not cover are black in the reference.
+    struct Images {
+        int width = 0, height = 0;
+        std::vector<std::uint8_t> drawn, reference;
+    };
+    Images* images = nullptr;
 };
 
 class GlGrader {

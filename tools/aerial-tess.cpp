@@ -14,6 +14,7 @@
 #include <ctime>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <string>
@@ -30,6 +31,7 @@
 #include "support/png.hpp"
 #include "tess/gl_grade.hpp"
 #include "tess/mesh_files.hpp"
+#include "tess/scene_list.hpp"
 
 namespace {
 
@@ -94,14 +96,14 @@ aerial::Frame<float> make_frame(const char* preset, double mie_g, const glm::dve
 // Dome: the earth preset, eye 2 m above sea level, dome of 80 km around it showing L_in only,
 // exponential tone curve (smooth, never clips); exposure puts the sky at 30 deg elevation, 90 deg
 // from the sun in azimuth, at 0.5.
-Scene dome_scene(double sun_deg, double g) {
+Scene dome_scene(double sun_deg, double g, const std::string& preset = "earth") {
     Scene s;
     char name[64];
     std::snprintf(name, sizeof name, "dome-sun%02d-g%.2f", int(sun_deg), g);
     s.name = name;
     s.dome = true;
     s.dome_options.centre = {0.0, 0.0, 2.0};
-    s.frame = make_frame("earth", g, s.dome_options.centre, direction(sun_deg, 0.0));
+    s.frame = make_frame(preset.c_str(), g, s.dome_options.centre, direction(sun_deg, 0.0));
     s.colour.texel = glm::vec3(0.0f);
     const glm::dvec3 probe = s.dome_options.centre + s.dome_options.radius_m * direction(30, 90);
     s.colour.display.tone = aerial::ToneCurve::exponential;
@@ -116,7 +118,7 @@ Scene dome_scene(double sun_deg, double g) {
 // Terrain: 20 km of rolling hills (100 m, 3 km wavelength) in the `hazy` preset, texel 0.6,
 // exponential tone curve; exposure puts L_in of the ground 10 km away towards the sun at 0.4, so
 // that F_ex x texel + L_in stays below 1 (no clipping).
-Scene terrain_scene(double eye_m, double sun_deg) {
+Scene terrain_scene(double eye_m, double sun_deg, const std::string& preset = "hazy") {
     Scene s;
     char name[64];
     std::snprintf(name, sizeof name, "terrain-eye%d-sun%02d", int(eye_m), int(sun_deg));
@@ -124,7 +126,7 @@ Scene terrain_scene(double eye_m, double sun_deg) {
     s.dome = false;
     s.field = aerial::mesh::rolling_hills(-10000, -10000, 20000, 100, 3000);
     const glm::dvec3 eye{0.0, 0.0, s.field.height_m(0.0, 0.0) + eye_m};
-    s.frame = make_frame("hazy", 0.0, eye, direction(sun_deg, 0.0));
+    s.frame = make_frame(preset.c_str(), 0.0, eye, direction(sun_deg, 0.0));
     s.colour.texel = glm::vec3(0.6f);
     const glm::dvec3 probe{10000.0, 0.0, s.field.height_m(10000.0, 0.0)};
     s.colour.display.tone = aerial::ToneCurve::exponential;
@@ -493,6 +495,45 @@ int bench_update(int frames, int relocate) {
 
 }  // namespace
 
+// The built-in scenes (the quick run's subset with `quick`).
+std::vector<aerial::tess::SceneSpec> builtin_scenes(bool quick) {
+    std::vector<aerial::tess::SceneSpec> specs;
+    const auto dome = [&](double sun, double g) {
+        aerial::tess::SceneSpec s;
+        s.kind = "dome";
+        s.sun_elevation_deg = sun;
+        s.mie_g = g;
+        specs.push_back(s);
+    };
+    const auto terrain = [&](double eye, double sun) {
+        aerial::tess::SceneSpec s;
+        s.kind = "terrain";
+        s.eye_m = eye;
+        s.sun_elevation_deg = sun;
+        specs.push_back(s);
+    };
+    if (quick) {
+        dome(10, 0.76);
+        dome(10, 0.90);
+        terrain(300, 10);
+        return specs;
+    }
+    for (double g : {0.76, 0.90})
+        for (double sun : {2.0, 10.0, 30.0, 60.0}) dome(sun, g);
+    for (double eye : {2.0, 300.0, 3000.0})
+        for (double sun : {10.0, 60.0}) terrain(eye, sun);
+    return specs;
+}
+
+Scene scene_of(const aerial::tess::SceneSpec& spec) {
+    Scene s = spec.kind == "dome" ? dome_scene(spec.sun_elevation_deg, spec.mie_g,
+                                               spec.preset.empty() ? "earth" : spec.preset)
+                                  : terrain_scene(spec.eye_m, spec.sun_elevation_deg,
+                                                  spec.preset.empty() ? "hazy" : spec.preset);
+    if (!spec.name.empty()) s.name = spec.name;
+    return s;
+}
+
 // Whether a mesh is of a scene's kind: a dome's vertices all lie on its sphere (within 1 %);
 // any other mesh is graded on the terrain scenes.
 bool fits(const Scene& scene, const aerial::scene::MeshData& data) {
@@ -617,12 +658,34 @@ int main(int argc, char** argv) {
     app.add_flag("--no-builtin", no_builtin, "With --mesh: grade only those meshes");
     app.add_option("--export-meshes", export_dir,
                    "Write every built-in mesh graded as DIR/SCENE/METHOD-LEVEL.obj");
+    std::string scenes_file;
+    bool list_scenes = false;
+    app.add_option("--scenes", scenes_file,
+                   "A JSON file of the scenes to grade in place of the built-in ones (see "
+                   "--list-scenes): {\"scenes\": [{\"kind\": \"dome\", \"sun_elevation_deg\": 10, "
+                   "\"mie_g\": 0.9}, ...]}");
+    app.add_flag("--list-scenes", list_scenes,
+                 "Print the built-in scenes (with --quick, the quick run's) as such a file");
     std::string images_dir;
     app.add_option("--save-images", images_dir,
                    "Write the drawn and reference images of every mesh graded, and their "
                    "difference, as DIR/SCENE/METHOD-LEVEL-{drawn,reference,diff}.png (the six "
                    "cube faces side by side)");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
+    std::vector<aerial::tess::SceneSpec> specs = builtin_scenes(quick);
+    if (list_scenes) {
+        std::fputs(aerial::tess::write_scene_list(specs).c_str(), stdout);
+        return 0;
+    }
+    if (!scenes_file.empty()) {
+        std::ifstream in(scenes_file);
+        if (!in) return aerial::tools::fail(kTool, "--scenes: cannot read " + scenes_file);
+        const std::string text((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
+        auto read = aerial::tess::read_scene_list(text);
+        if (!read) return aerial::tools::fail(kTool, read.error().message);
+        specs = std::move(read).value();
+    }
     if (frames < 1 || frames > 100000)
         return aerial::tools::fail(kTool,
                                    "--frames: expected 1 .. 100000, got " + std::to_string(frames));
@@ -684,14 +747,7 @@ int main(int argc, char** argv) {
     if (!grader) return aerial::tools::fail(kTool, "GL grading: " + grader.error().message);
     settings.grader = &grader.value();
     std::vector<Scene> scenes;
-    if (quick) {
-        scenes = {dome_scene(10, 0.76), dome_scene(10, 0.90), terrain_scene(300, 10)};
-    } else {
-        for (double g : {0.76, 0.90})
-            for (double sun : {2.0, 10.0, 30.0, 60.0}) scenes.push_back(dome_scene(sun, g));
-        for (double eye : {2.0, 300.0, 3000.0})
-            for (double sun : {10.0, 60.0}) scenes.push_back(terrain_scene(eye, sun));
-    }
+    for (const auto& spec : specs) scenes.push_back(scene_of(spec));
     if (!only.empty()) {
         scenes.erase(
             std::remove_if(scenes.begin(), scenes.end(),

@@ -32,6 +32,7 @@
 #include "tess/gl_grade.hpp"
 #include "tess/mesh_files.hpp"
 #include "tess/scene_list.hpp"
+#include "tess/summary.hpp"
 
 namespace {
 
@@ -61,12 +62,7 @@ struct Scene {
     aerial::tess::GlGradeOptions grading;
 };
 
-struct Row {
-    std::string scene, method, level;  ///< level: the sweep's parameter, or a mesh file's stem
-    std::size_t vertices = 0, triangles = 0;
-    aerial::tools::LsbDifferences error;
-    double build_ms = 0.0, grade_ms = 0.0;
-};
+using Row = aerial::tess::GradedRow;
 
 struct Settings {
     bool quick = false;
@@ -548,62 +544,6 @@ bool fits(const Scene& scene, const aerial::scene::MeshData& data) {
     return scene.dome == on_sphere;
 }
 
-// The fewest vertices of each method meeting `ok` per scene ("-" not graded, ">N" none did).
-std::string fewest_table(const std::vector<Scene>& scenes, const std::vector<Row>& rows,
-                         const std::vector<std::string>& methods,
-                         const std::function<bool(const Row&)>& ok) {
-    std::string text;
-    char cell[64];
-    std::snprintf(cell, sizeof cell, "%-24s", "scene");
-    text += cell;
-    for (const auto& m : methods) {
-        std::snprintf(cell, sizeof cell, " %20s", m.c_str());
-        text += cell;
-    }
-    text += "\n";
-    for (const Scene& s : scenes) {
-        std::snprintf(cell, sizeof cell, "%-24s", s.name.c_str());
-        text += cell;
-        for (const auto& m : methods) {
-            std::string value = "-";
-            std::size_t most = 0, fewest = 0;
-            bool seen = false;
-            for (const Row& r : rows) {
-                if (r.scene != s.name || r.method != m) continue;
-                seen = true;
-                most = std::max(most, r.vertices);
-                if (ok(r) && (fewest == 0 || r.vertices < fewest)) fewest = r.vertices;
-            }
-            if (fewest > 0) value = std::to_string(fewest);
-            if (seen && value == "-") value = ">" + std::to_string(most);
-            std::snprintf(cell, sizeof cell, " %20s", value.c_str());
-            text += cell;
-        }
-        text += "\n";
-    }
-    return text;
-}
-
-// The summary: the fewest vertices for max <= 1 step, and for the criterion one pixel cannot
-// flip: at most 1e-4 of the pixels more than 1 step off.
-std::string summary_tables(const std::vector<Scene>& scenes, const std::vector<Row>& rows,
-                           int face_pixels, bool quick) {
-    std::vector<std::string> methods;
-    for (const Row& r : rows)
-        if (std::find(methods.begin(), methods.end(), r.method) == methods.end())
-            methods.push_back(r.method);
-    char head[256];
-    std::snprintf(head, sizeof head,
-                  "GL images against the per-pixel reference, six cube faces of %d x %d pixels "
-                  "a mesh%s\n",
-                  face_pixels, face_pixels,
-                  quick ? "; QUICK RUN: a subset of scenes and levels, coarser grading" : "");
-    return std::string(head) + "\nvertices for max <= 1 LSB\n" +
-           fewest_table(scenes, rows, methods, [](const Row& r) { return r.error.max_lsb <= 1; }) +
-           "\nvertices for at most 1e-4 of the pixels over 1 LSB (one pixel cannot flip it)\n" +
-           fewest_table(scenes, rows, methods, [](const Row& r) { return r.error.over1 <= 1e-4; });
-}
-
 int main(int argc, char** argv) {
     CLI::App app{
         "aerial-tess: vertices needed for per-vertex colour within 1 LSB, adaptive "
@@ -799,7 +739,10 @@ int main(int argc, char** argv) {
     csv.close();
 
     // The tables: per scene, the fewest vertices of each method meeting each criterion.
-    const std::string summary = summary_tables(scenes, rows, settings.face_pixels, quick);
+    std::vector<std::string> scene_names;
+    for (const Scene& scene : scenes) scene_names.push_back(scene.name);
+    const std::string summary =
+        aerial::tess::summary_tables(scene_names, rows, settings.face_pixels, quick);
     std::fputs(summary.c_str(), stdout);
     std::ofstream(out + "/summary.txt") << summary;
     std::printf("total %.1f s; wrote %s and %s/summary.txt\n", ms_since(start) / 1000.0,

@@ -66,13 +66,10 @@ struct Row {
 /// One flight with fresh renderers (nothing cached from an earlier round).
 std::optional<aerial::Error> fly_round(const aerial::gl::Api& api, const World& world,
                                        const GameConfig& config, std::vector<Row>& rows) {
-    aerial::scene::RendererOptions options;
-    options.backend = config.backend;
-    options.path = config.path;
-    auto game = aerial::scene::SceneRenderer::create(api, options);
-    if (!game) return game.error();
-    auto sky = install_sky(game.value(), api, config);
-    if (!sky) return sky.error();
+    auto made = make_game_renderer(api, config);
+    if (!made) return made.error();
+    aerial::scene::SceneRenderer& game = made.value().renderer;
+    const SkySetup* sky = &made.value().sky;
     aerial::scene::RendererOptions fog_options;
     fog_options.backend = aerial::scene::Backend::none;
     auto fog = aerial::scene::SceneRenderer::create(api, fog_options);
@@ -85,13 +82,13 @@ std::optional<aerial::Error> fly_round(const aerial::gl::Api& api, const World& 
         Row& row = rows[std::size_t(i)];
         row.t = frames == 1 ? 0.0 : double(i) / double(frames - 1);
         const FlightState state = flight_at(world, row.t, config.sun);
-        auto moving = render_frame(api, game.value(), world, state, config);
+        auto moving = render_frame(api, game, world, state, config);
         if (!moving) return moving.error();
         row.directions = directions();
         const double sky_ms = sky->stats ? sky->stats->last_refresh_ms : 0.0;
         auto fog_moving = render_fog_frame(api, fog.value(), world, state, config);
         if (!fog_moving) return fog_moving.error();
-        auto still = render_frame(api, game.value(), world, state, config);
+        auto still = render_frame(api, game, world, state, config);
         if (!still) return still.error();
         row.still_directions = directions();
         auto fog_still = render_fog_frame(api, fog.value(), world, state, config);

@@ -35,6 +35,18 @@ aerial::Result<SkySetup> install_sky(aerial::scene::SceneRenderer& renderer,
     return setup;
 }
 
+aerial::Result<GameRenderer> make_game_renderer(const aerial::gl::Api& api,
+                                                const GameConfig& config) {
+    aerial::scene::RendererOptions options;
+    options.backend = config.backend;
+    options.path = config.path;
+    auto renderer = aerial::scene::SceneRenderer::create(api, options);
+    if (!renderer) return renderer.error();
+    auto sky = install_sky(renderer.value(), api, config);
+    if (!sky) return sky.error();
+    return GameRenderer{std::move(renderer).value(), *sky};
+}
+
 std::string clock_text(double hours) {
     const int minutes = int(std::lround(hours * 60.0));
     char buffer[16];

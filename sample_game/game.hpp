@@ -52,6 +52,15 @@ struct SkySetup {
 aerial::Result<SkySetup> install_sky(aerial::scene::SceneRenderer& renderer,
                                      const aerial::gl::Api& api, const GameConfig& config);
 
+/// A renderer of config.backend and config.path with config.sky installed: what the game,
+/// its soak and its comparison with fog draw through.
+struct GameRenderer {
+    aerial::scene::SceneRenderer renderer;
+    SkySetup sky;
+};
+aerial::Result<GameRenderer> make_game_renderer(const aerial::gl::Api& api,
+                                                const GameConfig& config);
+
 aerial::Result<FrameOutcome> render_frame(const aerial::gl::Api& api,
                                           aerial::scene::SceneRenderer& renderer,
                                           const World& world, const FlightState& state,

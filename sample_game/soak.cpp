@@ -39,14 +39,11 @@ int max_difference(const std::vector<std::uint8_t>& a, const std::vector<std::ui
 
 /// The image a renderer created now draws of `state` (fresh caches, fresh sky).
 aerial::Result<std::vector<std::uint8_t>> fresh_render(const aerial::headless::Context& context,
-                                                       const aerial::scene::RendererOptions& ro,
                                                        const World& world, const FlightState& state,
                                                        const GameConfig& config) {
-    auto renderer = aerial::scene::SceneRenderer::create(context.api(), ro);
-    if (!renderer) return renderer.error();
-    auto sky = install_sky(renderer.value(), context.api(), config);
-    if (!sky) return sky.error();
-    auto outcome = render_frame(context.api(), renderer.value(), world, state, config);
+    auto game = make_game_renderer(context.api(), config);
+    if (!game) return game.error();
+    auto outcome = render_frame(context.api(), game.value().renderer, world, state, config);
     if (!outcome) return outcome.error();
     return context.read_rgba8();
 }
@@ -97,13 +94,10 @@ aerial::Result<SoakReport> run_soak(const World& world, GameConfig config,
     auto context = aerial::headless::Context::create({options.gl, config.width, config.height});
     if (!context) return context.error();
     const aerial::gl::Api& api = context->api();
-    aerial::scene::RendererOptions ro;
-    ro.backend = config.backend;
-    ro.path = config.path;
-    auto renderer = aerial::scene::SceneRenderer::create(api, ro);
-    if (!renderer) return renderer.error();
-    auto sky = install_sky(renderer.value(), api, config);
-    if (!sky) return sky.error();
+    auto game = make_game_renderer(api, config);
+    if (!game) return game.error();
+    aerial::scene::SceneRenderer& renderer = game.value().renderer;
+    const SkySetup* sky = &game.value().sky;
     config.sky = sky->used;
 
     SoakReport report;
@@ -130,7 +124,7 @@ aerial::Result<SoakReport> run_soak(const World& world, GameConfig config,
         const double t = phase <= period / 2 ? double(phase) / (period / 2)
                                              : double(period - phase) / (period / 2);
         const FlightState state = flight_at(world, t, config.sun);
-        auto outcome = render_frame(api, renderer.value(), world, state, config);
+        auto outcome = render_frame(api, renderer, world, state, config);
         if (!outcome) {
             return aerial::Error{"frame",
                                  "frame " + std::to_string(i) + ": " + outcome.error().message};
@@ -173,7 +167,7 @@ aerial::Result<SoakReport> run_soak(const World& world, GameConfig config,
         // The first frame too: the fresh renderer's allocations are then part of the baseline.
         if (i == 0 || (i + 1) % std::max(1, options.compare_every) == 0 || last) {
             const std::vector<std::uint8_t> soaked = context->read_rgba8();
-            auto fresh = fresh_render(*context, ro, world, state, config);
+            auto fresh = fresh_render(*context, world, state, config);
             if (!fresh) {
                 return aerial::Error{"fresh", "fresh render of frame " + std::to_string(i) + ": " +
                                                   fresh.error().message};

@@ -208,23 +208,11 @@ glm::dvec3 sky_radiance(const SkyContext& sky, const dvec3& direction) {
         }
         case SkyMethod::dome_height:
             return scatter(sky.frame, sky.eye_m + dir * sky_ray_length_m(sky, dir)).in_scattering;
-        case SkyMethod::height_chained: {
-            const double length = sky_ray_length_m(sky, dir);
-            dvec3 radiance(0.0), transmittance(1.0);
-            dvec3 start = sky.eye_m;
-            for (int i = 1; i <= sky.segments; ++i) {
-                // Quadratic spacing: short pieces near the eye, where density changes fastest
-                // along near-horizontal rays and where the attenuation of the rest is set.
-                const double f = double(i) / sky.segments;
-                const dvec3 end = sky.eye_m + dir * (length * f * f);
-                const Frame<double> piece = i == 1 ? sky.frame : frame_with_eye(sky.frame, start);
-                const Scattering<double> s = scatter(piece, end);
-                radiance += transmittance * s.in_scattering;
-                transmittance *= s.extinction;
-                start = end;
-            }
-            return radiance;
-        }
+        case SkyMethod::height_chained:
+            // The chain of `height` segments (sky_view_table.cpp), its parts under this
+            // direction's phases.
+            return detail::sky_radiance_parts(sky, dir).in_scattering(
+                rayleigh_phase(cos_theta), henyey_greenstein_phase(cos_theta, sky.frame.mie_g));
         case SkyMethod::reference: {
             View view = sky.view;
             view.eye = sky.eye_m;

@@ -10,7 +10,6 @@
 #include "../common/error_text.hpp"
 #include "aerial/phase.hpp"
 #include "aerial/sky.hpp"
-#include "sky_internal.hpp"
 #include "sky_view_table.hpp"
 #include "worker_pool.hpp"
 
@@ -163,32 +162,18 @@ void SkyCubemapCache::State::finish(Sky& sky) {
 
 void SkyCubemapCache::State::encode(const dvec3& sun, const ViewState& now, const Display& d,
                                     bool switched) {
-    SkyViewTable& table = shown->table;
-    table.set_sun_direction(sun);
-    const int size = options.size;
-    double largest_change = 0.0;
-    cubemap.size = size;
-    for (int face = 0; face < 6; ++face) {
-        auto& texels = cubemap.faces[std::size_t(face)];
-        auto& codes = rgba8[std::size_t(face)];
-        texels.resize(std::size_t(size) * std::size_t(size));
-        codes.resize(texels.size() * 4, 255);
-        for (int j = 0; j < size; ++j) {
-            for (int i = 0; i < size; ++i) {
-                const std::size_t t = std::size_t(j) * std::size_t(size) + std::size_t(i);
-                const dvec3 l = table.radiance(cubemap_texel_direction(face, i, j, size));
-                texels[t] = glm::vec3(l);
-                const dvec3 v = detail::quantised(detail::display_8bit(l, d.exposure, d.tone));
-                for (std::size_t c = 0; c < 3; ++c) {
-                    const auto code = std::uint8_t(v[int(c)]);
-                    largest_change =
-                        std::max(largest_change, std::abs(double(code) - double(codes[4 * t + c])));
-                    codes[4 * t + c] = code;
-                }
-            }
+    shown->table.set_sun_direction(sun);
+    cubemap = detail::cubemap_from_table(shown->table, options.size);
+    auto codes = cubemap_to_rgba8(cubemap, d.exposure, d.tone);
+    if (switched) {
+        int largest = 0;
+        for (std::size_t f = 0; f < 6; ++f) {
+            for (std::size_t k = 0; k < codes[f].size() && k < rgba8[f].size(); ++k)
+                largest = std::max(largest, std::abs(int(codes[f][k]) - int(rgba8[f][k])));
         }
+        stats.last_switch_steps = largest;
     }
-    if (switched) stats.last_switch_steps = largest_change;
+    rgba8 = std::move(codes);
     encoded_state = now;
     encoded_display = d;
     ++stats.encodes;

@@ -49,8 +49,11 @@ HeightParts<double> logs(const HeightParts<double>& p) {
     return out;
 }
 
-/// sky_radiance's chain of `height` segments, part by part (the phase is the same along the
-/// whole ray), in the precision of `frame` (the sky's, or the table's float copy of it).
+/// The `height-chained` sky: the `height` model over sky.segments pieces of the ray, each
+/// attenuated by the ones before it, part by part (the phase is the same along the whole ray),
+/// in the precision of `frame` (the sky's, or the table's float copy of it). Quadratic spacing:
+/// short pieces near the eye, where density changes fastest along near-horizontal rays and
+/// where the attenuation of the rest is set.
 template <class T>
 HeightParts<double> chained_parts(const SkyContext& sky, const Frame<T>& frame, const dvec3& dir) {
     using V = glm::vec<3, T>;

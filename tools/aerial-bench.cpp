@@ -163,11 +163,18 @@ int main(int argc, char** argv) {
                  "Stability map: every method against the reference model over sweeps of sun "
                  "elevation, altitude, distance, g, turbidity and visibility; writes "
                  "DIR/stability.csv and DIR/stability.png");
+    std::vector<std::string> sweep_names;
+    app.add_option("--sweep", sweep_names,
+                   "With --stability: run only this sweep (sun_elevation_deg, altitude_m, "
+                   "distance_m, mie_g, turbidity, visibility_m; repeatable)");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
+    if (!sweep_names.empty() && !stability) {
+        return aerial::tools::fail(kTool, "--sweep: only with --stability");
+    }
     if (!simd_target.empty() && !cpu_throughput) {
         return aerial::tools::fail(kTool, "--simd-target: only with --cpu-throughput");
     }
-    if (stability) return aerial::bench::run_stability(out_dir, quick);
+    if (stability) return aerial::bench::run_stability(out_dir, quick, sweep_names);
     if (cpu_throughput && !out_dir.empty()) {
         return aerial::tools::fail(kTool, "--out: not together with --cpu-throughput");
     }

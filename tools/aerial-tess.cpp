@@ -29,9 +29,9 @@
 #include "common/image_metrics.hpp"
 #include "support/cli.hpp"
 #include "support/png.hpp"
-#include "tess/gl_grade.hpp"
+#include "aerial/validation/mesh_grader.hpp"
+#include "aerial/validation/tess_scenes.hpp"
 #include "tess/mesh_files.hpp"
-#include "tess/scene_list.hpp"
 #include "tess/summary.hpp"
 
 namespace {
@@ -45,23 +45,7 @@ double ms_since(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-glm::dvec3 direction(double elevation_deg, double azimuth_deg) {
-    const double e = elevation_deg * kPi / 180.0, a = azimuth_deg * kPi / 180.0;
-    return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
-}
-
-float brightest(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
-
-struct Scene {
-    std::string name;
-    bool dome = true;
-    aerial::Frame<float> frame;
-    aerial::mesh::ColourOptions colour;
-    aerial::mesh::DomeOptions dome_options;
-    aerial::mesh::Heightfield field;
-    aerial::tess::GlGradeOptions grading;
-};
-
+using Scene = aerial::validation::TessScene;
 using Row = aerial::tess::GradedRow;
 
 struct Settings {
@@ -74,69 +58,14 @@ struct Settings {
     int colour_edge = -1;
     double colour_edge_angle = -1.0;
     int relocate = -1;  ///< AdaptiveSettings::relocate (-1: the library's default, 0 off, 1 on)
-    aerial::tess::GlGrader* grader = nullptr;
+    aerial::validation::MeshGrader* grader = nullptr;
     std::string export_dir;  ///< --export-meshes: every graded mesh written here as OBJ
     std::string images_dir;  ///< --save-images: drawn, reference and difference PNGs here
 };
 
-aerial::Frame<float> make_frame(const char* preset, double mie_g, const glm::dvec3& eye,
-                                const glm::dvec3& sun) {
-    aerial::Atmosphere a = aerial::atmosphere_preset(preset).value();
-    if (mie_g > 0.0) a.mie_g = mie_g;
-    aerial::View view;
-    view.eye = eye;
-    view.sun_dir = sun;
-    return aerial::prepare_frame<float>(a, view, aerial::Model::height).value();
-}
-
-// Dome: the earth preset, eye 2 m above sea level, dome of 80 km around it showing L_in only,
-// exponential tone curve (smooth, never clips); exposure puts the sky at 30 deg elevation, 90 deg
-// from the sun in azimuth, at 0.5.
-Scene dome_scene(double sun_deg, double g, const std::string& preset = "earth") {
-    Scene s;
-    char name[64];
-    std::snprintf(name, sizeof name, "dome-sun%02d-g%.2f", int(sun_deg), g);
-    s.name = name;
-    s.dome = true;
-    s.dome_options.centre = {0.0, 0.0, 2.0};
-    s.frame = make_frame(preset.c_str(), g, s.dome_options.centre, direction(sun_deg, 0.0));
-    s.colour.texel = glm::vec3(0.0f);
-    const glm::dvec3 probe = s.dome_options.centre + s.dome_options.radius_m * direction(30, 90);
-    s.colour.display.tone = aerial::ToneCurve::exponential;
-    s.colour.display.exposure =
-        float(std::log(2.0)) / brightest(aerial::scatter(s.frame, glm::vec3(probe)).in_scattering);
-    s.grading.dome = s.dome_options;
-    s.grading.near_m = 100.0;
-    s.grading.far_m = 4.0 * s.dome_options.radius_m;
-    return s;
-}
-
-// Terrain: 20 km of rolling hills (100 m, 3 km wavelength) in the `hazy` preset, texel 0.6,
-// exponential tone curve; exposure puts L_in of the ground 10 km away towards the sun at 0.4, so
-// that F_ex x texel + L_in stays below 1 (no clipping).
-Scene terrain_scene(double eye_m, double sun_deg, const std::string& preset = "hazy") {
-    Scene s;
-    char name[64];
-    std::snprintf(name, sizeof name, "terrain-eye%d-sun%02d", int(eye_m), int(sun_deg));
-    s.name = name;
-    s.dome = false;
-    s.field = aerial::mesh::rolling_hills(-10000, -10000, 20000, 100, 3000);
-    const glm::dvec3 eye{0.0, 0.0, s.field.height_m(0.0, 0.0) + eye_m};
-    s.frame = make_frame(preset.c_str(), 0.0, eye, direction(sun_deg, 0.0));
-    s.colour.texel = glm::vec3(0.6f);
-    const glm::dvec3 probe{10000.0, 0.0, s.field.height_m(10000.0, 0.0)};
-    s.colour.display.tone = aerial::ToneCurve::exponential;
-    s.colour.display.exposure = float(-std::log(1.0 - 0.4)) /
-                                brightest(aerial::scatter(s.frame, glm::vec3(probe)).in_scattering);
-    // Depth precision: the near plane at 0.4 times the eye's height above the ground.
-    s.grading.near_m = 0.4 * eye_m;
-    s.grading.far_m = 40000.0;
-    return s;
-}
-
 // PREFIX-drawn.png, PREFIX-reference.png and PREFIX-diff.png (aerial-compare's difference
 // image: equal pixels dimmed grey, others coloured by their steps) of a grading's images.
-std::optional<std::string> save_images(const aerial::tess::GlGradeOptions::Images& images,
+std::optional<std::string> save_images(const aerial::validation::MeshGradeOptions::Images& images,
                                        const std::string& prefix) {
     aerial::tools::Rgb8Image drawn, reference, diff;
     drawn.width = reference.width = images.width;
@@ -170,13 +99,13 @@ Row grade(const Scene& scene, const std::string& method, const std::string& leve
             std::exit(1);
         }
     }
-    aerial::tess::GlGradeOptions grading = scene.grading;
-    aerial::tess::GlGradeOptions::Images images;
-    if (!settings.images_dir.empty()) grading.images = &images;
+    aerial::validation::GradeSetting setting = scene.setting;
+    aerial::validation::MeshGradeOptions::Images images;
+    if (!settings.images_dir.empty()) setting.options.images = &images;
     const auto start = Clock::now();
-    auto graded = settings.grader->grade(mesh, scene.frame, scene.colour, grading);
+    auto graded = settings.grader->grade(setting, mesh);
     row.grade_ms = ms_since(start);
-    if (graded && grading.images) {
+    if (graded && setting.options.images) {
         if (auto e = save_images(
                 images, settings.images_dir + "/" + scene.name + "/" + method + "-" + level)) {
             std::fprintf(stderr, "%s: --save-images: %s\n", kTool, e->c_str());
@@ -256,7 +185,7 @@ Mesh adaptive_mesh(const Scene& scene, const Mesh& base, const aerial::mesh::Sur
         a.colour_edge_min_angle_deg = float(settings.colour_edge_angle);
     if (relocate < 0) relocate = settings.relocate;
     if (relocate >= 0) a.relocate = relocate == 1;
-    a.colour = scene.colour;
+    a.colour = scene.setting.colour;
     // 8-bit vertex colours: exact for the dome (L_in only); on terrain the GL path rounds F_ex and
     // L_in apart, so the float estimate is kept there.
     a.colour.quantized_vertices = quantized && scene.dome;
@@ -267,7 +196,7 @@ Mesh adaptive_mesh(const Scene& scene, const Mesh& base, const aerial::mesh::Sur
     const auto start = Clock::now();
     auto made = aerial::mesh::AdaptiveMesh::create(base, surface, a);
     aerial::mesh::AdaptiveMesh adaptive = std::move(made).value();
-    adaptive.update(scene.frame);
+    adaptive.update(scene.setting.frame);
     adaptive.compact();
     build_ms = ms_since(start);
     return adaptive.mesh();
@@ -335,13 +264,13 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                   : std::vector<double>{1.0, 0.8, 0.65, 0.5},
                 [&](double bound, double& build_ms) {
                     aerial::mesh::DecimateOptions d;
-                    d.colour = scene.colour;
+                    d.colour = scene.setting.colour;
                     d.colour.quantized_vertices = q;
                     d.colour.on_dome_sphere = q;
                     d.colour.dome = scene.dome_options;
                     d.max_lsb = float(bound);
                     const auto start = Clock::now();
-                    Mesh m = aerial::mesh::decimate(fine, scene.frame, d).value();
+                    Mesh m = aerial::mesh::decimate(fine, scene.setting.frame, d).value();
                     build_ms = ms + ms_since(start);
                     return m;
                 },
@@ -360,7 +289,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                 return m;
             },
             settings, rows);
-        const glm::dvec2 eye{scene.frame.view.eye.x, scene.frame.view.eye.y};
+        const glm::dvec2 eye{scene.setting.frame.view.eye.x, scene.setting.frame.view.eye.y};
         sweep(
             scene, "uniform-distance-lod", capped({8, 16, 32, 64, 128, 256}, 128),
             [&](double cells, double& ms) {
@@ -387,19 +316,19 @@ int where(const Scene& scene, double split_lsb, const Settings& settings) {
     const Mesh base = aerial::mesh::geodesic_dome(4, scene.dome_options).value();
     double ms = 0.0;
     const Mesh mesh = adaptive_mesh(scene, base, surface, split_lsb, true, settings, ms);
-    std::vector<aerial::tess::GlGradeOptions::Pixel> pixels;
-    aerial::tess::GlGradeOptions grading = scene.grading;
-    grading.report = &pixels;
-    auto graded = settings.grader->grade(mesh, scene.frame, scene.colour, grading);
+    std::vector<aerial::validation::MeshGradeOptions::Pixel> pixels;
+    aerial::validation::GradeSetting setting = scene.setting;
+    setting.options.report = &pixels;
+    auto graded = settings.grader->grade(setting, mesh);
     if (!graded) return aerial::tools::fail(kTool, "--where: " + graded.error().message);
     std::printf("%s split %.2f: %zu vertices, max %d LSB, %zu pixels >= 2 steps\n",
                 scene.name.c_str(), split_lsb, aerial::mesh::live_vertices(mesh), graded->max_lsb,
                 pixels.size());
-    aerial::mesh::ColourOptions colour = scene.colour;
+    aerial::mesh::ColourOptions colour = scene.setting.colour;
     colour.quantized_vertices = true;
     colour.on_dome_sphere = true;
     colour.dome = scene.dome_options;
-    const glm::dvec3 eye = scene.frame.view.eye;
+    const glm::dvec3 eye = scene.setting.frame.view.eye;
     for (const auto& px : pixels) {
         const glm::dvec3 d = glm::normalize(px.point - eye);
         const double elevation = std::asin(d.z) * 180.0 / kPi;
@@ -423,14 +352,14 @@ int where(const Scene& scene, double split_lsb, const Settings& settings) {
             if (u < -1e-9 || v < -1e-9 || u + v > 1 + 1e-9 || t <= 0) continue;
             glm::vec3 c[3];
             for (int i = 0; i < 3; ++i)
-                c[i] = aerial::mesh::display_colour(scene.frame, colour, p[i]);
+                c[i] = aerial::mesh::display_colour(scene.setting.frame, colour, p[i]);
             const float estimate =
-                aerial::mesh::colour_error(scene.frame, colour, p[0], p[1], p[2], c[0], c[1], c[2]);
+                aerial::mesh::colour_error(scene.setting.frame, colour, p[0], p[1], p[2], c[0], c[1], c[2]);
             const double w[3] = {1 - u - v, u, v};
             double interpolated = 0.0;
             for (int i = 0; i < 3; ++i) interpolated += w[i] * std::round(255.0 * c[i].x);
             const double exact =
-                255.0 * aerial::mesh::display_colour(scene.frame, colour, px.point).x;
+                255.0 * aerial::mesh::display_colour(scene.setting.frame, colour, px.point).x;
             const double longest =
                 std::max({glm::length(e1), glm::length(e2), glm::length(p[2] - p[1])}) /
                 scene.dome_options.radius_m * 180.0 / kPi;
@@ -448,23 +377,27 @@ int where(const Scene& scene, double split_lsb, const Settings& settings) {
 // The median time of an update of a terrain of about 100k triangles seen from a camera flying at
 // 20 m/s, 60 frames per second, 40 m above the ground (after the first, full refinement).
 int bench_update(int frames, int relocate) {
-    Scene scene = terrain_scene(40.0, 10.0);
+    aerial::validation::TessSceneSpec spec;
+    spec.kind = "terrain";
+    spec.eye_m = 40.0;
+    spec.sun_elevation_deg = 10.0;
+    const Scene scene = aerial::validation::make_tess_scene(spec).value();
     const Mesh base = aerial::mesh::terrain_grid(scene.field, 224, 224).value();
     aerial::mesh::AdaptiveSettings a;
     if (relocate >= 0) a.relocate = relocate == 1;
-    a.colour = scene.colour;
+    a.colour = scene.setting.colour;
     a.lock_boundary = false;
     aerial::mesh::AdaptiveMesh adaptive =
         std::move(aerial::mesh::AdaptiveMesh::create(
                       base, aerial::mesh::Surface::terrain(scene.field), a))
             .value();
     const auto first_start = Clock::now();
-    const auto first = adaptive.update(scene.frame);
+    const auto first = adaptive.update(scene.setting.frame);
     const double first_ms = ms_since(first_start);
     std::vector<double> times, cpu_times;  // wall clock, and this process's CPU time
     std::size_t estimated = 0, splits = 0, merges = 0;
-    aerial::View view = scene.frame.view;
-    const aerial::Atmosphere atmosphere = scene.frame.atmosphere;
+    aerial::View view = scene.setting.frame.view;
+    const aerial::Atmosphere atmosphere = scene.setting.frame.atmosphere;
     for (int i = 1; i <= frames; ++i) {
         view.eye.x = 20.0 / 60.0 * i;
         view.eye.z = scene.field.height_m(view.eye.x, 0.0) + 40.0;
@@ -490,59 +423,6 @@ int bench_update(int frames, int relocate) {
 }
 
 }  // namespace
-
-// The built-in scenes (the quick run's subset with `quick`).
-std::vector<aerial::tess::SceneSpec> builtin_scenes(bool quick) {
-    std::vector<aerial::tess::SceneSpec> specs;
-    const auto dome = [&](double sun, double g) {
-        aerial::tess::SceneSpec s;
-        s.kind = "dome";
-        s.sun_elevation_deg = sun;
-        s.mie_g = g;
-        specs.push_back(s);
-    };
-    const auto terrain = [&](double eye, double sun) {
-        aerial::tess::SceneSpec s;
-        s.kind = "terrain";
-        s.eye_m = eye;
-        s.sun_elevation_deg = sun;
-        specs.push_back(s);
-    };
-    if (quick) {
-        dome(10, 0.76);
-        dome(10, 0.90);
-        terrain(300, 10);
-        return specs;
-    }
-    for (double g : {0.76, 0.90})
-        for (double sun : {2.0, 10.0, 30.0, 60.0}) dome(sun, g);
-    for (double eye : {2.0, 300.0, 3000.0})
-        for (double sun : {10.0, 60.0}) terrain(eye, sun);
-    return specs;
-}
-
-Scene scene_of(const aerial::tess::SceneSpec& spec) {
-    Scene s = spec.kind == "dome" ? dome_scene(spec.sun_elevation_deg, spec.mie_g,
-                                               spec.preset.empty() ? "earth" : spec.preset)
-                                  : terrain_scene(spec.eye_m, spec.sun_elevation_deg,
-                                                  spec.preset.empty() ? "hazy" : spec.preset);
-    if (!spec.name.empty()) s.name = spec.name;
-    return s;
-}
-
-// Whether a mesh is of a scene's kind: a dome's vertices all lie on its sphere (within 1 %);
-// any other mesh is graded on the terrain scenes.
-bool fits(const Scene& scene, const aerial::scene::MeshData& data) {
-    bool on_sphere = true;
-    const glm::dvec3 centre = scene.dome_options.centre;
-    const double radius = scene.dome_options.radius_m;
-    for (std::size_t i = 0; i < data.vertex_count() && on_sphere; ++i) {
-        const glm::dvec3 p(data.positions[3 * i], data.positions[3 * i + 1],
-                           data.positions[3 * i + 2]);
-        on_sphere = std::abs(glm::length(p - centre) - radius) <= 0.01 * radius;
-    }
-    return scene.dome == on_sphere;
-}
 
 int main(int argc, char** argv) {
     CLI::App app{
@@ -612,9 +492,9 @@ int main(int argc, char** argv) {
                    "difference, as DIR/SCENE/METHOD-LEVEL-{drawn,reference,diff}.png (the six "
                    "cube faces side by side)");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
-    std::vector<aerial::tess::SceneSpec> specs = builtin_scenes(quick);
+    std::vector<aerial::validation::TessSceneSpec> specs = aerial::validation::builtin_tess_scenes(quick);
     if (list_scenes) {
-        std::fputs(aerial::tess::write_scene_list(specs).c_str(), stdout);
+        std::fputs(aerial::validation::write_tess_scenes(specs).c_str(), stdout);
         return 0;
     }
     if (!scenes_file.empty()) {
@@ -622,8 +502,8 @@ int main(int argc, char** argv) {
         if (!in) return aerial::tools::fail(kTool, "--scenes: cannot read " + scenes_file);
         const std::string text((std::istreambuf_iterator<char>(in)),
                                std::istreambuf_iterator<char>());
-        auto read = aerial::tess::read_scene_list(text);
-        if (!read) return aerial::tools::fail(kTool, read.error().message);
+        auto read = aerial::validation::read_tess_scenes(text);
+        if (!read) return aerial::tools::fail(kTool, "--scenes: " + read.error().message);
         specs = std::move(read).value();
     }
     if (frames < 1 || frames > 100000)
@@ -683,11 +563,15 @@ int main(int argc, char** argv) {
     }
     settings.export_dir = export_dir;
     settings.images_dir = images_dir;
-    auto grader = aerial::tess::GlGrader::create(settings.face_pixels);
+    auto grader = aerial::validation::MeshGrader::create(settings.face_pixels);
     if (!grader) return aerial::tools::fail(kTool, "GL grading: " + grader.error().message);
     settings.grader = &grader.value();
     std::vector<Scene> scenes;
-    for (const auto& spec : specs) scenes.push_back(scene_of(spec));
+    for (const auto& spec : specs) {
+        auto scene = aerial::validation::make_tess_scene(spec);
+        if (!scene) return aerial::tools::fail(kTool, "--scenes: " + scene.error().message);
+        scenes.push_back(std::move(scene).value());
+    }
     if (!only.empty()) {
         scenes.erase(
             std::remove_if(scenes.begin(), scenes.end(),
@@ -708,8 +592,8 @@ int main(int argc, char** argv) {
         run_scene(scenes[i], settings, !quick || i == 0, rows);
     for (const Scene& scene : scenes) {
         for (const auto& [stem, data] : own_meshes) {
-            if (!fits(scene, data)) continue;
-            auto mesh = aerial::tess::mesh_from_data(data);
+            if (!aerial::validation::tess_scene_fits(scene, data)) continue;
+            auto mesh = aerial::validation::mesh_from_data(data);
             if (!mesh)
                 return aerial::tools::fail(kTool, "--mesh " + stem + ": " + mesh.error().message);
             rows.push_back(grade(scene, own_method, stem, *mesh, 0.0, settings));

@@ -551,8 +551,20 @@ Result<std::vector<std::pair<CaseResult, CaseResult>>> run_sweep(const Sweep& sw
 
 }  // namespace
 
-int run_stability(const std::string& out_dir, bool quick) {
+int run_stability(const std::string& out_dir, bool quick, const std::vector<std::string>& names) {
     if (out_dir.empty()) return tools::fail(kTool, "--out: required with --stability");
+    std::vector<Sweep> selected;
+    for (Sweep& sweep : sweeps(quick)) {
+        if (names.empty() || std::find(names.begin(), names.end(), sweep.name) != names.end())
+            selected.push_back(std::move(sweep));
+    }
+    for (const std::string& name : names) {
+        if (std::none_of(selected.begin(), selected.end(),
+                         [&](const Sweep& s) { return s.name == name; }))
+            return tools::fail(kTool, "--sweep: expected sun_elevation_deg, altitude_m, "
+                                      "distance_m, mie_g, turbidity or visibility_m, got '" +
+                                          name + "'");
+    }
     const auto start = std::chrono::steady_clock::now();
     const auto programs = make_programs();
     if (!programs) return tools::fail(kTool, "ARB program: " + programs.error().message);
@@ -568,7 +580,7 @@ int run_stability(const std::string& out_dir, bool quick) {
     // Per method: the samples where it fails, for the summary.
     std::vector<std::vector<std::string>> summary(kMethodCount);
     std::vector<int> worst(kMethodCount, 0);
-    for (const Sweep& sweep : sweeps(quick)) {
+    for (const Sweep& sweep : selected) {
         std::printf("sweep %s: %zu samples%s\n", sweep.name.c_str(), sweep.values.size(),
                     sweep.next_frame ? " and their next frames" : "");
         std::fflush(stdout);

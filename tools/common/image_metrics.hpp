@@ -4,8 +4,8 @@
 // How to use this:
 //   1. `auto d = aerial::tools::compare_images(a, b);` (same size; aerial::tools::Rgb8Image).
 //   2. Pass a non-null `diff` to also get an image of where they differ (see diff_colour).
-//   3. For a subset of pixels (aerial-tess grades only the pixels a mesh covers):
-//      `LsbHistogram h;` then `h.add(a_rgb, b_rgb)` per pixel, and `h.differences()`.
+//   3. For a subset of pixels: `LsbHistogram h;` then `h.add(a_rgb, b_rgb)` per pixel, and
+//      `h.differences()`.
 #pragma once
 
 #include <array>
@@ -25,23 +25,10 @@ namespace aerial::tools {
 /// and 2 steps; `count` is the pixels. (The figures of aerial::validation::dense_error too.)
 using LsbDifferences = validation::LsbFigures<int>;
 
-/// The largest channel difference of two RGB pixels (3 bytes each), in 8-bit steps.
-int pixel_lsb(const std::uint8_t* a, const std::uint8_t* b);
-
-class LsbHistogram {
-  public:
-    /// Adds one pixel pair (RGB, 3 bytes each); returns its difference (pixel_lsb).
-    int add(const std::uint8_t* a, const std::uint8_t* b);
-    /// Adds the pixels of another histogram.
-    void merge(const LsbHistogram& other);
-    LsbDifferences differences() const;
-    std::size_t pixels() const { return pixels_; }
-
-  private:
-    std::array<std::size_t, 256> histogram_{};
-    double sum_squares_ = 0.0;
-    std::size_t pixels_ = 0;
-};
+/// The largest channel difference of two RGB pixels, and the histogram of such differences
+/// (aerial/validation/lsb_figures.hpp).
+using validation::LsbHistogram;
+using validation::pixel_lsb;
 
 /// What two images differ by: the LSB figures (LsbDifferences, over every pixel) and the mean
 /// CIEDE2000 (lcms2), both images read as sRGB, CIELAB D50.

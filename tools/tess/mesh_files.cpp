@@ -47,26 +47,6 @@ Result<std::vector<std::string>> mesh_files(const std::string& path) {
     return files;
 }
 
-Result<mesh::Mesh> mesh_from_data(const scene::MeshData& data) {
-    mesh::Mesh m;
-    std::vector<mesh::Mesh::VertexHandle> vertices;
-    vertices.reserve(data.vertex_count());
-    for (std::size_t i = 0; i < data.vertex_count(); ++i) {
-        vertices.push_back(m.add_vertex(mesh::Mesh::Point(
-            data.positions[3 * i], data.positions[3 * i + 1], data.positions[3 * i + 2])));
-    }
-    for (std::size_t t = 0; t + 2 < data.indices.size(); t += 3) {
-        const auto face = m.add_face(vertices[data.indices[t]], vertices[data.indices[t + 1]],
-                                     vertices[data.indices[t + 2]]);
-        if (!face.is_valid()) {
-            return Error{"--mesh", "triangle " + std::to_string(t / 3) +
-                                       " cannot be added (non-manifold, or repeats a vertex)"};
-        }
-    }
-    m.update_face_normals();
-    return m;
-}
-
 std::string mesh_file_stem(const std::string& path) { return fs::path(path).stem().string(); }
 
 }  // namespace aerial::tess

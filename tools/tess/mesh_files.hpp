@@ -4,7 +4,7 @@
 // How to use this:
 //   `write_obj(path, data)` writes a scene::MeshData as OBJ whose floats read back exactly;
 //   `mesh_files(path)` lists a file, or a directory's OBJ / OFF / PLY files in name order (budget
-//   levels); `mesh_from_data(data)` makes the aerial::mesh::Mesh the grader takes.
+//   levels). aerial::validation::MeshGrader grades what scene::load_mesh_file reads of them.
 #pragma once
 
 #include <string>
@@ -23,10 +23,6 @@ std::optional<Error> write_obj(const std::string& path, const scene::MeshData& d
 /// `path` itself when it is a file; a directory's .obj, .off and .ply files (not recursive),
 /// sorted by name. Errors: a missing path, a directory without mesh files.
 Result<std::vector<std::string>> mesh_files(const std::string& path);
-
-/// The triangles of `data` as the module's mesh (positions widened to double). Errors: a
-/// triangle OpenMesh refuses (non-manifold), naming its index.
-Result<mesh::Mesh> mesh_from_data(const scene::MeshData& data);
 
 /// The file's name without its directory and extension ("dome-32" of "a/dome-32.obj").
 std::string mesh_file_stem(const std::string& path);

@@ -1,4 +1,4 @@
-#include "tess/gl_grade.hpp"
+#include "aerial/validation/mesh_grader.hpp"
 
 #include <algorithm>
 #include <array>
@@ -17,13 +17,16 @@
 #include "aerial/headless.hpp"
 #include "aerial/scene_renderer.hpp"
 #include "aerial/validation/scene_render.hpp"
+#include "common/error_text.hpp"
 
-namespace aerial::tess {
+namespace aerial::validation {
 namespace {
 constexpr double kHalfPi = 1.57079632679489661923;  // the faces' field of view
+constexpr const char* kCreate = "validation::MeshGrader::create";
+constexpr const char* kGrade = "validation::MeshGrader::grade";
 }  // namespace
 
-struct GlGrader::Impl {
+struct MeshGrader::Impl {
     headless::Context context;
     std::optional<scene::SceneRenderer> renderer;
     std::shared_ptr<scene::Texture> texture;  ///< 1 x 1, the texel
@@ -31,34 +34,45 @@ struct GlGrader::Impl {
     explicit Impl(headless::Context c) : context(std::move(c)) {}
 };
 
-GlGrader::GlGrader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
-GlGrader::GlGrader(GlGrader&&) noexcept = default;
-GlGrader& GlGrader::operator=(GlGrader&&) noexcept = default;
-GlGrader::~GlGrader() = default;
+MeshGrader::MeshGrader(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+MeshGrader::MeshGrader(MeshGrader&&) noexcept = default;
+MeshGrader& MeshGrader::operator=(MeshGrader&&) noexcept = default;
+MeshGrader::~MeshGrader() = default;
 
-Result<GlGrader> GlGrader::create(int face_pixels) {
+Result<MeshGrader> MeshGrader::create(int face_pixels) {
     if (face_pixels < 16 || face_pixels > 2048)
-        return Error{"face_pixels",
-                     "face_pixels: expected 16 .. 2048, got " + std::to_string(face_pixels)};
+        return aerial::detail::invalid(kCreate, "face_pixels", "16 .. 2048",
+                                       aerial::detail::number(face_pixels));
     auto context =
         headless::Context::create({headless::Platform::osmesa, face_pixels, face_pixels});
-    if (!context) return context.error();
+    if (!context) return aerial::detail::from(kCreate, context.error());
     auto impl = std::make_unique<Impl>(std::move(context.value()));
     auto renderer = scene::SceneRenderer::create(impl->context.api());
-    if (!renderer) return renderer.error();
+    if (!renderer) return aerial::detail::from(kCreate, renderer.error());
     impl->renderer.emplace(std::move(renderer.value()));
     impl->context.api().ClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-    return GlGrader(std::move(impl));
+    return MeshGrader(std::move(impl));
 }
 
-Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Frame<float>& frame,
-                                              const mesh::ColourOptions& colour,
-                                              const GlGradeOptions& options) {
+int MeshGrader::face_pixels() const { return impl_->context.width(); }
+
+Result<MeshGrade> MeshGrader::grade(const GradeSetting& setting, const scene::MeshData& data) {
+    auto made = mesh_from_data(data);
+    if (!made) return aerial::detail::from(kGrade, made.error());
+    return grade(setting, *made);
+}
+
+Result<MeshGrade> MeshGrader::grade(const GradeSetting& setting, const mesh::Mesh& mesh) {
+    const Frame<float>& frame = setting.frame;
+    const mesh::ColourOptions& colour = setting.colour;
+    const MeshGradeOptions& options = setting.options;
     if (!(options.near_m > 0.0))
-        return Error{"near_m", "near_m: expected > 0, got " + std::to_string(options.near_m)};
+        return aerial::detail::invalid(kGrade, "near_m", "a value > 0",
+                                       aerial::detail::number(options.near_m));
     if (!(options.far_m > options.near_m))
-        return Error{"far_m", "far_m: expected > near_m, got " + std::to_string(options.far_m)};
-    if (auto e = mesh::validate_mesh(mesh)) return *e;
+        return aerial::detail::invalid(kGrade, "far_m", "a value > near_m",
+                                       aerial::detail::number(options.far_m));
+    if (auto e = mesh::validate_mesh(mesh)) return aerial::detail::from(kGrade, *e);
     Impl& g = *impl_;
     const gl::Api& api = g.context.api();
     const int size = g.context.width();
@@ -99,7 +113,7 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
         {{0, 0, 1}, {0, 1, 0}},
         {{0, 0, -1}, {0, 1, 0}},
     }};
-    tools::LsbHistogram histogram;
+    LsbHistogram histogram;
     std::vector<float> depth(std::size_t(size) * std::size_t(size)), points, extinction,
         in_scattering;
     std::vector<std::size_t> pixels;
@@ -121,7 +135,7 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
         camera.up = up;
         api.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         auto drawn = g.renderer->render(*root, camera, settings);
-        if (!drawn) return drawn.error();
+        if (!drawn) return aerial::detail::from(kGrade, drawn.error());
         api.Finish();
         const std::vector<std::uint8_t> rgba = g.context.read_rgba8();
         if (options.images) {
@@ -154,7 +168,7 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
         exact_settings.display = colour.display;
         auto stats =
             shade_into(frame, Positions::aos(points.data(), pixels.size()), exact, exact_settings);
-        if (!stats) return stats.error();
+        if (!stats) return aerial::detail::from(kGrade, stats.error());
         for (std::size_t i = 0; i < pixels.size(); ++i) {
             std::uint8_t reference[3];
             for (std::size_t c = 0; c < 3; ++c)
@@ -164,7 +178,7 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
             if (options.images)
                 std::copy_n(reference, 3, &options.images->reference[image_index(face, pixels[i])]);
             if (options.report && lsb >= options.report_lsb) {
-                GlGradeOptions::Pixel pixel;
+                MeshGradeOptions::Pixel pixel;
                 pixel.point = {points[3 * i], points[3 * i + 1], points[3 * i + 2]};
                 std::copy(&rgba[4 * pixels[i]], &rgba[4 * pixels[i]] + 3, pixel.drawn);
                 std::copy(reference, reference + 3, pixel.reference);
@@ -173,9 +187,40 @@ Result<tools::LsbDifferences> GlGrader::grade(const mesh::Mesh& mesh, const Fram
         }
     }
     const GLenum error = api.GetError();
-    if (error != GL_NO_ERROR) return Error{"GL", "GL error " + gl::gl_error_name(error)};
-    if (histogram.pixels() == 0) return Error{"mesh", "mesh: no pixel of it is in view"};
+    if (error != GL_NO_ERROR)
+        return aerial::detail::error(kGrade, "GL", "GL error " + gl::gl_error_name(error));
+    if (histogram.pixels() == 0)
+        return aerial::detail::error(kGrade, "mesh", "no pixel of it is in view");
     return histogram.differences();
 }
 
-}  // namespace aerial::tess
+Result<mesh::Mesh> mesh_from_data(const scene::MeshData& data) {
+    mesh::Mesh m;
+    std::vector<mesh::Mesh::VertexHandle> vertices;
+    vertices.reserve(data.vertex_count());
+    for (std::size_t i = 0; i < data.vertex_count(); ++i) {
+        vertices.push_back(m.add_vertex(mesh::Mesh::Point(
+            data.positions[3 * i], data.positions[3 * i + 1], data.positions[3 * i + 2])));
+    }
+    for (std::size_t t = 0; t + 2 < data.indices.size(); t += 3) {
+        for (std::size_t k = t; k < t + 3; ++k) {
+            if (data.indices[k] >= vertices.size())
+                return aerial::detail::invalid("validation::mesh_from_data",
+                                               "indices[" + std::to_string(k) + "]",
+                                               "a vertex index below " +
+                                                   std::to_string(vertices.size()),
+                                               std::to_string(data.indices[k]));
+        }
+        const auto face = m.add_face(vertices[data.indices[t]], vertices[data.indices[t + 1]],
+                                     vertices[data.indices[t + 2]]);
+        if (!face.is_valid()) {
+            return aerial::detail::error("validation::mesh_from_data",
+                                         "triangles[" + std::to_string(t / 3) + "]",
+                                         "cannot be added (non-manifold, or repeats a vertex)");
+        }
+    }
+    m.update_face_normals();
+    return m;
+}
+
+}  // namespace aerial::validation

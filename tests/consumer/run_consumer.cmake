@@ -1,5 +1,6 @@
 # Installs the project into a prefix under the build directory, then builds and runs consumers
-# out of tree: find_package(aerial CONFIG) with every component (C, C++, OpenSceneGraph); C-only
+# out of tree: find_package(aerial CONFIG) with every component (C, C++, OpenSceneGraph, mesh
+# grading through the validation component against the installed aerial-tess); C-only
 # consumers of COMPONENTS core and core;gl with the C++ dependencies' find_package disabled; the
 # installed tools; the C program with pkg-config's aerial-core and aerial. Run with cmake -P and:
 #   -DBUILD_DIR=  the project's build directory     -DSOURCE_DIR= tests/consumer
@@ -43,6 +44,9 @@ elseif(EXISTS ${prefix}/lib/cmake/aerial/aerial-osg-targets.cmake)
     message(FATAL_ERROR "the package has the osg component, but consumer_osg was not built")
 endif()
 
+# Grading meshes from C++ with the validation component.
+include(${CMAKE_CURRENT_LIST_DIR}/check_grading.cmake)
+
 # A C-only consumer of the core, then of core and gl, with every C++ dependency's find_package
 # disabled: the components it asks for need none of them.
 foreach(components core "core;gl")
@@ -64,7 +68,7 @@ if(rc EQUAL 0 OR NOT "${out}${err}" MATCHES "unknown component 'vulkan'")
 endif()
 
 # The tools come with the package.
-foreach(tool aerial-eval aerial-compare aerial-render aerial-regress)
+foreach(tool aerial-eval aerial-compare aerial-render aerial-regress aerial-tess)
     run(${prefix}/bin/${tool} --help)
 endforeach()
 if(NOT EXISTS ${prefix}/share/aerial/golden/suite.txt)
@@ -77,7 +81,7 @@ pkg_config_flags(flags aerial-core)
 run(${C_COMPILER} -std=c89 -pedantic -Werror ${SOURCE_DIR}/consumer.c -o ${WORK_DIR}/consumer_c_core_pc
     ${flags})
 run(${WORK_DIR}/consumer_c_core_pc)
-foreach(component gl headless mesh scene)
+foreach(component gl headless mesh scene validation)
     run(pkg-config --exists --print-errors aerial-${component})
 endforeach()
 

@@ -32,6 +32,8 @@
 #include "aerial/validation/mesh_grader.hpp"
 #include "aerial/validation/tess_scenes.hpp"
 #include "tess/mesh_files.hpp"
+#include "tess/methods.hpp"
+#include "tess/path_mode.hpp"
 #include "tess/summary.hpp"
 
 namespace {
@@ -179,20 +181,12 @@ std::vector<double> thresholds_between(double coarse, double fine) {
 Mesh adaptive_mesh(const Scene& scene, const Mesh& base, const aerial::mesh::Surface& surface,
                    double split_lsb, bool quantized, const Settings& settings, double& build_ms,
                    int relocate = -1) {
-    aerial::mesh::AdaptiveSettings a;
+    aerial::mesh::AdaptiveSettings a = aerial::tess::adaptive_settings(scene, split_lsb, quantized);
     if (settings.colour_edge >= 0) a.colour_edge = settings.colour_edge == 1;
     if (settings.colour_edge_angle >= 0.0)
         a.colour_edge_min_angle_deg = float(settings.colour_edge_angle);
     if (relocate < 0) relocate = settings.relocate;
     if (relocate >= 0) a.relocate = relocate == 1;
-    a.colour = scene.setting.colour;
-    // 8-bit vertex colours: exact for the dome (L_in only); on terrain the GL path rounds F_ex and
-    // L_in apart, so the float estimate is kept there.
-    a.colour.quantized_vertices = quantized && scene.dome;
-    a.colour.on_dome_sphere = quantized && scene.dome;
-    a.colour.dome = scene.dome_options;
-    a.split_lsb = float(split_lsb);
-    a.lock_boundary = false;
     const auto start = Clock::now();
     auto made = aerial::mesh::AdaptiveMesh::create(base, surface, a);
     aerial::mesh::AdaptiveMesh adaptive = std::move(made).value();
@@ -230,8 +224,8 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
             settings, rows, thresholds_between);
     };
     if (scene.dome) {
-        const auto surface = aerial::mesh::Surface::sphere(scene.dome_options);
-        const Mesh base = aerial::mesh::geodesic_dome(4, scene.dome_options).value();
+        const auto surface = aerial::tess::adaptive_surface(scene);
+        const Mesh base = aerial::tess::adaptive_base(scene);
         adaptive_sweep("adaptive", base, surface, -1);
         // The same runtime mesh with AdaptiveSettings::relocate (off by default).
         adaptive_sweep("adaptive-relocate", base, surface, 1);
@@ -263,12 +257,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                 q ? std::vector<double>{1.0, 0.9, 0.8, 0.7}
                   : std::vector<double>{1.0, 0.8, 0.65, 0.5},
                 [&](double bound, double& build_ms) {
-                    aerial::mesh::DecimateOptions d;
-                    d.colour = scene.setting.colour;
-                    d.colour.quantized_vertices = q;
-                    d.colour.on_dome_sphere = q;
-                    d.colour.dome = scene.dome_options;
-                    d.max_lsb = float(bound);
+                    const auto d = aerial::tess::decimate_options(scene, bound, q);
                     const auto start = Clock::now();
                     Mesh m = aerial::mesh::decimate(fine, scene.setting.frame, d).value();
                     build_ms = ms + ms_since(start);
@@ -277,8 +266,8 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                 settings, rows);
         }
     } else {
-        const auto surface = aerial::mesh::Surface::terrain(scene.field);
-        const Mesh base = aerial::mesh::terrain_grid(scene.field, 8, 8).value();
+        const auto surface = aerial::tess::adaptive_surface(scene);
+        const Mesh base = aerial::tess::adaptive_base(scene);
         adaptive_sweep("adaptive", base, surface, -1);
         sweep(
             scene, "uniform-grid", capped({8, 16, 32, 64, 128, 256}, 128),
@@ -312,10 +301,10 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
 // (red, in steps).
 int where(const Scene& scene, double split_lsb, const Settings& settings) {
     if (!scene.dome) return aerial::tools::fail(kTool, "--where: only dome scenes");
-    const auto surface = aerial::mesh::Surface::sphere(scene.dome_options);
-    const Mesh base = aerial::mesh::geodesic_dome(4, scene.dome_options).value();
     double ms = 0.0;
-    const Mesh mesh = adaptive_mesh(scene, base, surface, split_lsb, true, settings, ms);
+    const Mesh mesh = adaptive_mesh(scene, aerial::tess::adaptive_base(scene),
+                                    aerial::tess::adaptive_surface(scene), split_lsb, true,
+                                    settings, ms);
     std::vector<aerial::validation::MeshGradeOptions::Pixel> pixels;
     aerial::validation::GradeSetting setting = scene.setting;
     setting.options.report = &pixels;
@@ -491,8 +480,28 @@ int main(int argc, char** argv) {
                    "Write the drawn and reference images of every mesh graded, and their "
                    "difference, as DIR/SCENE/METHOD-LEVEL-{drawn,reference,diff}.png (the six "
                    "cube faces side by side)");
+    bool path = false;
+    aerial::tess::PathOptions path_options;
+    app.add_flag("--path", path,
+                 "Grade every frame of each scene's path (the built-in paths, or the scenes of "
+                 "--scenes that have a \"path\"): error, update time and popping per frame, "
+                 "into DIR/path.csv and DIR/path_summary.txt");
+    app.add_option("--path-geodesic", path_options.geodesic_frequency,
+                   "With --path: the uniform dome's frequency (default 48)");
+    app.add_option("--path-lod-cells", path_options.lod_cells,
+                   "With --path: the distance LOD's cells per side (default 32)");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
-    std::vector<aerial::validation::TessSceneSpec> specs = aerial::validation::builtin_tess_scenes(quick);
+    std::vector<aerial::validation::TessSceneSpec> specs =
+        path ? aerial::validation::builtin_tess_paths()
+             : aerial::validation::builtin_tess_scenes(quick);
+    if (!path && (app.count("--path-geodesic") || app.count("--path-lod-cells")))
+        return aerial::tools::fail(kTool, "--path-geodesic and --path-lod-cells go with --path");
+    if (path_options.geodesic_frequency < 1 || path_options.geodesic_frequency > 256)
+        return aerial::tools::fail(kTool, "--path-geodesic: expected 1 .. 256, got " +
+                                              std::to_string(path_options.geodesic_frequency));
+    if (path_options.lod_cells < 1 || path_options.lod_cells > 1024)
+        return aerial::tools::fail(kTool, "--path-lod-cells: expected 1 .. 1024, got " +
+                                              std::to_string(path_options.lod_cells));
     if (list_scenes) {
         std::fputs(aerial::validation::write_tess_scenes(specs).c_str(), stdout);
         return 0;
@@ -551,8 +560,8 @@ int main(int argc, char** argv) {
     if (mesh_paths.empty() && (!own_method.empty() || no_builtin))
         return aerial::tools::fail(kTool, "--method and --no-builtin go with --mesh");
     std::vector<std::pair<std::string, aerial::scene::MeshData>> own_meshes;
-    for (const std::string& path : mesh_paths) {
-        auto files = aerial::tess::mesh_files(path);
+    for (const std::string& mesh_path : mesh_paths) {
+        auto files = aerial::tess::mesh_files(mesh_path);
         if (!files)
             return aerial::tools::fail(kTool, files.error().field + ": " + files.error().message);
         for (const std::string& file : *files) {
@@ -566,18 +575,27 @@ int main(int argc, char** argv) {
     auto grader = aerial::validation::MeshGrader::create(settings.face_pixels);
     if (!grader) return aerial::tools::fail(kTool, "GL grading: " + grader.error().message);
     settings.grader = &grader.value();
+    if (!only.empty()) {
+        std::vector<aerial::validation::TessSceneSpec> kept;
+        for (const auto& spec : specs) {
+            auto scene = aerial::validation::make_tess_scene(spec);
+            if (!scene) return aerial::tools::fail(kTool, "--scenes: " + scene.error().message);
+            if (scene->name.find(only) != std::string::npos) kept.push_back(spec);
+        }
+        if (kept.empty()) return aerial::tools::fail(kTool, "--scene: no scene matches " + only);
+        specs = std::move(kept);
+    }
+    if (path) {
+        path_options.own_meshes = own_meshes;
+        path_options.own_method = own_method;
+        path_options.builtin = !no_builtin;
+        return aerial::tess::run_path_mode(specs, *settings.grader, path_options, out);
+    }
     std::vector<Scene> scenes;
     for (const auto& spec : specs) {
         auto scene = aerial::validation::make_tess_scene(spec);
         if (!scene) return aerial::tools::fail(kTool, "--scenes: " + scene.error().message);
         scenes.push_back(std::move(scene).value());
-    }
-    if (!only.empty()) {
-        scenes.erase(
-            std::remove_if(scenes.begin(), scenes.end(),
-                           [&](const Scene& s) { return s.name.find(only) == std::string::npos; }),
-            scenes.end());
-        if (scenes.empty()) return aerial::tools::fail(kTool, "--scene: no scene matches " + only);
     }
     if (app.count("--where")) {
         if (!(where_split > 0.0))

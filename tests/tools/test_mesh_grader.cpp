@@ -144,6 +144,33 @@ TEST(TessScenes, FileRoundTripsAndBuildsTheScenes) {
     EXPECT_FALSE(aerial::validation::tess_scene_fits(*terrain, on_sphere));
 }
 
+// A path moves the sun and the eye linearly and keeps the first frame's exposure.
+TEST(TessScenes, PathFramesMoveTheSunAndTheEyeAndKeepTheExposure) {
+    const auto paths = aerial::validation::builtin_tess_paths();
+    ASSERT_EQ(paths.size(), 2u);
+    const auto read =
+        aerial::validation::read_tess_scenes(aerial::validation::write_tess_scenes(paths));
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    EXPECT_EQ((*read)[1].path.frames, 48);
+    EXPECT_EQ((*read)[1].path.eye_move_m[0], 1200.0);
+    const auto& dome = paths[0];
+    const auto first = aerial::validation::make_tess_scene(dome, 0);
+    const auto last = aerial::validation::make_tess_scene(dome, 47);
+    ASSERT_TRUE(first.ok() && last.ok());
+    EXPECT_NEAR(std::asin(last->setting.frame.view.sun_dir.z) * 180.0 / 3.14159265358979, 2.0,
+                1e-9);
+    EXPECT_EQ(first->setting.colour.display.exposure, last->setting.colour.display.exposure);
+    EXPECT_EQ(first->name, last->name);
+    const auto& terrain = paths[1];
+    const auto flown = aerial::validation::make_tess_scene(terrain, 47);
+    ASSERT_TRUE(flown.ok());
+    const glm::dvec3 eye = flown->setting.frame.view.eye;
+    EXPECT_NEAR(eye.x, 1200.0, 1e-9);
+    EXPECT_NEAR(eye.z - flown->field.height_m(eye.x, eye.y), 300.0, 1e-9);
+    EXPECT_EQ(aerial::validation::make_tess_scene(terrain, 48).error().message,
+              "aerial::validation::make_tess_scene(): frame: expected 0 .. 47, got 48");
+}
+
 TEST(TessScenes, BadScenesAreErrorsNamingTheField) {
     const auto bad = [](const std::string& text) {
         const auto read = aerial::validation::read_tess_scenes(text);
@@ -157,7 +184,16 @@ TEST(TessScenes, BadScenesAreErrorsNamingTheField) {
               "\"terrain\", got \"cube\"");
     EXPECT_EQ(bad(R"({"scenes": [{"kind": "terrain", "sun": 3}]})"),
               "aerial::validation::read_tess_scenes(): scenes[0].sun: unknown field (known: kind, "
-              "name, preset, sun_elevation_deg, mie_g, eye_m)");
+              "name, preset, sun_elevation_deg, mie_g, eye_m, path)");
+    EXPECT_EQ(bad(R"({"scenes": [{"kind": "dome", "path": {"frames": 1}}]})"),
+              "aerial::validation::read_tess_scenes(): scenes[0].path.frames: expected 0 (no "
+              "path) or 2 .. 10000, got 1");
+    EXPECT_EQ(bad(R"({"scenes": [{"kind": "dome", "path": {"frames": 4, "eye_move_m": [1, 0]}}]})"),
+              "aerial::validation::read_tess_scenes(): scenes[0].path.eye_move_m: a dome moves "
+              "with its eye: only terrain paths move it");
+    EXPECT_EQ(bad(R"({"scenes": [{"kind": "terrain", "path": {"frames": 4, "speed": 3}}]})"),
+              "aerial::validation::read_tess_scenes(): scenes[0].path.speed: unknown field "
+              "(known: frames, sun_elevation_end_deg, sun_azimuth_end_deg, eye_move_m)");
     EXPECT_EQ(bad(R"({"scenes": [{"kind": "terrain", "preset": "venus"}]})"),
               "aerial::validation::read_tess_scenes(): scenes[0].preset: expected a preset name, "
               "got 'venus'");

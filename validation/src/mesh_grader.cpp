@@ -123,6 +123,7 @@ Result<MeshGrade> MeshGrader::grade(const GradeSetting& setting, const mesh::Mes
         options.images->height = size;
         options.images->drawn.assign(std::size_t(6 * size) * std::size_t(size) * 3, 0);
         options.images->reference = options.images->drawn;
+        options.images->covered.assign(std::size_t(6 * size) * std::size_t(size), 0);
     }
     // Pixel i of a face (top row first) in the six-face images.
     const auto image_index = [&](std::size_t face, std::size_t i) {
@@ -175,8 +176,11 @@ Result<MeshGrade> MeshGrader::grade(const GradeSetting& setting, const mesh::Mes
                 reference[c] = to_unorm8(texel_value[c] * extinction[3 * i + c] +
                                          display_value(colour.display, in_scattering[3 * i + c]));
             const int lsb = histogram.add(&rgba[4 * pixels[i]], reference);
-            if (options.images)
-                std::copy_n(reference, 3, &options.images->reference[image_index(face, pixels[i])]);
+            if (options.images) {
+                const std::size_t at = image_index(face, pixels[i]);
+                std::copy_n(reference, 3, &options.images->reference[at]);
+                options.images->covered[at / 3] = 1;
+            }
             if (options.report && lsb >= options.report_lsb) {
                 MeshGradeOptions::Pixel pixel;
                 pixel.point = {points[3 * i], points[3 * i + 1], points[3 * i + 2]};

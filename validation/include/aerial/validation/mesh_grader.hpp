@@ -57,10 +57,10 @@ struct MeshGradeOptions {
     int report_lsb = 2;
     /// When set, the drawn and the reference images (RGB, top row first), the six faces side by
     /// side (+x, -x, +y, -y, +z, -z): 6 face_pixels wide, face_pixels high; pixels the mesh does
-    /// not cover are black in the reference.
+    /// not cover are black in the reference and 0 in `covered` (1 where graded).
     struct Images {
         int width = 0, height = 0;
-        std::vector<std::uint8_t> drawn, reference;
+        std::vector<std::uint8_t> drawn, reference, covered;
     };
     Images* images = nullptr;
 };

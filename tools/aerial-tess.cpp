@@ -31,6 +31,7 @@
 #include "support/png.hpp"
 #include "aerial/validation/mesh_grader.hpp"
 #include "aerial/validation/tess_scenes.hpp"
+#include "tess/bench_update.hpp"
 #include "tess/mesh_files.hpp"
 #include "tess/methods.hpp"
 #include "tess/path_mode.hpp"
@@ -63,6 +64,7 @@ struct Settings {
     aerial::validation::MeshGrader* grader = nullptr;
     std::string export_dir;  ///< --export-meshes: every graded mesh written here as OBJ
     std::string images_dir;  ///< --save-images: drawn, reference and difference PNGs here
+    std::vector<std::string> methods;  ///< --methods: the built-in methods to sweep (empty: all)
 };
 
 // PREFIX-drawn.png, PREFIX-reference.png and PREFIX-diff.png (aerial-compare's difference
@@ -135,6 +137,10 @@ void sweep(const Scene& scene, const std::string& method, const std::vector<doub
            const std::function<Mesh(double, double&)>& build, const Settings& settings,
            std::vector<Row>& rows,
            const std::function<std::vector<double>(double, double)>& between = {}) {
+    if (!settings.methods.empty() &&
+        std::find(settings.methods.begin(), settings.methods.end(), method) ==
+            settings.methods.end())
+        return;
     auto run = [&](double level) {
         double build_ms = 0.0;
         const Mesh mesh = build(level, build_ms);
@@ -223,6 +229,42 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
             },
             settings, rows, thresholds_between);
     };
+    // Decimation bounds (coarse to fine) and the split threshold the mesh is refined to first.
+    const bool q = settings.quantized_estimate && scene.dome;
+    const std::vector<double> bounds = q ? std::vector<double>{1.0, 0.9, 0.8, 0.7}
+                                         : std::vector<double>{1.0, 0.8, 0.65, 0.5, 0.4, 0.3};
+    const double fine_split = q ? 0.55 : 0.2;
+    // Offline `decimated` (an adaptive mesh refined to fine_split, decimated back to the bound;
+    // when `decimated`) and the run-time `adaptive-decimating` (DecimatingMesh: the same made by
+    // its first update, then refined at the bound between rebuilds).
+    const auto decimation_sweeps = [&](const Mesh& base, const aerial::mesh::Surface& surface) {
+        if (decimated) {
+            double ms = 0.0;
+            const Mesh fine = adaptive_mesh(scene, base, surface, fine_split, q, settings, ms);
+            sweep(
+                scene, "decimated", bounds,
+                [&](double bound, double& build_ms) {
+                    const auto d = aerial::tess::decimate_options(scene, bound, q);
+                    const auto start = Clock::now();
+                    Mesh m = aerial::mesh::decimate(fine, scene.setting.frame, d).value();
+                    build_ms = ms + ms_since(start);
+                    return m;
+                },
+                settings, rows);
+        }
+        sweep(
+            scene, "adaptive-decimating", bounds,
+            [&](double bound, double& build_ms) {
+                const auto start = Clock::now();
+                auto m = aerial::mesh::DecimatingMesh::create(
+                             base, surface, aerial::tess::decimating_settings(scene, bound, fine_split, q))
+                             .value();
+                (void)m.update(scene.setting.frame).value();
+                build_ms = ms_since(start);
+                return m.mesh();
+            },
+            settings, rows);
+    };
     if (scene.dome) {
         const auto surface = aerial::tess::adaptive_surface(scene);
         const Mesh base = aerial::tess::adaptive_base(scene);
@@ -247,24 +289,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                 return m;
             },
             settings, rows);
-        if (decimated) {
-            // Offline: an adaptive mesh refined to half a step, decimated back to the bound.
-            double ms = 0.0;
-            const bool q = settings.quantized_estimate;
-            const Mesh fine = adaptive_mesh(scene, base, surface, q ? 0.55 : 0.5, q, settings, ms);
-            sweep(
-                scene, "decimated",
-                q ? std::vector<double>{1.0, 0.9, 0.8, 0.7}
-                  : std::vector<double>{1.0, 0.8, 0.65, 0.5},
-                [&](double bound, double& build_ms) {
-                    const auto d = aerial::tess::decimate_options(scene, bound, q);
-                    const auto start = Clock::now();
-                    Mesh m = aerial::mesh::decimate(fine, scene.setting.frame, d).value();
-                    build_ms = ms + ms_since(start);
-                    return m;
-                },
-                settings, rows);
-        }
+        decimation_sweeps(base, surface);
     } else {
         const auto surface = aerial::tess::adaptive_surface(scene);
         const Mesh base = aerial::tess::adaptive_base(scene);
@@ -290,6 +315,7 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
                 return m;
             },
             settings, rows, integers_between);
+        decimation_sweeps(base, surface);
     }
 }
 
@@ -363,54 +389,6 @@ int where(const Scene& scene, double split_lsb, const Settings& settings) {
     return 0;
 }
 
-// The median time of an update of a terrain of about 100k triangles seen from a camera flying at
-// 20 m/s, 60 frames per second, 40 m above the ground (after the first, full refinement).
-int bench_update(int frames, int relocate) {
-    aerial::validation::TessSceneSpec spec;
-    spec.kind = "terrain";
-    spec.eye_m = 40.0;
-    spec.sun_elevation_deg = 10.0;
-    const Scene scene = aerial::validation::make_tess_scene(spec).value();
-    const Mesh base = aerial::mesh::terrain_grid(scene.field, 224, 224).value();
-    aerial::mesh::AdaptiveSettings a;
-    if (relocate >= 0) a.relocate = relocate == 1;
-    a.colour = scene.setting.colour;
-    a.lock_boundary = false;
-    aerial::mesh::AdaptiveMesh adaptive =
-        std::move(aerial::mesh::AdaptiveMesh::create(
-                      base, aerial::mesh::Surface::terrain(scene.field), a))
-            .value();
-    const auto first_start = Clock::now();
-    const auto first = adaptive.update(scene.setting.frame);
-    const double first_ms = ms_since(first_start);
-    std::vector<double> times, cpu_times;  // wall clock, and this process's CPU time
-    std::size_t estimated = 0, splits = 0, merges = 0;
-    aerial::View view = scene.setting.frame.view;
-    const aerial::Atmosphere atmosphere = scene.setting.frame.atmosphere;
-    for (int i = 1; i <= frames; ++i) {
-        view.eye.x = 20.0 / 60.0 * i;
-        view.eye.z = scene.field.height_m(view.eye.x, 0.0) + 40.0;
-        const auto frame = aerial::prepare_frame<float>(atmosphere, view, aerial::Model::height);
-        const auto start = Clock::now();
-        const std::clock_t cpu_start = std::clock();
-        const auto stats = adaptive.update(frame.value());
-        cpu_times.push_back(1000.0 * double(std::clock() - cpu_start) / CLOCKS_PER_SEC);
-        times.push_back(ms_since(start));
-        estimated += stats.faces_estimated;
-        splits += stats.splits;
-        merges += stats.merges;
-    }
-    std::sort(times.begin(), times.end());
-    std::sort(cpu_times.begin(), cpu_times.end());
-    std::printf(
-        "bench-update: triangles=%zu first_update_ms=%.1f median_update_ms=%.3f "
-        "median_update_cpu_ms=%.3f max_update_ms=%.3f faces_estimated_per_update=%.0f "
-        "splits=%zu merges=%zu frames=%d\n",
-        first.faces, first_ms, times[times.size() / 2], cpu_times[cpu_times.size() / 2],
-        times.back(), double(estimated) / frames, splits, merges, frames);
-    return 0;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -423,8 +401,19 @@ int main(int argc, char** argv) {
     app.add_option("--out", out, "Output directory for tess.csv and tess.png");
     app.add_flag("--quick", quick, "A small subset with a coarser grading grid (< 30 s)");
     app.add_flag("--bench-update", bench,
-                 "Print the median time of an adaptive update of a 100k-triangle terrain");
-    app.add_option("--frames", frames, "Frames for --bench-update (default 120)");
+                 "Print the time of an adaptive update of a 100k-triangle terrain under a flying "
+                 "camera (median, mean, p99, max)");
+    bool bench_dome = false, decimating = false;
+    double sun_rate = 0.25;
+    app.add_flag("--bench-dome", bench_dome,
+                 "The same for the dome-sun10-g0.90 dome under a sinking sun (--sun-rate)");
+    app.add_flag("--decimating", decimating,
+                 "With --bench-update or --bench-dome: the adaptive-decimating method "
+                 "(DecimatingMesh, rebuilds inside the update)");
+    app.add_option("--sun-rate", sun_rate,
+                   "With --bench-dome: degrees a minute the sun sinks (default 0.25, real time)");
+    app.add_option("--frames", frames,
+                   "Frames for --bench-update and --bench-dome, at 60 a second (default 120)");
     app.add_flag("--no-chart", no_chart, "Do not write tess.png");
     bool float_estimate = false;
     app.add_flag("--float-estimate", float_estimate,
@@ -480,6 +469,12 @@ int main(int argc, char** argv) {
                    "Write the drawn and reference images of every mesh graded, and their "
                    "difference, as DIR/SCENE/METHOD-LEVEL-{drawn,reference,diff}.png (the six "
                    "cube faces side by side)");
+    std::vector<std::string> methods;
+    app.add_option("--methods", methods,
+                   "Sweep only these built-in methods (adaptive, adaptive-relocate, "
+                   "adaptive-decimating, uniform-geodesic, uniform-latlong, decimated, uniform-grid, "
+                   "uniform-distance-lod)")
+        ->delimiter(',');
     bool path = false;
     aerial::tess::PathOptions path_options;
     app.add_flag("--path", path,
@@ -490,12 +485,20 @@ int main(int argc, char** argv) {
                    "With --path: the uniform dome's frequency (default 48)");
     app.add_option("--path-lod-cells", path_options.lod_cells,
                    "With --path: the distance LOD's cells per side (default 32)");
+    app.add_option("--path-rebuild-deg", path_options.rebuild_sun_deg,
+                   "With --path: adaptive-decimating rebuilds when the sun has turned this far "
+                   "(degrees, default 0.5)");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
     std::vector<aerial::validation::TessSceneSpec> specs =
         path ? aerial::validation::builtin_tess_paths()
              : aerial::validation::builtin_tess_scenes(quick);
-    if (!path && (app.count("--path-geodesic") || app.count("--path-lod-cells")))
-        return aerial::tools::fail(kTool, "--path-geodesic and --path-lod-cells go with --path");
+    if (!path && (app.count("--path-geodesic") || app.count("--path-lod-cells") ||
+                  app.count("--path-rebuild-deg")))
+        return aerial::tools::fail(
+            kTool, "--path-geodesic, --path-lod-cells and --path-rebuild-deg go with --path");
+    if (!(path_options.rebuild_sun_deg > 0.0 && path_options.rebuild_sun_deg <= 180.0))
+        return aerial::tools::fail(kTool, "--path-rebuild-deg: expected (0, 180], got " +
+                                              std::to_string(path_options.rebuild_sun_deg));
     if (path_options.geodesic_frequency < 1 || path_options.geodesic_frequency > 256)
         return aerial::tools::fail(kTool, "--path-geodesic: expected 1 .. 256, got " +
                                               std::to_string(path_options.geodesic_frequency));
@@ -518,12 +521,24 @@ int main(int argc, char** argv) {
     if (frames < 1 || frames > 100000)
         return aerial::tools::fail(kTool,
                                    "--frames: expected 1 .. 100000, got " + std::to_string(frames));
-    if (bench) {
+    if (bench || bench_dome) {
         if (app.count("--relocate") && relocate != 0 && relocate != 1)
             return aerial::tools::fail(
                 kTool, "--relocate: expected 0 or 1, got " + std::to_string(relocate));
-        return bench_update(frames, app.count("--relocate") ? relocate : -1);
+        if (!(sun_rate >= 0.0 && sun_rate <= 600.0))
+            return aerial::tools::fail(kTool, "--sun-rate: expected 0 .. 600, got " +
+                                                  std::to_string(sun_rate));
+        aerial::tess::BenchUpdateOptions b;
+        b.dome = bench_dome;
+        b.decimating = decimating;
+        b.frames = frames;
+        b.relocate = app.count("--relocate") ? relocate : -1;
+        b.sun_deg_per_min = sun_rate;
+        return aerial::tess::bench_update(b);
     }
+    if (decimating || app.count("--sun-rate"))
+        return aerial::tools::fail(kTool, "--decimating and --sun-rate go with --bench-update or "
+                                          "--bench-dome");
     if (out.empty() && !app.count("--where"))
         return aerial::tools::fail(kTool, "--out: required (or --bench-update, --where)");
 
@@ -570,6 +585,14 @@ int main(int argc, char** argv) {
             own_meshes.emplace_back(aerial::tess::mesh_file_stem(file), std::move(data).value());
         }
     }
+    for (const std::string& m : methods) {
+        static const char* const known[] = {
+            "adaptive",  "adaptive-relocate", "adaptive-decimating", "uniform-geodesic",
+            "uniform-latlong", "decimated", "uniform-grid", "uniform-distance-lod"};
+        if (std::find(std::begin(known), std::end(known), m) == std::end(known))
+            return aerial::tools::fail(kTool, "--methods: unknown method '" + m + "'");
+    }
+    settings.methods = methods;
     settings.export_dir = export_dir;
     settings.images_dir = images_dir;
     auto grader = aerial::validation::MeshGrader::create(settings.face_pixels);

@@ -1,6 +1,8 @@
 // aerial-tess's shared method set-up: see methods.hpp.
 #include "methods.hpp"
 
+#include <algorithm>
+
 namespace aerial::tess {
 
 mesh::AdaptiveSettings adaptive_settings(const validation::TessScene& scene, double split_lsb,
@@ -33,6 +35,19 @@ mesh::DecimateOptions decimate_options(const validation::TessScene& scene, doubl
     d.colour.on_dome_sphere = quantized;
     d.colour.dome = scene.dome_options;
     d.max_lsb = float(max_lsb);
+    return d;
+}
+
+mesh::DecimatingSettings decimating_settings(const validation::TessScene& scene, double bound,
+                                             double fine_split_lsb, bool quantized) {
+    mesh::DecimatingSettings d;
+    d.adaptive = adaptive_settings(scene, bound, quantized);
+    d.fine_split_lsb = float(fine_split_lsb);
+    d.decimate_lsb = float(bound);
+    if (!scene.dome) {
+        const glm::dvec3 eye = scene.setting.frame.view.eye;
+        d.rebuild_eye_m = std::max(5.0, 0.1 * (eye.z - scene.field.height_m(eye.x, eye.y)));
+    }
     return d;
 }
 

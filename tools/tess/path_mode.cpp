@@ -96,6 +96,35 @@ Follower adaptive_follower(const TessScene& first, const char* method, bool relo
     return f;
 }
 
+/// The run-time adaptive-decimating dome: rebuilt inside the update (not on a thread of its own,
+/// so that the path's figures do not depend on timing); the update time of a rebuild's frame
+/// includes it.
+Follower decimating_follower(const TessScene& first, double rebuild_sun_deg) {
+    mesh::DecimatingSettings d = decimating_settings(first, 1.0, 0.55, true);
+    d.background = false;
+    d.rebuild_sun_rad = rebuild_sun_deg * 3.14159265358979323846 / 180.0;
+    auto state = std::make_shared<std::optional<mesh::DecimatingMesh>>();
+    auto made = mesh::DecimatingMesh::create(adaptive_base(first), adaptive_surface(first), d);
+    if (made) state->emplace(std::move(made).value());
+    const std::string error = made ? "" : made.error().message;
+    Follower f;
+    f.method = "adaptive-decimating";
+    f.level = "1";
+    f.follow = [state, error](const TessScene& scene) -> Result<Followed> {
+        if (!*state) return Error{"adaptive-decimating", error};
+        mesh::DecimatingMesh& m = **state;
+        std::optional<Error> failed;
+        Followed followed = timed(&m.mesh(), [&] {
+            auto stats = m.update(scene.setting.frame);
+            if (!stats) failed = stats.error();
+        });
+        if (failed) return *failed;
+        followed.mesh = &m.mesh();
+        return followed;
+    };
+    return f;
+}
+
 /// A mesh made once (at frame 0) and shown as it is at every frame.
 Follower static_follower(const std::string& method, const std::string& level, mesh::Mesh mesh) {
     auto kept = std::make_shared<mesh::Mesh>(std::move(mesh));
@@ -131,6 +160,7 @@ Result<std::vector<Follower>> followers(const TessScene& first, const PathOption
     if (options.builtin && first.dome) {
         out.push_back(adaptive_follower(first, "adaptive", false));
         out.push_back(adaptive_follower(first, "adaptive-relocate", true));
+        out.push_back(decimating_follower(first, options.rebuild_sun_deg));
         auto geodesic = mesh::geodesic_dome(options.geodesic_frequency, first.dome_options);
         if (!geodesic) return geodesic.error();
         out.push_back(static_follower("uniform-geodesic", std::to_string(options.geodesic_frequency),

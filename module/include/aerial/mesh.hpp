@@ -15,6 +15,9 @@
 //      vertex handles then change their numbers, keeping their order).
 //   Offline: `decimate(mesh, frame, options)` removes vertices while the colour error stays below
 //   a bound (an OpenMesh Decimater with a colour-error module).
+//   Run time near the decimated count: `DecimatingMesh` (the end of this header) starts the
+//   adaptive mesh from a decimated one and makes that again, on a thread of its own, when the sun
+//   (or the eye) has moved on.
 //
 // The colour error (8-bit steps) of a triangle is the largest difference, over sample points,
 // between the colour interpolated from its three vertices and the exact colour at the point, on
@@ -26,6 +29,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -366,5 +370,62 @@ struct DecimateOptions {
 /// OpenMesh's Decimater and a colour-error module; refuses collapses that flip a face. Returns the
 /// compacted mesh.
 Result<Mesh> decimate(const Mesh& mesh, const Frame<float>& frame, const DecimateOptions& options);
+
+// ---- Run time near the decimated count ---------------------------------------------------------
+
+/// DecimatingMesh: the run-time adaptive mesh, started from a decimated mesh instead of a coarse
+/// one, and started again from a new decimated mesh when the sun or the eye has moved on.
+///
+/// A rebuild refines `start` to fine_split_lsb for the rebuild's frame (AdaptiveMesh), decimates
+/// that to decimate_lsb (decimate()), and starts an AdaptiveMesh with `adaptive` from the result;
+/// between rebuilds that adaptive mesh refines where the moving light needs it (split_lsb) and
+/// coarsens its own splits again. Decimation collapses freely where bisection cannot (long
+/// triangles along the horizon and around the sun), so right after a rebuild the mesh has the
+/// decimated mesh's vertices. A rebuild takes seconds of CPU for a sky dome (most of it the
+/// decimation); with `background` it runs on a thread of its own and update() keeps drawing the
+/// current mesh until it is done (the switch changes the mesh at once: no morphing across it).
+struct DecimatingSettings {
+    /// The refinement between rebuilds; its colour options are the rebuilds' too.
+    AdaptiveSettings adaptive;
+    float fine_split_lsb = 0.55f;  ///< a rebuild first refines to this, > 0
+    float decimate_lsb = 0.8f;     ///< then decimates to this bound, in [fine_split_lsb, split]
+    /// A rebuild starts when the sun has turned by more than this (rad) since the current mesh's
+    /// rebuild, or the eye has moved by more than rebuild_eye_m (0: the eye never triggers one).
+    double rebuild_sun_rad = 0.0087;  ///< 0.5 degrees
+    double rebuild_eye_m = 0.0;
+    bool background = true;  ///< rebuild on a thread of its own; false: inside update()
+};
+
+std::optional<Error> validate(const DecimatingSettings& settings);
+
+struct DecimatingStats {
+    std::size_t rebuilds = 0;      ///< rebuilds switched to, the first one included
+    bool rebuilding = false;       ///< a rebuild is running on its thread
+    bool switched = false;         ///< the last update switched to a rebuilt mesh
+    double last_rebuild_ms = 0.0;  ///< the last finished rebuild's time on its thread (wall)
+    double rebuild_ms = 0.0;       ///< every finished rebuild's time, summed
+};
+
+class DecimatingMesh {
+  public:
+    /// Validates `start` (validate_mesh), the surface and the settings.
+    static Result<DecimatingMesh> create(Mesh start, Surface surface, DecimatingSettings settings);
+    DecimatingMesh(DecimatingMesh&&) noexcept;
+    DecimatingMesh& operator=(DecimatingMesh&&) noexcept;
+    ~DecimatingMesh();  ///< waits for a running rebuild
+
+    /// The first update rebuilds at once (inside it); later ones switch to a finished rebuild,
+    /// start one when the view has moved on, and update the current adaptive mesh. Errors of a
+    /// rebuild (a decimation that fails) are returned by the update that would switch to it.
+    Result<UpdateStats> update(const Frame<float>& frame);
+
+    const Mesh& mesh() const;  ///< the current adaptive mesh's (empty before the first update)
+    const DecimatingStats& stats() const;
+
+  private:
+    struct Impl;
+    explicit DecimatingMesh(std::unique_ptr<Impl> impl);
+    std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace aerial::mesh

@@ -17,7 +17,8 @@ def main():
     scenes = first_seen(rows, "scene")
     fig, panel = panel_grid(len(scenes), min(4, len(scenes)), 4, 3.2)
     styles = {"adaptive": "o-", "adaptive-relocate": "P-", "uniform-geodesic": "s--", "uniform-latlong": "^:",
-              "uniform-grid": "s--", "uniform-distance-lod": "v:", "decimated": "d-."}
+              "uniform-grid": "s--", "uniform-distance-lod": "v:", "decimated": "d-.",
+              "adaptive-decimating": "D-"}
     for i, scene in enumerate(scenes):
         ax = panel(i)
         for m in first_seen(rows, "method", scene=scene):

@@ -22,6 +22,7 @@ RUN_PACKAGES=(
     pkg-config
     libglm-dev
     libhwy-dev
+    libnova-dev
     nlohmann-json3-dev
     libcli11-dev
     libpng-dev
@@ -34,6 +35,7 @@ RUN_PACKAGES=(
 )
 TEST_PACKAGES=(
     libgtest-dev
+    xplanet
     liblcms2-dev
     libopenscenegraph-dev
     libirrlicht-dev

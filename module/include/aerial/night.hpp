@@ -1,0 +1,144 @@
+// aerial/night.hpp — the night sky's sources: where the moon is and how bright, the bright stars,
+// and which of them an observer can see against the sky's own luminance.
+//
+// How to use this:
+//   1. `auto moon = aerial::moon_position({2026, 6, 21, 22, 0, 0.0}, lat_rad, lon_rad);` gives
+//      its topocentric elevation and azimuth, distance, phase angle and illuminated fraction
+//      (libnova: ELP 2000-82B, Meeus, *Astronomical Algorithms*, ch. 47-48);
+//      `aerial::sun_direction_enu`'s convention: `aerial::moon_direction_enu(*moon)`.
+//   2. `aerial::moon_illuminance_lux(moon->phase_angle_rad, moon->distance_km)`: its light
+//      outside the atmosphere (Krisciunas & Schaefer 1991), and `moon_irradiance(...)` the same
+//      as a fraction of the sun's E_sun0 for the models.
+//   3. Stars: `auto stars = aerial::read_star_catalogue(aerial::kBrightStarCataloguePath);`
+//      (the Yale Bright Star Catalogue as Debian's xplanet ships it), `stars_of_date(...)` once a
+//      night, then per frame `aerial::star_direction_enu(star, lat, sidereal)` with
+//      `local_sidereal_time_rad(time, lon)`.
+//   4. Visibility: `aerial::limiting_magnitude(background_cd_m2)` (Schaefer's threshold for the
+//      naked eye), with the background the model's sky luminance in the star's direction
+//      (`sky_luminance_cd_m2`) plus the natural night sky (kNaturalNightSkyCdM2); a star is seen
+//      when its magnitude, dimmed by the atmosphere's transmittance along its direction, is
+//      below the limit (`visible_stars`).
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "aerial/atmosphere.hpp"
+#include "aerial/error.hpp"
+#include "aerial/sun.hpp"
+
+namespace aerial {
+
+// ---- The moon ----------------------------------------------------------------------------------
+
+struct MoonPosition {
+    double elevation_rad = 0;  ///< topocentric (parallax applied), geometric (no refraction)
+    double azimuth_rad = 0;    ///< clockwise from north, [0, 2 pi)
+    double right_ascension_rad = 0;  ///< geocentric apparent, [0, 2 pi)
+    double declination_rad = 0;      ///< geocentric apparent
+    double distance_km = 0;          ///< between the centres of the earth and the moon
+    /// The angle sun - moon - earth: 0 at full moon, pi at new moon.
+    double phase_angle_rad = 0;
+    double illuminated_fraction = 0;  ///< of the disc, 0 .. 1: (1 + cos(phase angle)) / 2
+};
+
+/// The moon for a time and place (latitude, longitude as sun_position takes them). The time is
+/// taken as terrestrial time (UTC differs by about a minute: 0.01 deg of the moon's motion).
+Result<MoonPosition> moon_position(const UtcDateTime& time, double latitude_rad,
+                                   double longitude_rad);
+
+/// Unit vector towards the moon in the east (x), north (y), up (z) frame.
+glm::dvec3 moon_direction_enu(const MoonPosition& moon);
+
+/// The moon's illuminance on a surface facing it outside the atmosphere, lux, by Krisciunas and
+/// Schaefer (1991, PASP 103, 1033), eq. 8-9: V magnitude -12.73 + 0.026 |alpha| + 4e-9 alpha^4
+/// (alpha in degrees) at the mean distance 384 400 km, scaled by the inverse square of the
+/// distance. Full moon: about 0.27 lux.
+double moon_illuminance_lux(double phase_angle_rad, double distance_km);
+
+/// The sun's illuminance outside the atmosphere at one astronomical unit, lux: the scale that
+/// turns the models' radiance (in units of E_sun0) into luminance (sky_luminance_cd_m2).
+inline constexpr double kSunIlluminanceLux = 128000.0;
+
+/// The moon as a second light for the models: E_sun0 times moon_illuminance_lux /
+/// kSunIlluminanceLux (the moon's light is the sun's, reflected; its colour is taken as the
+/// sun's).
+glm::dvec3 moon_irradiance(const Atmosphere& atmosphere, const MoonPosition& moon);
+
+// ---- Stars -------------------------------------------------------------------------------------
+
+struct Star {
+    double right_ascension_rad = 0;  ///< J2000
+    double declination_rad = 0;
+    double magnitude = 0;  ///< visual
+};
+
+/// Where Debian's xplanet package puts the Yale Bright Star Catalogue (5th revised edition,
+/// 9 096 stars to about magnitude 6.5).
+inline constexpr const char* kBrightStarCataloguePath = "/usr/share/xplanet/stars/BSC";
+
+/// Reads a star list in xplanet's format: one star a line, declination (degrees), right ascension
+/// (hours) and visual magnitude first, anything after them ignored; '#' lines and blank lines
+/// skipped. Errors name the file and the line ("BSC:12: expected declination, right ascension
+/// and magnitude").
+Result<std::vector<Star>> read_star_catalogue(const std::string& path);
+
+/// The catalogue's places (J2000) moved to a date's apparent places: precession (0.37 deg from
+/// 2000 to 2026) and nutation. Once a night is enough (a day moves them by 0.00004 deg).
+std::vector<Star> stars_of_date(const std::vector<Star>& stars, const UtcDateTime& time);
+
+/// The local apparent sidereal time, radians (libnova, Meeus ch. 12).
+double local_sidereal_time_rad(const UtcDateTime& time, double longitude_rad);
+
+/// Unit vector towards a star (places of the date: stars_of_date) in the east-north-up frame of
+/// an observer at `latitude_rad` whose local sidereal time is `sidereal_rad`.
+glm::dvec3 star_direction_enu(const Star& star, double latitude_rad, double sidereal_rad);
+
+// ---- Visibility --------------------------------------------------------------------------------
+
+/// The natural night sky's luminance at the zenith on a moonless night far from towns (airglow,
+/// zodiacal light and unresolved stars, 22.0 V magnitudes a square arc second), cd/m2.
+inline constexpr double kNaturalNightSkyCdM2 = 1.7e-4;
+
+/// The faintest star (visual magnitude, above the atmosphere's dimming) the naked eye sees
+/// against a background of `background_cd_m2`: Schaefer's threshold (Schaefer 1990, PASP 102,
+/// 212; after Blackwell 1946) I = c1 (1 + sqrt(c2 B))^2 foot-candles with B in nanolamberts
+/// (c1 = 10^-9.8, c2 = 10^-1.9 for rod vision, B < 1479 nL; 10^-8.35 and 10^-5.9 above), and
+/// m = -16.57 - 2.5 log10 I.
+double limiting_magnitude(double background_cd_m2);
+
+/// The model's sky luminance along `direction` (world frame of `view`), cd/m2: the height
+/// model's chained sky radiance's Rec. 709 luminance over E_sun0's, times kSunIlluminanceLux.
+Result<double> sky_luminance_cd_m2(const Atmosphere& atmosphere, const View& view,
+                                   const glm::dvec3& direction);
+
+struct StarVisibilityOptions {
+    /// Added to the model's sky: the natural night sky (kNaturalNightSkyCdM2).
+    double natural_background_cd_m2 = kNaturalNightSkyCdM2;
+    /// The sky's luminance is evaluated on a grid of this many elevation rows (and four times as
+    /// many azimuth columns) and interpolated: one evaluation a grid node, not a star.
+    int elevation_rows = 16;
+};
+
+/// A star seen: its catalogue index, direction (east-north-up) and magnitude after the
+/// atmosphere's dimming along its direction (-2.5 log10 of the G transmittance to space).
+struct VisibleStar {
+    std::size_t index = 0;
+    glm::dvec3 direction{0.0};
+    double apparent_magnitude = 0;
+    double limiting_magnitude = 0;  ///< the limit in its direction
+};
+
+/// The stars above the horizon brighter than the limit in their direction, for an observer at
+/// `altitude_m` with the sun along `sun_enu` (east-north-up, unit): the view's eye at that
+/// altitude with z up. Errors: a bad atmosphere or altitude, as prepare_sky names them.
+Result<std::vector<VisibleStar>> visible_stars(const std::vector<Star>& stars,
+                                               const Atmosphere& atmosphere, double altitude_m,
+                                               const glm::dvec3& sun_enu, double latitude_rad,
+                                               double sidereal_rad,
+                                               const StarVisibilityOptions& options = {});
+
+}  // namespace aerial

@@ -1,0 +1,253 @@
+// The night sky's sources: the moon (libnova), the bright stars and their visibility. See
+// aerial/night.hpp.
+#include "aerial/night.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <glm/geometric.hpp>
+#include <libnova/julian_day.h>
+#include <libnova/lunar.h>
+#include <libnova/nutation.h>
+#include <libnova/parallax.h>
+#include <libnova/precession.h>
+#include <libnova/sidereal_time.h>
+#include <libnova/transform.h>
+
+#include "../common/error_text.hpp"
+#include "aerial/scattering.hpp"
+#include "aerial/sky.hpp"
+
+namespace aerial {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegree = kPi / 180.0;
+constexpr double kKmPerAu = 149597870.7;
+constexpr double kMeanMoonDistanceKm = 384400.0;
+
+double julian_day(const UtcDateTime& t) {
+    ln_date date{t.year, t.month, t.day, t.hour, t.minute, t.second};
+    return ln_get_julian_day(&date);
+}
+
+std::optional<Error> check_place(const char* function, double latitude_rad,
+                                 double longitude_rad) {
+    if (!(std::abs(latitude_rad) <= 0.5 * kPi))
+        return aerial::detail::invalid(function, "latitude_rad", "a value in [-pi/2, pi/2]",
+                                       aerial::detail::number(latitude_rad));
+    if (!(std::abs(longitude_rad) <= kPi))
+        return aerial::detail::invalid(function, "longitude_rad", "a value in [-pi, pi]",
+                                       aerial::detail::number(longitude_rad));
+    return std::nullopt;
+}
+
+/// A mean place of the date made apparent by nutation (Meeus eq. 23.1; libnova gives the
+/// nutation, not this step).
+ln_equ_posn nutated(const ln_equ_posn& mean, double jd) {
+    ln_nutation n{};
+    ln_get_nutation(jd, &n);
+    const double a = mean.ra * kDegree, d = mean.dec * kDegree, e = n.ecliptic * kDegree;
+    const double dpsi = n.longitude, deps = n.obliquity;  // degrees
+    ln_equ_posn out = mean;
+    out.ra += (std::cos(e) + std::sin(e) * std::sin(a) * std::tan(d)) * dpsi -
+              std::cos(a) * std::tan(d) * deps;
+    out.dec += std::sin(e) * std::cos(a) * dpsi + std::sin(a) * deps;
+    return out;
+}
+
+glm::dvec3 enu(double elevation_rad, double azimuth_rad) {
+    return {std::cos(elevation_rad) * std::sin(azimuth_rad),
+            std::cos(elevation_rad) * std::cos(azimuth_rad), std::sin(elevation_rad)};
+}
+
+}  // namespace
+
+Result<MoonPosition> moon_position(const UtcDateTime& time, double latitude_rad,
+                                   double longitude_rad) {
+    constexpr const char* kFunction = "moon_position";
+    if (auto e = validate(time)) return aerial::detail::from(kFunction, *e);
+    if (auto e = check_place(kFunction, latitude_rad, longitude_rad)) return *e;
+    const double jd = julian_day(time);
+    MoonPosition m;
+    // libnova's lunar theory gives the mean equator and equinox of J2000: precessed to the date
+    // (0.37 deg by 2026), then nutation, for the apparent place that sidereal time goes with.
+    ln_equ_posn j2000{}, mean{}, equ{};
+    ln_get_lunar_equ_coords(jd, &j2000);
+    ln_get_equ_prec2(&j2000, JD2000, jd, &mean);
+    equ = nutated(mean, jd);
+    m.right_ascension_rad = equ.ra * kDegree;
+    m.declination_rad = equ.dec * kDegree;
+    m.distance_km = ln_get_lunar_earth_dist(jd);
+    m.phase_angle_rad = ln_get_lunar_phase(jd) * kDegree;
+    m.illuminated_fraction = ln_get_lunar_disk(jd);
+    // Topocentric: the moon's parallax (up to a degree) for an observer at sea level.
+    ln_lnlat_posn observer{longitude_rad / kDegree, latitude_rad / kDegree};
+    ln_equ_posn shift{};
+    ln_get_parallax(&equ, m.distance_km / kKmPerAu, &observer, 0.0, jd, &shift);
+    ln_equ_posn topocentric{equ.ra + shift.ra, equ.dec + shift.dec};
+    ln_hrz_posn hrz{};
+    ln_get_hrz_from_equ(&topocentric, &observer, jd, &hrz);
+    m.elevation_rad = hrz.alt * kDegree;
+    // libnova counts azimuth from the south, westwards.
+    m.azimuth_rad = std::fmod((hrz.az + 180.0) * kDegree, 2.0 * kPi);
+    return m;
+}
+
+glm::dvec3 moon_direction_enu(const MoonPosition& moon) {
+    return enu(moon.elevation_rad, moon.azimuth_rad);
+}
+
+double moon_illuminance_lux(double phase_angle_rad, double distance_km) {
+    const double alpha = std::abs(phase_angle_rad) / kDegree;
+    const double magnitude = -12.73 + 0.026 * alpha + 4e-9 * std::pow(alpha, 4.0);
+    // Krisciunas & Schaefer eq. 8: I* = 10^(-0.4 (m + 16.57)) foot-candles; 1 fc = 10.764 lux.
+    const double lux = 10.7639 * std::pow(10.0, -0.4 * (magnitude + 16.57));
+    const double r = distance_km > 0.0 ? kMeanMoonDistanceKm / distance_km : 1.0;
+    return lux * r * r;
+}
+
+glm::dvec3 moon_irradiance(const Atmosphere& atmosphere, const MoonPosition& moon) {
+    return atmosphere.sun_irradiance *
+           (moon_illuminance_lux(moon.phase_angle_rad, moon.distance_km) / kSunIlluminanceLux);
+}
+
+Result<std::vector<Star>> read_star_catalogue(const std::string& path) {
+    constexpr const char* kFunction = "read_star_catalogue";
+    std::ifstream in(path);
+    if (!in) return aerial::detail::error(kFunction, path, "cannot open the file");
+    std::vector<Star> stars;
+    std::string line;
+    for (int number = 1; std::getline(in, line); ++number) {
+        const auto first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#') continue;
+        std::istringstream fields(line);
+        double dec = 0, ra_hours = 0, magnitude = 0;
+        if (!(fields >> dec >> ra_hours >> magnitude) || !(std::abs(dec) <= 90.0) ||
+            !(ra_hours >= 0.0 && ra_hours < 24.0) || !std::isfinite(magnitude)) {
+            return aerial::detail::error(
+                kFunction, path + ":" + std::to_string(number),
+                "expected declination (degrees, -90 .. 90), right ascension (hours, 0 .. 24) and "
+                "magnitude");
+        }
+        stars.push_back({ra_hours * 15.0 * kDegree, dec * kDegree, magnitude});
+    }
+    if (stars.empty()) return aerial::detail::error(kFunction, path, "no star in the file");
+    return stars;
+}
+
+std::vector<Star> stars_of_date(const std::vector<Star>& stars, const UtcDateTime& time) {
+    const double jd = julian_day(time);
+    std::vector<Star> out = stars;
+    for (Star& star : out) {
+        ln_equ_posn j2000{star.right_ascension_rad / kDegree, star.declination_rad / kDegree}, mean{};
+        ln_get_equ_prec2(&j2000, JD2000, jd, &mean);
+        const ln_equ_posn apparent = nutated(mean, jd);
+        star.right_ascension_rad = std::fmod(apparent.ra * kDegree + 2.0 * kPi, 2.0 * kPi);
+        star.declination_rad = apparent.dec * kDegree;
+    }
+    return out;
+}
+
+double local_sidereal_time_rad(const UtcDateTime& time, double longitude_rad) {
+    const double gast_hours = ln_get_apparent_sidereal_time(julian_day(time));
+    const double lst = gast_hours * 15.0 * kDegree + longitude_rad;
+    return std::fmod(std::fmod(lst, 2.0 * kPi) + 2.0 * kPi, 2.0 * kPi);
+}
+
+glm::dvec3 star_direction_enu(const Star& star, double latitude_rad, double sidereal_rad) {
+    const double hour_angle = sidereal_rad - star.right_ascension_rad;
+    const double sd = std::sin(star.declination_rad), cd = std::cos(star.declination_rad);
+    const double sl = std::sin(latitude_rad), cl = std::cos(latitude_rad);
+    const double up = sl * sd + cl * cd * std::cos(hour_angle);
+    const double east = -cd * std::sin(hour_angle);
+    const double north = cl * sd - sl * cd * std::cos(hour_angle);
+    return {east, north, up};
+}
+
+double limiting_magnitude(double background_cd_m2) {
+    // In nanolamberts: 1 L = 1 / pi cd/cm2 = 1e4 / pi cd/m2, so 1 nL = 1e-5 / pi cd/m2.
+    const double b = std::max(background_cd_m2, 0.0) * kPi * 1e5;
+    const bool rods = b < 1479.0;
+    const double c1 = std::pow(10.0, rods ? -9.8 : -8.35);
+    const double c2 = std::pow(10.0, rods ? -1.9 : -5.9);
+    const double threshold = c1 * std::pow(1.0 + std::sqrt(c2 * b), 2.0);
+    return -16.57 - 2.5 * std::log10(threshold);
+}
+
+Result<double> sky_luminance_cd_m2(const Atmosphere& atmosphere, const View& view,
+                                   const glm::dvec3& direction) {
+    auto sky = prepare_sky(atmosphere, view, SkyMethod::height_chained);
+    if (!sky) return aerial::detail::from("sky_luminance_cd_m2", sky.error());
+    const double top = luminance(atmosphere.sun_irradiance);
+    if (!(top > 0.0)) return 0.0;
+    return luminance(sky_radiance(*sky, direction)) / top * kSunIlluminanceLux;
+}
+
+Result<std::vector<VisibleStar>> visible_stars(const std::vector<Star>& stars,
+                                               const Atmosphere& atmosphere, double altitude_m,
+                                               const glm::dvec3& sun_enu, double latitude_rad,
+                                               double sidereal_rad,
+                                               const StarVisibilityOptions& options) {
+    constexpr const char* kFunction = "visible_stars";
+    if (options.elevation_rows < 2 || options.elevation_rows > 1024)
+        return aerial::detail::invalid(kFunction, "elevation_rows", "2 .. 1024",
+                                       aerial::detail::number(options.elevation_rows));
+    if (!(options.natural_background_cd_m2 >= 0.0) ||
+        !std::isfinite(options.natural_background_cd_m2))
+        return aerial::detail::invalid(kFunction, "natural_background_cd_m2",
+                                       "a finite value >= 0",
+                                       aerial::detail::number(options.natural_background_cd_m2));
+    View view;
+    view.eye = {0.0, 0.0, altitude_m};
+    view.up = {0.0, 0.0, 1.0};
+    view.sun_dir = sun_enu;
+    auto sky = prepare_sky(atmosphere, view, SkyMethod::height_chained);
+    if (!sky) return aerial::detail::from(kFunction, sky.error());
+    const double top = luminance(atmosphere.sun_irradiance);
+    const double scale = top > 0.0 ? kSunIlluminanceLux / top : 0.0;
+    // The sky's luminance on a grid of elevation (0 .. 90 deg) x azimuth (from east, 0 .. 360).
+    const int rows = options.elevation_rows, columns = 4 * rows;
+    std::vector<double> grid(std::size_t(rows + 1) * std::size_t(columns + 1));
+    for (int r = 0; r <= rows; ++r) {
+        const double e = 0.5 * kPi * r / rows;
+        for (int c = 0; c <= columns; ++c) {
+            const double a = 2.0 * kPi * c / columns;
+            const glm::dvec3 d{std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+            grid[std::size_t(r) * std::size_t(columns + 1) + std::size_t(c)] =
+                luminance(sky_radiance(*sky, d)) * scale;
+        }
+    }
+    const auto sky_at = [&](const glm::dvec3& d) {
+        const double e = std::asin(std::clamp(d.z, 0.0, 1.0)) / (0.5 * kPi) * rows;
+        double a = std::atan2(d.y, d.x);
+        if (a < 0.0) a += 2.0 * kPi;
+        a = a / (2.0 * kPi) * columns;
+        const int r = std::min(int(e), rows - 1), c = std::min(int(a), columns - 1);
+        const double fr = e - r, fc = a - c;
+        const auto at = [&](int i, int j) {
+            return grid[std::size_t(i) * std::size_t(columns + 1) + std::size_t(j)];
+        };
+        return (1 - fr) * ((1 - fc) * at(r, c) + fc * at(r, c + 1)) +
+               fr * ((1 - fc) * at(r + 1, c) + fc * at(r + 1, c + 1));
+    };
+    std::vector<VisibleStar> seen;
+    for (std::size_t i = 0; i < stars.size(); ++i) {
+        const glm::dvec3 d = star_direction_enu(stars[i], latitude_rad, sidereal_rad);
+        if (d.z <= 0.0) continue;
+        const double transmittance = sun_transmittance(atmosphere, altitude_m, d.z).y;
+        if (!(transmittance > 0.0)) continue;
+        VisibleStar v;
+        v.index = i;
+        v.direction = d;
+        v.apparent_magnitude = stars[i].magnitude - 2.5 * std::log10(transmittance);
+        v.limiting_magnitude = limiting_magnitude(sky_at(d) + options.natural_background_cd_m2);
+        if (v.apparent_magnitude < v.limiting_magnitude) seen.push_back(v);
+    }
+    return seen;
+}
+
+}  // namespace aerial

@@ -487,19 +487,17 @@ int main(int argc, char** argv) {
                    "With --path: the uniform dome's frequency (default 48)");
     app.add_option("--path-lod-cells", path_options.lod_cells,
                    "With --path: the distance LOD's cells per side (default 32)");
-    app.add_option("--path-rebuild-deg", path_options.rebuild_sun_deg,
-                   "With --path: adaptive-decimating rebuilds when the sun has turned this far "
-                   "(degrees, default 0.5)");
+    app.add_option("--rebuild-deg", path_options.rebuild_sun_deg,
+                   "With --path, or --bench-dome --decimating: adaptive-decimating rebuilds when "
+                   "the sun has turned this far (degrees, default 0.25)");
     if (auto status = aerial::tools::parse_command_line(app, argc, argv, kTool)) return *status;
     std::vector<aerial::validation::TessSceneSpec> specs =
         path ? aerial::validation::builtin_tess_paths()
              : aerial::validation::builtin_tess_scenes(quick);
-    if (!path && (app.count("--path-geodesic") || app.count("--path-lod-cells") ||
-                  app.count("--path-rebuild-deg")))
-        return aerial::tools::fail(
-            kTool, "--path-geodesic, --path-lod-cells and --path-rebuild-deg go with --path");
+    if (!path && (app.count("--path-geodesic") || app.count("--path-lod-cells")))
+        return aerial::tools::fail(kTool, "--path-geodesic and --path-lod-cells go with --path");
     if (!(path_options.rebuild_sun_deg > 0.0 && path_options.rebuild_sun_deg <= 180.0))
-        return aerial::tools::fail(kTool, "--path-rebuild-deg: expected (0, 180], got " +
+        return aerial::tools::fail(kTool, "--rebuild-deg: expected (0, 180], got " +
                                               std::to_string(path_options.rebuild_sun_deg));
     if (path_options.geodesic_frequency < 1 || path_options.geodesic_frequency > 256)
         return aerial::tools::fail(kTool, "--path-geodesic: expected 1 .. 256, got " +
@@ -536,6 +534,7 @@ int main(int argc, char** argv) {
         b.frames = frames;
         b.relocate = app.count("--relocate") ? relocate : -1;
         b.sun_deg_per_min = sun_rate;
+        b.rebuild_sun_deg = path_options.rebuild_sun_deg;
         return aerial::tess::bench_update(b);
     }
     if (decimating || app.count("--sun-rate"))

@@ -56,6 +56,7 @@ int bench_update(const BenchUpdateOptions& options) {
             decimating_settings(scene, 1.0, options.dome ? 0.55 : 0.2, options.dome);
         d.adaptive.relocate = a.relocate;
         d.background = false;
+        d.rebuild_sun_rad = options.rebuild_sun_deg * kPi / 180.0;
         decimating.emplace(
             mesh::DecimatingMesh::create(base, adaptive_surface(scene), d).value());
         update = [&](const Frame<float>& f) { return decimating->update(f).value(); };

@@ -18,6 +18,7 @@ struct BenchUpdateOptions {
     int frames = 120;
     int relocate = -1;  ///< AdaptiveSettings::relocate (-1: the library's default)
     double sun_deg_per_min = 0.25;
+    double rebuild_sun_deg = 0.25;  ///< adaptive-decimating's rebuild_sun_rad, in degrees
 };
 
 int bench_update(const BenchUpdateOptions& options);

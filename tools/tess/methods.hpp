@@ -27,9 +27,9 @@ mesh::DecimateOptions decimate_options(const validation::TessScene& scene, doubl
                                        bool quantized);
 
 /// The run-time `adaptive-decimating` method's settings: rebuilds refine to `fine_split_lsb`
-/// and decimate to `bound`; between them the adaptive mesh refines at `bound` too; rebuilds every
-/// half degree of the sun, on terrain also every 10 % of the eye's height above the ground it
-/// was built at (at least 5 m); on their own thread.
+/// and decimate to `bound`; between them the adaptive mesh refines at `bound` too; rebuilds by
+/// the library's default sun turn (0.25 deg), on terrain also every 10 % of the eye's height
+/// above the ground it was built at (at least 5 m); on their own thread.
 mesh::DecimatingSettings decimating_settings(const validation::TessScene& scene, double bound,
                                              double fine_split_lsb, bool quantized);
 

@@ -31,7 +31,7 @@ namespace aerial::tess {
 struct PathOptions {
     int geodesic_frequency = 48;  ///< the uniform dome's frequency
     int lod_cells = 32;           ///< the distance LOD's cells per side
-    double rebuild_sun_deg = 0.5;  ///< adaptive-decimating's rebuild_sun_rad, in degrees
+    double rebuild_sun_deg = 0.25;  ///< adaptive-decimating's rebuild_sun_rad, in degrees
     /// --mesh: (file stem, triangles) graded as method `own_method` on the scenes of their kind.
     std::vector<std::pair<std::string, scene::MeshData>> own_meshes;
     std::string own_method;

@@ -391,7 +391,7 @@ struct DecimatingSettings {
     float decimate_lsb = 0.8f;     ///< then decimates to this bound, in [fine_split_lsb, split]
     /// A rebuild starts when the sun has turned by more than this (rad) since the current mesh's
     /// rebuild, or the eye has moved by more than rebuild_eye_m (0: the eye never triggers one).
-    double rebuild_sun_rad = 0.0087;  ///< 0.5 degrees
+    double rebuild_sun_rad = 0.0044;  ///< 0.25 degrees (a minute of the real sun)
     double rebuild_eye_m = 0.0;
     bool background = true;  ///< rebuild on a thread of its own; false: inside update()
 };

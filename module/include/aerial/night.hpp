@@ -63,10 +63,18 @@ double moon_illuminance_lux(double phase_angle_rad, double distance_km);
 /// turns the models' radiance (in units of E_sun0) into luminance (sky_luminance_cd_m2).
 inline constexpr double kSunIlluminanceLux = 128000.0;
 
-/// The moon as a second light for the models: E_sun0 times moon_illuminance_lux /
-/// kSunIlluminanceLux (the moon's light is the sun's, reflected; its colour is taken as the
-/// sun's).
+/// The moon's light as a fraction of the sun's: moon_illuminance_lux / kSunIlluminanceLux
+/// (2.4e-6 at full moon).
+double moonlight_fraction(const MoonPosition& moon);
+
+/// The moon as a second light for the models: E_sun0 times moonlight_fraction (the moon's light
+/// is the sun's, reflected; its colour is taken as the sun's).
 glm::dvec3 moon_irradiance(const Atmosphere& atmosphere, const MoonPosition& moon);
+
+/// The atmosphere with the moon's irradiance in place of the sun's: every model (CPU and ARB
+/// programs alike) then gives the moon's light when its View::sun_dir is the moon's direction.
+/// Scattering is linear in the light: the night's L_in is the sun's plus the moon's.
+Atmosphere moonlit(const Atmosphere& atmosphere, const MoonPosition& moon);
 
 // ---- Stars -------------------------------------------------------------------------------------
 
@@ -110,10 +118,12 @@ inline constexpr double kNaturalNightSkyCdM2 = 1.7e-4;
 /// m = -16.57 - 2.5 log10 I.
 double limiting_magnitude(double background_cd_m2);
 
-/// The model's sky luminance along `direction` (world frame of `view`), cd/m2: the height
-/// model's chained sky radiance's Rec. 709 luminance over E_sun0's, times kSunIlluminanceLux.
+/// The model's sky luminance along `direction` (world frame of `view`), cd/m2, lit from
+/// view.sun_dir by a light of `light_fraction` times the sun's illuminance (1: the sun; the moon:
+/// moonlight_fraction, with view.sun_dir the moon's direction): the height model's chained sky
+/// radiance's Rec. 709 luminance over E_sun0's, times kSunIlluminanceLux and light_fraction.
 Result<double> sky_luminance_cd_m2(const Atmosphere& atmosphere, const View& view,
-                                   const glm::dvec3& direction);
+                                   const glm::dvec3& direction, double light_fraction = 1.0);
 
 struct StarVisibilityOptions {
     /// Added to the model's sky: the natural night sky (kNaturalNightSkyCdM2).
@@ -121,6 +131,10 @@ struct StarVisibilityOptions {
     /// The sky's luminance is evaluated on a grid of this many elevation rows (and four times as
     /// many azimuth columns) and interpolated: one evaluation a grid node, not a star.
     int elevation_rows = 16;
+    /// The moon lighting the sky too (east-north-up, unit), with its moonlight_fraction; a
+    /// fraction of 0 leaves it out.
+    glm::dvec3 moon_enu{0.0, 0.0, 1.0};
+    double moon_fraction = 0.0;
 };
 
 /// A star seen: its catalogue index, direction (east-north-up) and magnitude after the

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <glm/geometric.hpp>
@@ -110,9 +111,18 @@ double moon_illuminance_lux(double phase_angle_rad, double distance_km) {
     return lux * r * r;
 }
 
+double moonlight_fraction(const MoonPosition& moon) {
+    return moon_illuminance_lux(moon.phase_angle_rad, moon.distance_km) / kSunIlluminanceLux;
+}
+
 glm::dvec3 moon_irradiance(const Atmosphere& atmosphere, const MoonPosition& moon) {
-    return atmosphere.sun_irradiance *
-           (moon_illuminance_lux(moon.phase_angle_rad, moon.distance_km) / kSunIlluminanceLux);
+    return atmosphere.sun_irradiance * moonlight_fraction(moon);
+}
+
+Atmosphere moonlit(const Atmosphere& atmosphere, const MoonPosition& moon) {
+    Atmosphere out = atmosphere;
+    out.sun_irradiance = moon_irradiance(atmosphere, moon);
+    return out;
 }
 
 Result<std::vector<Star>> read_star_catalogue(const std::string& path) {
@@ -179,12 +189,16 @@ double limiting_magnitude(double background_cd_m2) {
 }
 
 Result<double> sky_luminance_cd_m2(const Atmosphere& atmosphere, const View& view,
-                                   const glm::dvec3& direction) {
+                                   const glm::dvec3& direction, double light_fraction) {
+    constexpr const char* kFunction = "sky_luminance_cd_m2";
+    if (!(light_fraction >= 0.0) || !std::isfinite(light_fraction))
+        return aerial::detail::invalid(kFunction, "light_fraction", "a finite value >= 0",
+                                       aerial::detail::number(light_fraction));
     auto sky = prepare_sky(atmosphere, view, SkyMethod::height_chained);
-    if (!sky) return aerial::detail::from("sky_luminance_cd_m2", sky.error());
+    if (!sky) return aerial::detail::from(kFunction, sky.error());
     const double top = luminance(atmosphere.sun_irradiance);
     if (!(top > 0.0)) return 0.0;
-    return luminance(sky_radiance(*sky, direction)) / top * kSunIlluminanceLux;
+    return luminance(sky_radiance(*sky, direction)) / top * kSunIlluminanceLux * light_fraction;
 }
 
 Result<std::vector<VisibleStar>> visible_stars(const std::vector<Star>& stars,
@@ -201,12 +215,22 @@ Result<std::vector<VisibleStar>> visible_stars(const std::vector<Star>& stars,
         return aerial::detail::invalid(kFunction, "natural_background_cd_m2",
                                        "a finite value >= 0",
                                        aerial::detail::number(options.natural_background_cd_m2));
+    if (!(options.moon_fraction >= 0.0) || !std::isfinite(options.moon_fraction))
+        return aerial::detail::invalid(kFunction, "moon_fraction", "a finite value >= 0",
+                                       aerial::detail::number(options.moon_fraction));
     View view;
     view.eye = {0.0, 0.0, altitude_m};
     view.up = {0.0, 0.0, 1.0};
     view.sun_dir = sun_enu;
     auto sky = prepare_sky(atmosphere, view, SkyMethod::height_chained);
     if (!sky) return aerial::detail::from(kFunction, sky.error());
+    std::optional<SkyContext> moon_sky;
+    if (options.moon_fraction > 0.0) {
+        view.sun_dir = options.moon_enu;
+        auto made = prepare_sky(atmosphere, view, SkyMethod::height_chained);
+        if (!made) return aerial::detail::from(kFunction, made.error());
+        moon_sky = std::move(made).value();
+    }
     const double top = luminance(atmosphere.sun_irradiance);
     const double scale = top > 0.0 ? kSunIlluminanceLux / top : 0.0;
     // The sky's luminance on a grid of elevation (0 .. 90 deg) x azimuth (from east, 0 .. 360).
@@ -217,8 +241,9 @@ Result<std::vector<VisibleStar>> visible_stars(const std::vector<Star>& stars,
         for (int c = 0; c <= columns; ++c) {
             const double a = 2.0 * kPi * c / columns;
             const glm::dvec3 d{std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
-            grid[std::size_t(r) * std::size_t(columns + 1) + std::size_t(c)] =
-                luminance(sky_radiance(*sky, d)) * scale;
+            double l = luminance(sky_radiance(*sky, d));
+            if (moon_sky) l += options.moon_fraction * luminance(sky_radiance(*moon_sky, d));
+            grid[std::size_t(r) * std::size_t(columns + 1) + std::size_t(c)] = l * scale;
         }
     }
     const auto sky_at = [&](const glm::dvec3& d) {

@@ -415,6 +415,76 @@ aerial_status aerial_sky_sun_sprite(const aerial_sky* sky, const aerial_sun_spri
                                     unsigned char* rgba, size_t capacity_bytes,
                                     aerial_sun_sprite_info* info);
 
+/* ---- Night: the moon and the stars (aerial/night.hpp, docs/night.md) --------------------- */
+
+/* A moment in UTC (aerial::UtcDateTime): Gregorian 1901 .. 2099. */
+typedef struct aerial_utc_time {
+    int year;
+    int month; /* 1 .. 12 */
+    int day;   /* 1 .. days in the month */
+    int hour;  /* 0 .. 23 */
+    int minute;
+    double second;
+} aerial_utc_time;
+
+/* aerial::MoonPosition, and what an engine needs to light and draw with it. */
+typedef struct aerial_moon {
+    double elevation_rad;        /* topocentric, geometric (no refraction) */
+    double azimuth_rad;          /* clockwise from north, [0, 2 pi) */
+    double direction_enu[3];     /* unit, towards it: east, north, up */
+    double distance_km;          /* earth's centre to the moon's */
+    double phase_angle_rad;      /* sun - moon - earth: 0 full moon, pi new moon */
+    double illuminated_fraction; /* of the disc, 0 .. 1 */
+    /* its illuminance over the sun's (Krisciunas & Schaefer 1991): the moon's light through the
+     * models is a context whose atmosphere's sun_irradiance is scaled by this and whose view's
+     * sun_dir is the moon's direction (mapped to the engine's axes); L_in adds up */
+    double light_fraction;
+} aerial_moon;
+
+/* The moon for a time and place (latitude in [-pi/2, pi/2], longitude in [-pi, pi], east
+ * positive, radians; libnova). */
+aerial_status aerial_moon_position(const aerial_utc_time* time, double latitude_rad,
+                                   double longitude_rad, aerial_moon* moon);
+
+/* A star catalogue (aerial::read_star_catalogue). */
+typedef struct aerial_stars aerial_stars;
+
+/* path NULL: the Yale Bright Star Catalogue of Debian's xplanet (/usr/share/xplanet/stars/BSC).
+ * A bad line is AERIAL_ERROR_INVALID_ARGUMENT naming the file and line. */
+aerial_status aerial_stars_load(const char* path, aerial_stars** out);
+void aerial_stars_destroy(aerial_stars* stars); /* NULL is fine */
+const char* aerial_stars_last_error(const aerial_stars* stars);
+size_t aerial_stars_count(const aerial_stars* stars);
+
+/* Who looks, when, where the lights are. */
+typedef struct aerial_star_query {
+    aerial_utc_time time;
+    double latitude_rad;
+    double longitude_rad;
+    double altitude_m;       /* the observer above sea level, >= 0 */
+    double sun_enu[3];       /* unit, towards the sun: east, north, up */
+    const aerial_moon* moon; /* NULL: no moon in the sky */
+    /* airglow, zodiacal light and unresolved stars, cd/m2; default (0) 1.7e-4 (a dark site) */
+    double natural_background_cd_m2;
+} aerial_star_query;
+
+/* A star the naked eye sees: draw a point towards direction_enu, brighter the larger
+ * limiting_magnitude - apparent_magnitude (> 0). */
+typedef struct aerial_visible_star {
+    float direction_enu[3];
+    float apparent_magnitude; /* dimmed by the atmosphere along its direction */
+    float limiting_magnitude; /* the eye's limit against the sky in its direction */
+} aerial_visible_star;
+
+/* The stars above the horizon brighter than the limit in their direction (aerial::visible_stars:
+ * the context's atmosphere, the model's own sky luminance with the sun and the moon, Schaefer's
+ * threshold). Writes at most `capacity` into `out` and the number visible into *count; when that
+ * exceeds capacity it returns AERIAL_ERROR_BUFFER_TOO_SMALL (out may be NULL with capacity 0 to
+ * ask for the count). */
+aerial_status aerial_visible_stars(aerial_stars* stars, const aerial_context* context,
+                                   const aerial_star_query* query, aerial_visible_star* out,
+                                   size_t capacity, size_t* count);
+
 /* ---- OpenGL: the engine's context --------------------------------------------------------- */
 
 /* Resolves a GL entry point by name (glXGetProcAddressARB, eglGetProcAddress, SDL_GL_...). */

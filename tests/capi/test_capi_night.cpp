@@ -30,6 +30,17 @@ TEST(CApiNight, MoonEqualsTheCppApi) {
     EXPECT_EQ(aerial_moon_position(&t, 0.0, 0.0, nullptr), AERIAL_ERROR_NULL_ARGUMENT);
 }
 
+TEST(CApiNight, MoonSpriteEqualsTheCppApi) {
+    std::vector<unsigned char> rgba(32 * 32 * 4);
+    ASSERT_EQ(aerial_moon_sprite(1.0, 0.3, 32, rgba.data(), rgba.size()), AERIAL_OK);
+    EXPECT_EQ(rgba, aerial::make_moon_sprite(1.0, 0.3, 32).value().rgba);
+    EXPECT_EQ(aerial_moon_sprite(1.0, 0.3, 32, rgba.data(), 100), AERIAL_ERROR_BUFFER_TOO_SMALL);
+    const double moon[3] = {1, 0, 1}, sun[3] = {1, 1, 1}, up[3] = {0, 0, 1};
+    double angle = 0.0;
+    ASSERT_EQ(aerial_moon_bright_limb_angle(moon, sun, up, &angle), AERIAL_OK);
+    EXPECT_GT(angle, 0.0) << "north of an eastern moon: its left";
+}
+
 TEST(CApiNight, VisibleStarsForTheEnginesPoints) {
     aerial_stars* stars = nullptr;
     ASSERT_EQ(aerial_stars_load(nullptr, &stars), AERIAL_OK) << aerial_last_error_message();

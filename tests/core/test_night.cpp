@@ -257,3 +257,38 @@ TEST(Stars, FewerNearTheMoon) {
 }
 
 }  // namespace
+
+namespace {
+
+// The sprite's lit share of the disc is the illuminated fraction (1 + cos i) / 2, and its lit
+// side faces the bright limb's angle; the angle follows the sun across the line of sight.
+TEST(Moon, SpriteShowsThePhaseOnTheSunsSide) {
+    for (double i_deg : {0.0, 45.0, 90.0, 135.0, 170.0}) {
+        const auto sprite = aerial::make_moon_sprite(i_deg * kDegree, 0.0, 128);
+        ASSERT_TRUE(sprite.ok()) << sprite.error().message;
+        EXPECT_NEAR(sprite->lit_fraction, 0.5 * (1.0 + std::cos(i_deg * kDegree)), 0.02) << i_deg;
+    }
+    // Half moon, limb to the left (pi / 2): the lit texels lie left of the centre.
+    const auto half = aerial::make_moon_sprite(90.0 * kDegree, 0.5 * kPi, 64).value();
+    double x_sum = 0.0, weight = 0.0;
+    for (int row = 0; row < 64; ++row)
+        for (int col = 0; col < 64; ++col) {
+            const double v = half.rgba[4 * (std::size_t(row) * 64 + std::size_t(col))];
+            x_sum += v * (col + 0.5 - 32.0);
+            weight += v;
+        }
+    EXPECT_LT(x_sum / weight, -10.0);
+    EXPECT_EQ(half.rgba[3], 0) << "outside the disc: transparent";
+    EXPECT_EQ(half.rgba[4 * (32 * 64 + 32) + 3], 255);
+    // The moon in the east 30 deg up, the sun north of it on the sky: looking east, north is on
+    // the left.
+    const glm::dvec3 moon{std::cos(30.0 * kDegree), 0.0, std::sin(30.0 * kDegree)};
+    const glm::dvec3 sun = glm::normalize(moon + glm::dvec3(0.0, 0.5, 0.0));
+    EXPECT_NEAR(aerial::moon_bright_limb_angle_rad(moon, sun, {0, 0, 1}), 0.5 * kPi, 1e-9);
+    const glm::dvec3 below = glm::normalize(moon - glm::dvec3(0.0, 0.0, 0.5));
+    EXPECT_NEAR(std::abs(aerial::moon_bright_limb_angle_rad(moon, below, {0, 0, 1})), kPi, 0.05);
+    EXPECT_EQ(aerial::make_moon_sprite(4.0, 0.0, 64).error().field, "phase_angle_rad");
+    EXPECT_EQ(aerial::make_moon_sprite(1.0, 0.0, 4).error().field, "size");
+}
+
+}  // namespace

@@ -446,6 +446,18 @@ typedef struct aerial_moon {
 aerial_status aerial_moon_position(const aerial_utc_time* time, double latitude_rad,
                                    double longitude_rad, aerial_moon* moon);
 
+/* Where the lit limb of the moon's disc faces, radians counterclockwise from the top as the
+ * observer sees it (aerial::moon_bright_limb_angle_rad); the three directions in one frame. */
+aerial_status aerial_moon_bright_limb_angle(const double moon_dir[3], const double sun_dir[3],
+                                            const double up[3], double* angle_rad);
+
+/* The moon's disc with its phase (aerial::make_moon_sprite): size x size RGBA8 texels, top row
+ * first, into rgba (capacity >= size * size * 4 bytes); the lit side towards the bright limb
+ * angle, shaded by Lommel-Seeliger's law, white at the brightest texel; modulate and draw it
+ * facing the eye with its top along the sky's up. size 8 .. 1024. */
+aerial_status aerial_moon_sprite(double phase_angle_rad, double bright_limb_angle_rad, int size,
+                                 unsigned char* rgba, size_t capacity);
+
 /* A star catalogue (aerial::read_star_catalogue). */
 typedef struct aerial_stars aerial_stars;
 

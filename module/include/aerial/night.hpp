@@ -20,6 +20,7 @@
 //      below the limit (`visible_stars`).
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -75,6 +76,28 @@ glm::dvec3 moon_irradiance(const Atmosphere& atmosphere, const MoonPosition& moo
 /// programs alike) then gives the moon's light when its View::sun_dir is the moon's direction.
 /// Scattering is linear in the light: the night's L_in is the sun's plus the moon's.
 Atmosphere moonlit(const Atmosphere& atmosphere, const MoonPosition& moon);
+
+/// Where the lit side of the moon's disc faces on the sky: the angle, in the plane across the
+/// line of sight, from the projection of `up` towards the projection of the sun, counterclockwise
+/// as seen by the observer (radians; 0: the lit limb is the top, pi / 2: the left). Directions in
+/// one frame, unit; the moon and the sun not along one line with the eye (then 0).
+double moon_bright_limb_angle_rad(const glm::dvec3& moon_dir, const glm::dvec3& sun_dir,
+                                  const glm::dvec3& up);
+
+/// The moon's disc as an engine draws it: `size` x `size` RGBA8 texels, top row first; inside
+/// the disc (alpha 255, edges antialiased) the sunlit part shaded by Lommel-Seeliger's law
+/// mu0 / (mu0 + mu) (a dusty surface: a full moon looks flat, not Lambertian), white at the
+/// brightest texel, the night side black. Modulate it by the moon's colour (F_ex towards it
+/// times its displayed light) and draw it facing the eye, `up` of the image along the sky's up.
+struct MoonSprite {
+    int size = 0;
+    std::vector<std::uint8_t> rgba;
+    double lit_fraction = 0;  ///< of the disc's texels that are lit (the illuminated fraction)
+};
+
+/// size in 8 .. 1024; phase angle in [0, pi]. Errors name the field.
+Result<MoonSprite> make_moon_sprite(double phase_angle_rad, double bright_limb_angle_rad,
+                                    int size);
 
 // ---- Stars -------------------------------------------------------------------------------------
 

@@ -60,6 +60,34 @@ aerial_status aerial_moon_position(const aerial_utc_time* time, double latitude_
     });
 }
 
+aerial_status aerial_moon_bright_limb_angle(const double moon_dir[3], const double sun_dir[3],
+                                            const double up[3], double* angle_rad) {
+    return guard("aerial_moon_bright_limb_angle", nullptr, [&] {
+        require(moon_dir, "moon_dir");
+        require(sun_dir, "sun_dir");
+        require(up, "up");
+        require(angle_rad, "angle_rad");
+        *angle_rad = moon_bright_limb_angle_rad(capi::unit_or_fail(moon_dir, "moon_dir"),
+                                                capi::unit_or_fail(sun_dir, "sun_dir"),
+                                                capi::unit_or_fail(up, "up"));
+    });
+}
+
+aerial_status aerial_moon_sprite(double phase_angle_rad, double bright_limb_angle_rad, int size,
+                                 unsigned char* rgba, size_t capacity) {
+    return guard("aerial_moon_sprite", nullptr, [&] {
+        require(rgba, "rgba");
+        const MoonSprite sprite = capi::value_or_fail(
+            make_moon_sprite(phase_angle_rad, bright_limb_angle_rad, size),
+            AERIAL_ERROR_INVALID_ARGUMENT);
+        if (capacity < sprite.rgba.size())
+            fail(AERIAL_ERROR_BUFFER_TOO_SMALL, "capacity",
+                 "expected at least " + std::to_string(sprite.rgba.size()) + " bytes, got " +
+                     std::to_string(capacity));
+        std::copy(sprite.rgba.begin(), sprite.rgba.end(), rgba);
+    });
+}
+
 aerial_status aerial_stars_load(const char* path, aerial_stars** out) {
     return guard("aerial_stars_load", nullptr, [&] {
         require(out, "out");

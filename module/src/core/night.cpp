@@ -125,6 +125,76 @@ Atmosphere moonlit(const Atmosphere& atmosphere, const MoonPosition& moon) {
     return out;
 }
 
+double moon_bright_limb_angle_rad(const glm::dvec3& moon_dir, const glm::dvec3& sun_dir,
+                                  const glm::dvec3& up) {
+    const glm::dvec3 v = glm::normalize(moon_dir);
+    const auto across = [&](const glm::dvec3& d) { return d - glm::dot(d, v) * v; };
+    const glm::dvec3 top = across(up), sun = across(sun_dir);
+    if (glm::length(top) < 1e-12 || glm::length(sun) < 1e-12) return 0.0;
+    const glm::dvec3 y = glm::normalize(top);
+    const glm::dvec3 x = glm::cross(v, y);  // the observer's right, looking along v
+    // Counterclockwise from the top as seen by the observer: towards -x (the left).
+    return std::atan2(-glm::dot(sun, x), glm::dot(sun, y));
+}
+
+Result<MoonSprite> make_moon_sprite(double phase_angle_rad, double bright_limb_angle_rad,
+                                    int size) {
+    constexpr const char* kFunction = "make_moon_sprite";
+    if (size < 8 || size > 1024)
+        return aerial::detail::invalid(kFunction, "size", "8 .. 1024", aerial::detail::number(size));
+    if (!(phase_angle_rad >= 0.0 && phase_angle_rad <= kPi))
+        return aerial::detail::invalid(kFunction, "phase_angle_rad", "a value in [0, pi]",
+                                       aerial::detail::number(phase_angle_rad));
+    if (!std::isfinite(bright_limb_angle_rad))
+        return aerial::detail::invalid(kFunction, "bright_limb_angle_rad", "a finite angle",
+                                       aerial::detail::number(bright_limb_angle_rad));
+    // The sun as seen from the moon, in the image's frame: x right, y up, z towards the eye.
+    const double s_xy = std::sin(phase_angle_rad);
+    const glm::dvec3 sun{-s_xy * std::sin(bright_limb_angle_rad),
+                         s_xy * std::cos(bright_limb_angle_rad), std::cos(phase_angle_rad)};
+    MoonSprite out;
+    out.size = size;
+    out.rgba.assign(std::size_t(size) * std::size_t(size) * 4, 0);
+    std::vector<double> shade(std::size_t(size) * std::size_t(size), 0.0);
+    constexpr int kSamples = 4;  // per axis, for the antialiased edge
+    double brightest = 0.0;
+    std::size_t disc = 0, lit = 0;
+    for (int row = 0; row < size; ++row) {
+        for (int col = 0; col < size; ++col) {
+            int inside = 0;
+            double sum = 0.0;
+            for (int a = 0; a < kSamples; ++a) {
+                for (int b = 0; b < kSamples; ++b) {
+                    const double x = 2.0 * (col + (b + 0.5) / kSamples) / size - 1.0;
+                    const double y = 1.0 - 2.0 * (row + (a + 0.5) / kSamples) / size;
+                    const double r2 = x * x + y * y;
+                    if (r2 >= 1.0) continue;
+                    ++inside;
+                    const glm::dvec3 n{x, y, std::sqrt(1.0 - r2)};
+                    const double mu0 = glm::dot(n, sun), mu = n.z;
+                    if (mu0 > 0.0) sum += mu0 / (mu0 + mu);
+                }
+            }
+            const std::size_t i = std::size_t(row) * std::size_t(size) + std::size_t(col);
+            out.rgba[4 * i + 3] = std::uint8_t(std::lround(255.0 * inside / (kSamples * kSamples)));
+            if (inside == 0) continue;
+            shade[i] = sum / inside;
+            brightest = std::max(brightest, shade[i]);
+            if (inside == kSamples * kSamples) {
+                ++disc;
+                lit += shade[i] > 0.0;
+            }
+        }
+    }
+    for (std::size_t i = 0; i < shade.size(); ++i) {
+        const auto v = std::uint8_t(
+            std::lround(255.0 * (brightest > 0.0 ? std::min(shade[i] / brightest, 1.0) : 0.0)));
+        out.rgba[4 * i] = out.rgba[4 * i + 1] = out.rgba[4 * i + 2] = v;
+    }
+    out.lit_fraction = disc ? double(lit) / double(disc) : 0.0;
+    return out;
+}
+
 Result<std::vector<Star>> read_star_catalogue(const std::string& path) {
     constexpr const char* kFunction = "read_star_catalogue";
     std::ifstream in(path);

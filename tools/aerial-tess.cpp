@@ -26,11 +26,11 @@
 #include "aerial/adaptive_scene.hpp"
 #include "aerial/aerial.hpp"
 #include "aerial/mesh.hpp"
+#include "aerial/validation/mesh_grader.hpp"
+#include "aerial/validation/tess_scenes.hpp"
 #include "common/image_metrics.hpp"
 #include "support/cli.hpp"
 #include "support/png.hpp"
-#include "aerial/validation/mesh_grader.hpp"
-#include "aerial/validation/tess_scenes.hpp"
 #include "tess/bench_update.hpp"
 #include "tess/mesh_files.hpp"
 #include "tess/methods.hpp"
@@ -62,8 +62,8 @@ struct Settings {
     double colour_edge_angle = -1.0;
     int relocate = -1;  ///< AdaptiveSettings::relocate (-1: the library's default, 0 off, 1 on)
     aerial::validation::MeshGrader* grader = nullptr;
-    std::string export_dir;  ///< --export-meshes: every graded mesh written here as OBJ
-    std::string images_dir;  ///< --save-images: drawn, reference and difference PNGs here
+    std::string export_dir;            ///< --export-meshes: every graded mesh written here as OBJ
+    std::string images_dir;            ///< --save-images: drawn, reference and difference PNGs here
     std::vector<std::string> methods;  ///< --methods: the built-in methods to sweep (empty: all)
 };
 
@@ -137,9 +137,8 @@ void sweep(const Scene& scene, const std::string& method, const std::vector<doub
            const std::function<Mesh(double, double&)>& build, const Settings& settings,
            std::vector<Row>& rows,
            const std::function<std::vector<double>(double, double)>& between = {}) {
-    if (!settings.methods.empty() &&
-        std::find(settings.methods.begin(), settings.methods.end(), method) ==
-            settings.methods.end())
+    if (!settings.methods.empty() && std::find(settings.methods.begin(), settings.methods.end(),
+                                               method) == settings.methods.end())
         return;
     auto run = [&](double level) {
         double build_ms = 0.0;
@@ -259,7 +258,8 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
             [&](double bound, double& build_ms) {
                 const auto start = Clock::now();
                 auto m = aerial::mesh::DecimatingMesh::create(
-                             base, surface, aerial::tess::decimating_settings(scene, bound, fine_split, q))
+                             base, surface,
+                             aerial::tess::decimating_settings(scene, bound, fine_split, q))
                              .value();
                 (void)m.update(scene.setting.frame).value();
                 build_ms = ms_since(start);
@@ -330,9 +330,9 @@ void run_scene(const Scene& scene, const Settings& settings, bool decimated,
 int where(const Scene& scene, double split_lsb, const Settings& settings) {
     if (!scene.dome) return aerial::tools::fail(kTool, "--where: only dome scenes");
     double ms = 0.0;
-    const Mesh mesh = adaptive_mesh(scene, aerial::tess::adaptive_base(scene),
-                                    aerial::tess::adaptive_surface(scene), split_lsb, true,
-                                    settings, ms);
+    const Mesh mesh =
+        adaptive_mesh(scene, aerial::tess::adaptive_base(scene),
+                      aerial::tess::adaptive_surface(scene), split_lsb, true, settings, ms);
     std::vector<aerial::validation::MeshGradeOptions::Pixel> pixels;
     aerial::validation::GradeSetting setting = scene.setting;
     setting.options.report = &pixels;
@@ -370,8 +370,8 @@ int where(const Scene& scene, double split_lsb, const Settings& settings) {
             glm::vec3 c[3];
             for (int i = 0; i < 3; ++i)
                 c[i] = aerial::mesh::display_colour(scene.setting.frame, colour, p[i]);
-            const float estimate =
-                aerial::mesh::colour_error(scene.setting.frame, colour, p[0], p[1], p[2], c[0], c[1], c[2]);
+            const float estimate = aerial::mesh::colour_error(scene.setting.frame, colour, p[0],
+                                                              p[1], p[2], c[0], c[1], c[2]);
             const double w[3] = {1 - u - v, u, v};
             double interpolated = 0.0;
             for (int i = 0; i < 3; ++i) interpolated += w[i] * std::round(255.0 * c[i].x);
@@ -472,10 +472,11 @@ int main(int argc, char** argv) {
                    "difference, as DIR/SCENE/METHOD-LEVEL-{drawn,reference,diff}.png (the six "
                    "cube faces side by side)");
     std::vector<std::string> methods;
-    app.add_option("--methods", methods,
-                   "Sweep only these built-in methods (adaptive, adaptive-relocate, "
-                   "adaptive-decimating, uniform-geodesic, uniform-latlong, decimated, uniform-grid, "
-                   "uniform-distance-lod)")
+    app.add_option(
+           "--methods", methods,
+           "Sweep only these built-in methods (adaptive, adaptive-relocate, "
+           "adaptive-decimating, uniform-geodesic, uniform-latlong, decimated, uniform-grid, "
+           "uniform-distance-lod)")
         ->delimiter(',');
     bool path = false;
     aerial::tess::PathOptions path_options;
@@ -526,8 +527,8 @@ int main(int argc, char** argv) {
             return aerial::tools::fail(
                 kTool, "--relocate: expected 0 or 1, got " + std::to_string(relocate));
         if (!(sun_rate >= 0.0 && sun_rate <= 600.0))
-            return aerial::tools::fail(kTool, "--sun-rate: expected 0 .. 600, got " +
-                                                  std::to_string(sun_rate));
+            return aerial::tools::fail(
+                kTool, "--sun-rate: expected 0 .. 600, got " + std::to_string(sun_rate));
         aerial::tess::BenchUpdateOptions b;
         b.dome = bench_dome;
         b.decimating = decimating;
@@ -538,8 +539,9 @@ int main(int argc, char** argv) {
         return aerial::tess::bench_update(b);
     }
     if (decimating || app.count("--sun-rate"))
-        return aerial::tools::fail(kTool, "--decimating and --sun-rate go with --bench-update or "
-                                          "--bench-dome");
+        return aerial::tools::fail(kTool,
+                                   "--decimating and --sun-rate go with --bench-update or "
+                                   "--bench-dome");
     if (out.empty() && !app.count("--where"))
         return aerial::tools::fail(kTool, "--out: required (or --bench-update, --where)");
 
@@ -588,8 +590,8 @@ int main(int argc, char** argv) {
     }
     for (const std::string& m : methods) {
         static const char* const known[] = {
-            "adaptive",  "adaptive-relocate", "adaptive-decimating", "uniform-geodesic",
-            "uniform-latlong", "decimated", "uniform-grid", "uniform-distance-lod"};
+            "adaptive",        "adaptive-relocate", "adaptive-decimating", "uniform-geodesic",
+            "uniform-latlong", "decimated",         "uniform-grid",        "uniform-distance-lod"};
         if (std::find(std::begin(known), std::end(known), m) == std::end(known))
             return aerial::tools::fail(kTool, "--methods: unknown method '" + m + "'");
     }

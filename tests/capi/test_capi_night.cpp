@@ -16,8 +16,8 @@ TEST(CApiNight, MoonEqualsTheCppApi) {
     const aerial_utc_time t = {2026, 12, 6, 20, 0, 0.0};
     aerial_moon moon;
     ASSERT_EQ(aerial_moon_position(&t, 48.0 * kDegree, 11.0 * kDegree, &moon), AERIAL_OK);
-    const auto cpp = aerial::moon_position({2026, 12, 6, 20, 0, 0.0}, 48.0 * kDegree,
-                                           11.0 * kDegree);
+    const auto cpp =
+        aerial::moon_position({2026, 12, 6, 20, 0, 0.0}, 48.0 * kDegree, 11.0 * kDegree);
     ASSERT_TRUE(cpp.ok());
     EXPECT_EQ(moon.elevation_rad, cpp->elevation_rad);
     EXPECT_EQ(moon.azimuth_rad, cpp->azimuth_rad);

@@ -36,18 +36,19 @@ TEST(Moon, MatchesMeeussWorkedExamples) {
     EXPECT_NEAR(moon->distance_km, 368409.7, 50.0);
     EXPECT_NEAR(moon->phase_angle_rad, 69.0756 * kDegree, 0.01 * 69.0756 * kDegree);
     EXPECT_NEAR(moon->illuminated_fraction, 0.6786, 0.01 * 0.6786);
-    std::printf("moon 1992-04-12 0h: ra %.6f dec %.6f deg, %.1f km, phase angle %.4f deg, "
-                "fraction %.4f\n",
-                moon->right_ascension_rad / kDegree, moon->declination_rad / kDegree,
-                moon->distance_km, moon->phase_angle_rad / kDegree, moon->illuminated_fraction);
+    std::printf(
+        "moon 1992-04-12 0h: ra %.6f dec %.6f deg, %.1f km, phase angle %.4f deg, "
+        "fraction %.4f\n",
+        moon->right_ascension_rad / kDegree, moon->declination_rad / kDegree, moon->distance_km,
+        moon->phase_angle_rad / kDegree, moon->illuminated_fraction);
 }
 
 // The horizontal position is the equatorial one seen from the place: at the moon's transit its
 // azimuth is south (northern observer) and its elevation 90 deg - latitude + declination, less the
 // parallax (up to a degree).
 TEST(Moon, HorizontalPositionFollowsTheEquatorialOne) {
-    const auto moon = aerial::moon_position({2026, 12, 6, 20, 0, 0.0}, 48.0 * kDegree,
-                                            11.0 * kDegree);
+    const auto moon =
+        aerial::moon_position({2026, 12, 6, 20, 0, 0.0}, 48.0 * kDegree, 11.0 * kDegree);
     ASSERT_TRUE(moon.ok());
     const glm::dvec3 d = aerial::moon_direction_enu(*moon);
     EXPECT_NEAR(glm::length(d), 1.0, 1e-12);
@@ -110,8 +111,8 @@ TEST(Stars, VisibleCountFollowsTheSky) {
     const aerial::Atmosphere earth = aerial::atmosphere_preset("earth").value();
     const double latitude = 45.0 * kDegree, sidereal = 1.0;
     const auto count = [&](double sun_elevation_deg) {
-        auto seen = aerial::visible_stars(*stars, earth, 100.0, sun_at(sun_elevation_deg),
-                                          latitude, sidereal);
+        auto seen = aerial::visible_stars(*stars, earth, 100.0, sun_at(sun_elevation_deg), latitude,
+                                          sidereal);
         EXPECT_TRUE(seen.ok()) << seen.error().message;
         return seen.ok() ? seen->size() : 0;
     };
@@ -157,7 +158,8 @@ TEST(Sun, TheNoaaCalculatorAgreesWithLibnova) {
         ln_get_solar_equ_coords(ln_get_julian_day(&date), &sun);
         // libnova's places are J2000's: to the date's apparent place as for the stars.
         const auto dated = aerial::stars_of_date({{sun.ra * kDegree, sun.dec * kDegree, 0.0}}, t);
-        worst = std::max(worst, std::abs(dated[0].declination_rad - noaa->declination_rad) / kDegree);
+        worst =
+            std::max(worst, std::abs(dated[0].declination_rad - noaa->declination_rad) / kDegree);
     }
     std::printf("sun: NOAA against libnova, declination within %.4f deg over 2026\n", worst);
     EXPECT_LT(worst, 0.02);
@@ -210,8 +212,8 @@ TEST(Moon, MoonlitSkyAgainstKrisciunasSchaefer) {
                         earth, view, d, aerial::moonlight_fraction(moon));
                     ASSERT_TRUE(model.ok()) << model.error().message;
                     const double rho = std::acos(glm::dot(d, view.sun_dir)) / kDegree;
-                    const double ratio =
-                        *model / krisciunas_schaefer_cd_m2(alpha, 90.0 - moon_el, 90.0 - el, rho, k);
+                    const double ratio = *model / krisciunas_schaefer_cd_m2(alpha, 90.0 - moon_el,
+                                                                            90.0 - el, rho, k);
                     if (rho >= 60.0)
                         far_worst = std::max(far_worst, std::max(ratio, 1.0 / ratio));
                     else
@@ -220,9 +222,10 @@ TEST(Moon, MoonlitSkyAgainstKrisciunasSchaefer) {
             }
         }
     }
-    std::printf("moonlit sky / Krisciunas-Schaefer: within a factor %.2f from 60 deg off the "
-                "moon, lowest ratio %.2f nearer (k = %.3f mag an airmass)\n",
-                far_worst, near_lowest, k);
+    std::printf(
+        "moonlit sky / Krisciunas-Schaefer: within a factor %.2f from 60 deg off the "
+        "moon, lowest ratio %.2f nearer (k = %.3f mag an airmass)\n",
+        far_worst, near_lowest, k);
     EXPECT_LE(far_worst, 1.3);
     EXPECT_GT(near_lowest, 0.4);
 }
@@ -239,19 +242,20 @@ TEST(Stars, FewerNearTheMoon) {
     aerial::StarVisibilityOptions with_moon;
     with_moon.moon_enu = aerial::moon_direction_enu(moon);
     with_moon.moon_fraction = aerial::moonlight_fraction(moon);
-    const auto dark = aerial::visible_stars(*catalogue, earth, 100.0, sun_at(-30.0), 45.0 * kDegree,
-                                            1.0);
-    const auto lit = aerial::visible_stars(*catalogue, earth, 100.0, sun_at(-30.0),
-                                           45.0 * kDegree, 1.0, with_moon);
+    const auto dark =
+        aerial::visible_stars(*catalogue, earth, 100.0, sun_at(-30.0), 45.0 * kDegree, 1.0);
+    const auto lit = aerial::visible_stars(*catalogue, earth, 100.0, sun_at(-30.0), 45.0 * kDegree,
+                                           1.0, with_moon);
     ASSERT_TRUE(dark.ok() && lit.ok());
     const auto near = [&](const std::vector<aerial::VisibleStar>& seen) {
         std::size_t n = 0;
         for (const auto& s : seen) n += glm::dot(s.direction, with_moon.moon_enu) > std::cos(0.35);
         return n;
     };
-    std::printf("stars within 20 deg of a full moon 45 deg up: %zu (moonless: %zu); in all %zu "
-                "(%zu)\n",
-                near(*lit), near(*dark), lit->size(), dark->size());
+    std::printf(
+        "stars within 20 deg of a full moon 45 deg up: %zu (moonless: %zu); in all %zu "
+        "(%zu)\n",
+        near(*lit), near(*dark), lit->size(), dark->size());
     EXPECT_LT(near(*lit) * 4, near(*dark));
     EXPECT_LT(lit->size(), dark->size());
 }

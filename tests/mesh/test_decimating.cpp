@@ -23,8 +23,8 @@ struct Dome {
         dome.centre = {0, 0, 2};
         settings.adaptive.colour.texel = glm::vec3(0.0f);
         const auto frame = make_frame(dome.centre, sun_at(10.0), 0.9);
-        const auto side = aerial::scatter(frame, glm::vec3(dome.centre + dome.radius_m *
-                                                                             sun_at(30.0, 90.0)));
+        const auto side =
+            aerial::scatter(frame, glm::vec3(dome.centre + dome.radius_m * sun_at(30.0, 90.0)));
         settings.adaptive.colour.display.exposure =
             0.5f / std::max({side.in_scattering.x, side.in_scattering.y, side.in_scattering.z});
         settings.adaptive.lock_boundary = false;
@@ -58,9 +58,10 @@ TEST(DecimatingMesh, FirstUpdateGivesTheDecimatedMesh) {
 
     aerial::mesh::AdaptiveSettings fine = d.settings.adaptive;
     fine.split_lsb = d.settings.fine_split_lsb;
-    auto refined = aerial::mesh::AdaptiveMesh::create(aerial::mesh::geodesic_dome(4, d.dome).value(),
-                                                      aerial::mesh::Surface::sphere(d.dome), fine)
-                       .value();
+    auto refined =
+        aerial::mesh::AdaptiveMesh::create(aerial::mesh::geodesic_dome(4, d.dome).value(),
+                                           aerial::mesh::Surface::sphere(d.dome), fine)
+            .value();
     refined.update(frame);
     aerial::mesh::DecimateOptions options;
     options.colour = d.settings.adaptive.colour;

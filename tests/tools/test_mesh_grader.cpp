@@ -1,5 +1,5 @@
-// The GL grading of aerial-tess (aerial/validation/mesh_grader.hpp): the image through the fixed-function
-// path against the per-pixel reference.
+// The GL grading of aerial-tess (aerial/validation/mesh_grader.hpp): the image through the
+// fixed-function path against the per-pixel reference.
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>

@@ -561,9 +561,10 @@ int run_stability(const std::string& out_dir, bool quick, const std::vector<std:
     for (const std::string& name : names) {
         if (std::none_of(selected.begin(), selected.end(),
                          [&](const Sweep& s) { return s.name == name; }))
-            return tools::fail(kTool, "--sweep: expected sun_elevation_deg, altitude_m, "
-                                      "distance_m, mie_g, turbidity or visibility_m, got '" +
-                                          name + "'");
+            return tools::fail(kTool,
+                               "--sweep: expected sun_elevation_deg, altitude_m, "
+                               "distance_m, mie_g, turbidity or visibility_m, got '" +
+                                   name + "'");
     }
     const auto start = std::chrono::steady_clock::now();
     const auto programs = make_programs();

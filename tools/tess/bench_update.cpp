@@ -40,8 +40,8 @@ validation::TessScene bench_scene(bool dome) {
 
 int bench_update(const BenchUpdateOptions& options) {
     const validation::TessScene scene = bench_scene(options.dome);
-    const mesh::Mesh base = options.dome ? adaptive_base(scene)
-                                         : mesh::terrain_grid(scene.field, 224, 224).value();
+    const mesh::Mesh base =
+        options.dome ? adaptive_base(scene) : mesh::terrain_grid(scene.field, 224, 224).value();
     // The still methods' settings (quantized estimate on the dome); terrain at the library's
     // split threshold as before.
     mesh::AdaptiveSettings a = adaptive_settings(scene, 1.0, options.dome);
@@ -57,8 +57,7 @@ int bench_update(const BenchUpdateOptions& options) {
         d.adaptive.relocate = a.relocate;
         d.background = false;
         d.rebuild_sun_rad = options.rebuild_sun_deg * kPi / 180.0;
-        decimating.emplace(
-            mesh::DecimatingMesh::create(base, adaptive_surface(scene), d).value());
+        decimating.emplace(mesh::DecimatingMesh::create(base, adaptive_surface(scene), d).value());
         update = [&](const Frame<float>& f) { return decimating->update(f).value(); };
     } else {
         adaptive.emplace(mesh::AdaptiveMesh::create(base, adaptive_surface(scene), a).value());
@@ -75,8 +74,7 @@ int bench_update(const BenchUpdateOptions& options) {
     const Atmosphere atmosphere = scene.setting.frame.atmosphere;
     for (int i = 1; i <= options.frames; ++i) {
         if (options.dome) {
-            const double elevation =
-                (10.0 - options.sun_deg_per_min / 3600.0 * i) * kPi / 180.0;
+            const double elevation = (10.0 - options.sun_deg_per_min / 3600.0 * i) * kPi / 180.0;
             view.sun_dir = {std::cos(elevation), 0.0, std::sin(elevation)};
         } else {
             view.eye.x = 20.0 / 60.0 * i;
@@ -104,9 +102,8 @@ int bench_update(const BenchUpdateOptions& options) {
         "splits=%zu merges=%zu rebuilds=%zu frames=%d\n",
         options.dome ? "dome" : "terrain", options.decimating ? "adaptive-decimating" : "adaptive",
         mesh::live_faces(*shown), first_ms, cpu[cpu.size() / 2], mean,
-        cpu[std::min(cpu.size() - 1, cpu.size() * 99 / 100)], cpu.back(),
-        vertices / options.frames, fewest, most, double(estimated) / options.frames, splits, merges,
-        rebuilds, options.frames);
+        cpu[std::min(cpu.size() - 1, cpu.size() * 99 / 100)], cpu.back(), vertices / options.frames,
+        fewest, most, double(estimated) / options.frames, splits, merges, rebuilds, options.frames);
     return 0;
 }
 

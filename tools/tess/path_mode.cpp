@@ -146,8 +146,10 @@ Follower lod_follower(int cells) {
         std::optional<Error> failed;
         Followed followed = timed(kept.get(), [&] {
             auto m = mesh::terrain_distance_lod(scene.field, cells, eye, 2.0);
-            if (m) *kept = std::move(m).value();
-            else failed = m.error();
+            if (m)
+                *kept = std::move(m).value();
+            else
+                failed = m.error();
         });
         if (failed) return *failed;
         return followed;
@@ -163,7 +165,8 @@ Result<std::vector<Follower>> followers(const TessScene& first, const PathOption
         out.push_back(decimating_follower(first, options.rebuild_sun_deg));
         auto geodesic = mesh::geodesic_dome(options.geodesic_frequency, first.dome_options);
         if (!geodesic) return geodesic.error();
-        out.push_back(static_follower("uniform-geodesic", std::to_string(options.geodesic_frequency),
+        out.push_back(static_follower("uniform-geodesic",
+                                      std::to_string(options.geodesic_frequency),
                                       std::move(geodesic).value()));
         // Offline: refined to 0.55 steps at frame 0, decimated back to 0.8.
         auto made = mesh::AdaptiveMesh::create(adaptive_base(first), adaptive_surface(first),
@@ -189,9 +192,8 @@ Result<std::vector<Follower>> followers(const TessScene& first, const PathOption
 }
 
 /// One scene's path: every frame, every method. Appends its rows.
-std::optional<Error> run_path(const validation::TessSceneSpec& spec,
-                              validation::MeshGrader& grader, const PathOptions& options,
-                              std::vector<PathRow>& rows) {
+std::optional<Error> run_path(const validation::TessSceneSpec& spec, validation::MeshGrader& grader,
+                              const PathOptions& options, std::vector<PathRow>& rows) {
     auto first = validation::make_tess_scene(spec, 0);
     if (!first) return first.error();
     auto made = followers(*first, options);
@@ -238,11 +240,12 @@ double median(std::vector<double> v) {
 /// the robust criterion, largest popping, median and largest update time.
 std::string path_summary(const std::vector<PathRow>& rows, int face_pixels) {
     char line[512];
-    std::snprintf(line, sizeof line,
-                  "Paths: every frame graded, GL images against the per-pixel reference, six cube "
-                  "faces of %d x %d pixels a mesh\n%-24s %-22s %6s %9s %7s %9s %9s %7s %9s %9s %9s\n",
-                  face_pixels, face_pixels, "scene", "method", "frames", "vertices", "max", "max<=1",
-                  "over1<=e-4", "pop", "pop>1", "upd_med", "upd_max");
+    std::snprintf(
+        line, sizeof line,
+        "Paths: every frame graded, GL images against the per-pixel reference, six cube "
+        "faces of %d x %d pixels a mesh\n%-24s %-22s %6s %9s %7s %9s %9s %7s %9s %9s %9s\n",
+        face_pixels, face_pixels, "scene", "method", "frames", "vertices", "max", "max<=1",
+        "over1<=e-4", "pop", "pop>1", "upd_med", "upd_max");
     std::string text = line;
     std::vector<std::pair<std::string, std::string>> keys;
     for (const PathRow& r : rows)
@@ -263,16 +266,17 @@ std::string path_summary(const std::vector<PathRow>& rows, int face_pixels) {
             pop_over1 = std::max(pop_over1, r.pop_over1);
             if (r.frame > 0) cpu.push_back(r.update_cpu_ms);
         }
-        std::snprintf(line, sizeof line, "%-24s %-22s %6d %9.0f %7d %9d %9d %7d %9.2g %9.3f %9.3f\n",
-                      scene.c_str(), method.c_str(), frames, vertices / frames, max_lsb, within,
-                      robust, pop, pop_over1, median(cpu),
-                      cpu.empty() ? 0.0 : *std::max_element(cpu.begin(), cpu.end()));
+        std::snprintf(
+            line, sizeof line, "%-24s %-22s %6d %9.0f %7d %9d %9d %7d %9.2g %9.3f %9.3f\n",
+            scene.c_str(), method.c_str(), frames, vertices / frames, max_lsb, within, robust, pop,
+            pop_over1, median(cpu), cpu.empty() ? 0.0 : *std::max_element(cpu.begin(), cpu.end()));
         text += line;
     }
-    text += "(vertices: mean over the frames; max: the worst frame's max_lsb; max<=1 and "
-            "over1<=e-4: frames meeting each criterion; pop: the largest popping_lsb; pop>1: the "
-            "largest fraction of pixels popping by more than 1 step; upd_med, upd_max: CPU ms to "
-            "follow a frame after the first, median and largest)\n";
+    text +=
+        "(vertices: mean over the frames; max: the worst frame's max_lsb; max<=1 and "
+        "over1<=e-4: frames meeting each criterion; pop: the largest popping_lsb; pop>1: the "
+        "largest fraction of pixels popping by more than 1 step; upd_med, upd_max: CPU ms to "
+        "follow a frame after the first, median and largest)\n";
     return text;
 }
 
@@ -289,8 +293,9 @@ int run_path_mode(const std::vector<validation::TessSceneSpec>& specs,
             return tools::fail(kTool, "--path: " + e->message);
     }
     if (rows.empty())
-        return tools::fail(kTool, "--path: no scene with a path (\"path\": {\"frames\": N, ...}) "
-                                  "and a method to grade on it");
+        return tools::fail(kTool,
+                           "--path: no scene with a path (\"path\": {\"frames\": N, ...}) "
+                           "and a method to grade on it");
     std::system(("mkdir -p '" + out_dir + "'").c_str());
     const std::string csv_path = out_dir + "/path.csv";
     std::ofstream csv(csv_path);
@@ -302,9 +307,9 @@ int run_path_mode(const std::vector<validation::TessSceneSpec>& specs,
         std::snprintf(line, sizeof line,
                       "%s,%d,%s,%s,%zu,%zu,%d,%d,%.4f,%.8f,%.8f,%zu,%d,%.3f,%.3f,%d,%.8f\n",
                       r.scene.c_str(), r.frame, r.method.c_str(), r.level.c_str(), r.vertices,
-                      r.triangles, r.error.max_lsb, r.error.p99_lsb, r.error.rmse_lsb, r.error.over1,
-                      r.error.over2, r.error.count, grader.face_pixels(), r.update_ms,
-                      r.update_cpu_ms, r.popping_lsb, r.pop_over1);
+                      r.triangles, r.error.max_lsb, r.error.p99_lsb, r.error.rmse_lsb,
+                      r.error.over1, r.error.over2, r.error.count, grader.face_pixels(),
+                      r.update_ms, r.update_cpu_ms, r.popping_lsb, r.pop_over1);
         csv << line;
     }
     const std::string summary = path_summary(rows, grader.face_pixels());

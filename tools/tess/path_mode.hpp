@@ -9,13 +9,13 @@
 //
 // Methods: on domes the run-time `adaptive` and `adaptive-relocate` meshes (AdaptiveMesh::update
 // each frame, split threshold 1 step), `adaptive-decimating` (DecimatingMesh at a bound of 1 step,
-// rebuilt inside the update every rebuild_sun_deg of the sun), a `uniform-geodesic` dome of a fixed frequency and the
-// `decimated` dome made once at frame 0 (offline: it does not follow the sun); on terrain the
-// run-time `adaptive` mesh and `uniform-distance-lod` rebuilt around the eye every frame; your
-// own meshes (--mesh) as they are, every frame. Popping: per pixel covered in two consecutive
-// frames, how much more its drawn colour changed than its reference colour did,
-// max(0, |drawn_t - drawn_t-1| - |ref_t - ref_t-1|) over R, G, B; popping_lsb is the largest over
-// the pixels, pop_over1 the fraction of them above 1 step.
+// rebuilt inside the update every rebuild_sun_deg of the sun), a `uniform-geodesic` dome of a fixed
+// frequency and the `decimated` dome made once at frame 0 (offline: it does not follow the sun); on
+// terrain the run-time `adaptive` mesh and `uniform-distance-lod` rebuilt around the eye every
+// frame; your own meshes (--mesh) as they are, every frame. Popping: per pixel covered in two
+// consecutive frames, how much more its drawn colour changed than its reference colour did, max(0,
+// |drawn_t - drawn_t-1| - |ref_t - ref_t-1|) over R, G, B; popping_lsb is the largest over the
+// pixels, pop_over1 the fraction of them above 1 step.
 #pragma once
 
 #include <string>
@@ -29,8 +29,8 @@
 namespace aerial::tess {
 
 struct PathOptions {
-    int geodesic_frequency = 48;  ///< the uniform dome's frequency
-    int lod_cells = 32;           ///< the distance LOD's cells per side
+    int geodesic_frequency = 48;    ///< the uniform dome's frequency
+    int lod_cells = 32;             ///< the distance LOD's cells per side
     double rebuild_sun_deg = 0.25;  ///< adaptive-decimating's rebuild_sun_rad, in degrees
     /// --mesh: (file stem, triangles) graded as method `own_method` on the scenes of their kind.
     std::vector<std::pair<std::string, scene::MeshData>> own_meshes;

@@ -209,11 +209,10 @@ Result<mesh::Mesh> mesh_from_data(const scene::MeshData& data) {
     for (std::size_t t = 0; t + 2 < data.indices.size(); t += 3) {
         for (std::size_t k = t; k < t + 3; ++k) {
             if (data.indices[k] >= vertices.size())
-                return aerial::detail::invalid("validation::mesh_from_data",
-                                               "indices[" + std::to_string(k) + "]",
-                                               "a vertex index below " +
-                                                   std::to_string(vertices.size()),
-                                               std::to_string(data.indices[k]));
+                return aerial::detail::invalid(
+                    "validation::mesh_from_data", "indices[" + std::to_string(k) + "]",
+                    "a vertex index below " + std::to_string(vertices.size()),
+                    std::to_string(data.indices[k]));
         }
         const auto face = m.add_face(vertices[data.indices[t]], vertices[data.indices[t + 1]],
                                      vertices[data.indices[t + 2]]);

@@ -244,7 +244,8 @@ Result<TessScene> terrain_scene(const TessSceneSpec& spec, int frame) {
     const std::string preset = spec.preset.empty() ? "hazy" : spec.preset;
     const Placement start = placement(spec, 0), now = placement(spec, frame);
     const auto eye_at = [&](const Placement& p) {
-        return glm::dvec3{p.eye_x_m, p.eye_y_m, s.field.height_m(p.eye_x_m, p.eye_y_m) + spec.eye_m};
+        return glm::dvec3{p.eye_x_m, p.eye_y_m,
+                          s.field.height_m(p.eye_x_m, p.eye_y_m) + spec.eye_m};
     };
     auto first = make_frame(preset, 0.0, eye_at(start),
                             direction(start.sun_elevation_deg, start.sun_azimuth_deg));

@@ -36,8 +36,8 @@ namespace aerial {
 // ---- The moon ----------------------------------------------------------------------------------
 
 struct MoonPosition {
-    double elevation_rad = 0;  ///< topocentric (parallax applied), geometric (no refraction)
-    double azimuth_rad = 0;    ///< clockwise from north, [0, 2 pi)
+    double elevation_rad = 0;        ///< topocentric (parallax applied), geometric (no refraction)
+    double azimuth_rad = 0;          ///< clockwise from north, [0, 2 pi)
     double right_ascension_rad = 0;  ///< geocentric apparent, [0, 2 pi)
     double declination_rad = 0;      ///< geocentric apparent
     double distance_km = 0;          ///< between the centres of the earth and the moon
@@ -96,8 +96,7 @@ struct MoonSprite {
 };
 
 /// size in 8 .. 1024; phase angle in [0, pi]. Errors name the field.
-Result<MoonSprite> make_moon_sprite(double phase_angle_rad, double bright_limb_angle_rad,
-                                    int size);
+Result<MoonSprite> make_moon_sprite(double phase_angle_rad, double bright_limb_angle_rad, int size);
 
 // ---- Stars -------------------------------------------------------------------------------------
 

@@ -46,9 +46,9 @@ aerial_status aerial_moon_position(const aerial_utc_time* time, double latitude_
     return guard("aerial_moon_position", nullptr, [&] {
         require(time, "time");
         require(moon, "moon");
-        const MoonPosition m = capi::value_or_fail(
-            moon_position(capi::utc_to_cpp(*time), latitude_rad, longitude_rad),
-            AERIAL_ERROR_INVALID_ARGUMENT);
+        const MoonPosition m =
+            capi::value_or_fail(moon_position(capi::utc_to_cpp(*time), latitude_rad, longitude_rad),
+                                AERIAL_ERROR_INVALID_ARGUMENT);
         moon->elevation_rad = m.elevation_rad;
         moon->azimuth_rad = m.azimuth_rad;
         const glm::dvec3 d = moon_direction_enu(m);
@@ -77,9 +77,9 @@ aerial_status aerial_moon_sprite(double phase_angle_rad, double bright_limb_angl
                                  unsigned char* rgba, size_t capacity) {
     return guard("aerial_moon_sprite", nullptr, [&] {
         require(rgba, "rgba");
-        const MoonSprite sprite = capi::value_or_fail(
-            make_moon_sprite(phase_angle_rad, bright_limb_angle_rad, size),
-            AERIAL_ERROR_INVALID_ARGUMENT);
+        const MoonSprite sprite =
+            capi::value_or_fail(make_moon_sprite(phase_angle_rad, bright_limb_angle_rad, size),
+                                AERIAL_ERROR_INVALID_ARGUMENT);
         if (capacity < sprite.rgba.size())
             fail(AERIAL_ERROR_BUFFER_TOO_SMALL, "capacity",
                  "expected at least " + std::to_string(sprite.rgba.size()) + " bytes, got " +
@@ -93,9 +93,9 @@ aerial_status aerial_stars_load(const char* path, aerial_stars** out) {
         require(out, "out");
         *out = nullptr;
         auto stars = std::make_unique<aerial_stars>();
-        stars->catalogue = capi::value_or_fail(
-            read_star_catalogue(path ? path : kBrightStarCataloguePath),
-            AERIAL_ERROR_INVALID_ARGUMENT);
+        stars->catalogue =
+            capi::value_or_fail(read_star_catalogue(path ? path : kBrightStarCataloguePath),
+                                AERIAL_ERROR_INVALID_ARGUMENT);
         *out = stars.release();
     });
 }
@@ -106,9 +106,7 @@ const char* aerial_stars_last_error(const aerial_stars* stars) {
     return stars ? stars->last_error.c_str() : "";
 }
 
-size_t aerial_stars_count(const aerial_stars* stars) {
-    return stars ? stars->catalogue.size() : 0;
-}
+size_t aerial_stars_count(const aerial_stars* stars) { return stars ? stars->catalogue.size() : 0; }
 
 aerial_status aerial_visible_stars(aerial_stars* stars, const aerial_context* context,
                                    const aerial_star_query* query, aerial_visible_star* out,
@@ -132,12 +130,12 @@ aerial_status aerial_visible_stars(aerial_stars* stars, const aerial_context* co
             options.moon_fraction = query->moon->light_fraction;
         }
         const auto dated = stars_of_date(stars->catalogue, capi::utc_to_cpp(query->time));
-        const double sidereal = local_sidereal_time_rad(capi::utc_to_cpp(query->time),
-                                                        query->longitude_rad);
-        const auto seen = capi::value_or_fail(
-            visible_stars(dated, context->atmosphere, query->altitude_m, sun,
-                          query->latitude_rad, sidereal, options),
-            AERIAL_ERROR_INVALID_ARGUMENT);
+        const double sidereal =
+            local_sidereal_time_rad(capi::utc_to_cpp(query->time), query->longitude_rad);
+        const auto seen =
+            capi::value_or_fail(visible_stars(dated, context->atmosphere, query->altitude_m, sun,
+                                              query->latitude_rad, sidereal, options),
+                                AERIAL_ERROR_INVALID_ARGUMENT);
         *count = seen.size();
         for (std::size_t i = 0; i < std::min(seen.size(), capacity); ++i) {
             for (int k = 0; k < 3; ++k) out[i].direction_enu[k] = float(seen[i].direction[k]);

@@ -9,7 +9,6 @@
 #include <optional>
 #include <sstream>
 
-#include <glm/geometric.hpp>
 #include <libnova/julian_day.h>
 #include <libnova/lunar.h>
 #include <libnova/nutation.h>
@@ -17,6 +16,7 @@
 #include <libnova/precession.h>
 #include <libnova/sidereal_time.h>
 #include <libnova/transform.h>
+#include <glm/geometric.hpp>
 
 #include "../common/error_text.hpp"
 #include "aerial/scattering.hpp"
@@ -35,8 +35,7 @@ double julian_day(const UtcDateTime& t) {
     return ln_get_julian_day(&date);
 }
 
-std::optional<Error> check_place(const char* function, double latitude_rad,
-                                 double longitude_rad) {
+std::optional<Error> check_place(const char* function, double latitude_rad, double longitude_rad) {
     if (!(std::abs(latitude_rad) <= 0.5 * kPi))
         return aerial::detail::invalid(function, "latitude_rad", "a value in [-pi/2, pi/2]",
                                        aerial::detail::number(latitude_rad));
@@ -141,7 +140,8 @@ Result<MoonSprite> make_moon_sprite(double phase_angle_rad, double bright_limb_a
                                     int size) {
     constexpr const char* kFunction = "make_moon_sprite";
     if (size < 8 || size > 1024)
-        return aerial::detail::invalid(kFunction, "size", "8 .. 1024", aerial::detail::number(size));
+        return aerial::detail::invalid(kFunction, "size", "8 .. 1024",
+                                       aerial::detail::number(size));
     if (!(phase_angle_rad >= 0.0 && phase_angle_rad <= kPi))
         return aerial::detail::invalid(kFunction, "phase_angle_rad", "a value in [0, pi]",
                                        aerial::detail::number(phase_angle_rad));
@@ -223,7 +223,8 @@ std::vector<Star> stars_of_date(const std::vector<Star>& stars, const UtcDateTim
     const double jd = julian_day(time);
     std::vector<Star> out = stars;
     for (Star& star : out) {
-        ln_equ_posn j2000{star.right_ascension_rad / kDegree, star.declination_rad / kDegree}, mean{};
+        ln_equ_posn j2000{star.right_ascension_rad / kDegree, star.declination_rad / kDegree},
+            mean{};
         ln_get_equ_prec2(&j2000, JD2000, jd, &mean);
         const ln_equ_posn apparent = nutated(mean, jd);
         star.right_ascension_rad = std::fmod(apparent.ra * kDegree + 2.0 * kPi, 2.0 * kPi);
@@ -282,8 +283,7 @@ Result<std::vector<VisibleStar>> visible_stars(const std::vector<Star>& stars,
                                        aerial::detail::number(options.elevation_rows));
     if (!(options.natural_background_cd_m2 >= 0.0) ||
         !std::isfinite(options.natural_background_cd_m2))
-        return aerial::detail::invalid(kFunction, "natural_background_cd_m2",
-                                       "a finite value >= 0",
+        return aerial::detail::invalid(kFunction, "natural_background_cd_m2", "a finite value >= 0",
                                        aerial::detail::number(options.natural_background_cd_m2));
     if (!(options.moon_fraction >= 0.0) || !std::isfinite(options.moon_fraction))
         return aerial::detail::invalid(kFunction, "moon_fraction", "a finite value >= 0",

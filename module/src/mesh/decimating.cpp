@@ -95,9 +95,8 @@ struct DecimatingMesh::Impl {
 
     bool moved_on(const Frame<float>& frame) const {
         const glm::dvec3 sun = frame.view.sun_dir;
-        const double turned =
-            std::acos(std::clamp(glm::dot(glm::normalize(sun), glm::normalize(built_sun)), -1.0,
-                                 1.0));
+        const double turned = std::acos(
+            std::clamp(glm::dot(glm::normalize(sun), glm::normalize(built_sun)), -1.0, 1.0));
         if (turned > settings.rebuild_sun_rad) return true;
         const glm::dvec3 eye = frame.view.eye * frame.view.meters_per_unit;
         return settings.rebuild_eye_m > 0.0 &&
@@ -152,10 +151,9 @@ Result<UpdateStats> DecimatingMesh::update(const Frame<float>& frame) {
         if (m.settings.background) {
             m.running_sun = sun;
             m.running_eye = eye;
-            m.running = std::async(std::launch::async, [start = m.start, surface = m.surface,
-                                                        settings = m.settings, frame] {
-                return rebuild(start, surface, settings, frame);
-            });
+            m.running = std::async(std::launch::async,
+                                   [start = m.start, surface = m.surface, settings = m.settings,
+                                    frame] { return rebuild(start, surface, settings, frame); });
         } else if (auto e = m.take(rebuild(m.start, m.surface, m.settings, frame), sun, eye)) {
             return *e;
         }

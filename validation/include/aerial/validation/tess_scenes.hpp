@@ -47,9 +47,9 @@ struct TessPath {
 };
 
 struct TessSceneSpec {
-    std::string kind;    ///< "dome" or "terrain"
-    std::string name;    ///< empty: made from the parameters ("dome-sun10-g0.90")
-    std::string preset;  ///< empty: earth (dome), hazy (terrain)
+    std::string kind;                 ///< "dome" or "terrain"
+    std::string name;                 ///< empty: made from the parameters ("dome-sun10-g0.90")
+    std::string preset;               ///< empty: earth (dome), hazy (terrain)
     double sun_elevation_deg = 10.0;  ///< -10 .. 90
     double mie_g = 0.0;               ///< dome: the haze's g (0: the preset's), 0 .. 0.999
     double eye_m = 300.0;             ///< terrain: the eye above the ground, 0.5 .. 20000

@@ -313,17 +313,24 @@ std::string write_tess_scenes(const std::vector<TessSceneSpec>& specs) {
     return Json{{"scenes", list}}.dump(2) + "\n";
 }
 
+namespace {
+
+TessSceneSpec spec_of(const char* kind, double sun_elevation_deg, double mie_g, double eye_m) {
+    TessSceneSpec s;
+    s.kind = kind;
+    s.sun_elevation_deg = sun_elevation_deg;
+    s.mie_g = mie_g;
+    s.eye_m = eye_m;
+    return s;
+}
+
+}  // namespace
+
 std::vector<TessSceneSpec> builtin_tess_paths() {
-    TessSceneSpec dome;
-    dome.kind = "dome";
-    dome.sun_elevation_deg = 10.0;
-    dome.mie_g = 0.9;
+    TessSceneSpec dome = spec_of("dome", 10.0, 0.9, 300.0);
     dome.path.frames = 48;
     dome.path.sun_elevation_end_deg = 2.0;
-    TessSceneSpec terrain;
-    terrain.kind = "terrain";
-    terrain.eye_m = 300.0;
-    terrain.sun_elevation_deg = 10.0;
+    TessSceneSpec terrain = spec_of("terrain", 10.0, 0.0, 300.0);
     terrain.path.frames = 48;
     terrain.path.sun_elevation_end_deg = 10.0;
     terrain.path.eye_move_m[0] = 1200.0;
@@ -333,18 +340,10 @@ std::vector<TessSceneSpec> builtin_tess_paths() {
 std::vector<TessSceneSpec> builtin_tess_scenes(bool quick) {
     std::vector<TessSceneSpec> specs;
     const auto dome = [&](double sun, double g) {
-        TessSceneSpec s;
-        s.kind = "dome";
-        s.sun_elevation_deg = sun;
-        s.mie_g = g;
-        specs.push_back(s);
+        specs.push_back(spec_of("dome", sun, g, 300.0));
     };
     const auto terrain = [&](double eye, double sun) {
-        TessSceneSpec s;
-        s.kind = "terrain";
-        s.eye_m = eye;
-        s.sun_elevation_deg = sun;
-        specs.push_back(s);
+        specs.push_back(spec_of("terrain", sun, 0.0, eye));
     };
     if (quick) {
         dome(10, 0.76);

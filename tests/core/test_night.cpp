@@ -296,3 +296,59 @@ TEST(Moon, SpriteShowsThePhaseOnTheSunsSide) {
 }
 
 }  // namespace
+
+namespace {
+
+// The day rule by day; below the photopic luminance the card is shown darker as the light
+// falls, never clamped to black; a full moon leaves it readable.
+TEST(NightExposure, DayAsBeforeMoonlightDarkButReadable) {
+    const aerial::Atmosphere earth = aerial::atmosphere_preset("earth").value();
+    const aerial::ExposureOptions day;
+    const double noon_elevation = 60.0 * kDegree;
+    const glm::dvec3 sun = aerial::sun_irradiance_at_altitude(earth, 0.0, noon_elevation);
+    const glm::dvec3 sky = aerial::sky_ambient(earth, 0.0, noon_elevation).value();
+    const glm::dvec3 noon = sun * std::sin(noon_elevation) + sky;
+    EXPECT_NEAR(aerial::night_exposure(earth, noon),
+                aerial::auto_exposure(sun, noon_elevation, sky, earth.sun_irradiance), 1e-9);
+
+    aerial::MoonPosition full;
+    full.elevation_rad = 45.0 * kDegree;
+    full.distance_km = 384400.0;
+    const aerial::Atmosphere lit = aerial::moonlit(earth, full);
+    const glm::dvec3 moon = aerial::sun_irradiance_at_altitude(lit, 0.0, full.elevation_rad) *
+                                std::sin(full.elevation_rad) +
+                            aerial::sky_ambient(lit, 0.0, full.elevation_rad).value();
+    const double card = aerial::card_luminance_cd_m2(earth, moon);
+    const double shown =
+        aerial::night_exposure(earth, moon) * day.albedo / kPi * aerial::luminance(moon);
+    std::printf("full moon 45 deg up: card %.4f cd/m2, shown at %.3f (day %.2f)\n", card, shown,
+                day.key);
+    EXPECT_GT(card, 0.005);
+    EXPECT_LT(card, 0.05);
+    EXPECT_GT(shown, 0.05);
+    EXPECT_LT(shown, 0.2);
+    // Darker light is shown darker, all the way down.
+    double last = 1e9;
+    for (double f = 1.0; f > 1e-9; f *= 0.1) {
+        const glm::dvec3 e = noon * f;
+        const double value =
+            aerial::night_exposure(earth, e) * day.albedo / kPi * aerial::luminance(e);
+        EXPECT_LE(value, last + 1e-12) << f;
+        last = value;
+    }
+    EXPECT_GT(last, 0.0);
+}
+
+TEST(NightExposure, PurkinjeShiftKeepsLuminanceAndTurnsBlueAtNight) {
+    const glm::dvec3 orange{0.8, 0.5, 0.2};
+    EXPECT_EQ(aerial::rod_share(10.0), 0.0);
+    EXPECT_EQ(aerial::rod_share(0.001), 1.0);
+    EXPECT_NEAR(aerial::rod_share(std::sqrt(5.0 * 0.005)), 0.5, 1e-12);
+    EXPECT_EQ(aerial::purkinje_shift(orange, 10.0), orange);
+    const glm::dvec3 night = aerial::purkinje_shift(orange, 0.001);
+    EXPECT_NEAR(aerial::luminance(night), aerial::luminance(orange), 1e-12);
+    EXPECT_GT(night.z, night.x) << "blue over red under rod vision";
+    EXPECT_NEAR(night.z / night.y, 1.27 / 0.97, 1e-12);
+}
+
+}  // namespace

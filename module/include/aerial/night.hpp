@@ -98,6 +98,44 @@ struct MoonSprite {
 /// size in 8 .. 1024; phase angle in [0, pi]. Errors name the field.
 Result<MoonSprite> make_moon_sprite(double phase_angle_rad, double bright_limb_angle_rad, int size);
 
+// ---- Night exposure ----------------------------------------------------------------------------
+
+/// How exposure and colour follow the eye into the night. Between the photopic and the scotopic
+/// luminance (CIE 191:2010's mesopic range, 5 to 0.005 cd/m2) the eye adapts less and less and
+/// the rods take over: a moonlit night is shown dark but readable, not as day, and bluish.
+struct NightOptions {
+    double photopic_cd_m2 = 5.0;    ///< at and above: the card at ExposureOptions::key (day rule)
+    double scotopic_cd_m2 = 0.005;  ///< at and below: rod vision only (full blue shift)
+    /// Below photopic_cd_m2 the card's displayed value falls as (L / photopic)^key_exponent.
+    double key_exponent = 0.25;
+    /// The hue of rod vision (Jensen et al. 2001, "A physically-based night sky model": blue
+    /// shift to (1.05, 0.97, 1.27)); Rec. 709 luminance about 1.
+    glm::dvec3 scotopic_tint{1.05, 0.97, 1.27};
+};
+
+/// The luminance (cd/m2) of a grey card of `albedo` lit by `irradiance` (in units of E_sun0 of
+/// `atmosphere`, on the card: sun, moon and sky together).
+double card_luminance_cd_m2(const Atmosphere& atmosphere, const glm::dvec3& irradiance,
+                            double albedo = 0.18);
+
+/// The exposure for a scene whose grey card receives `irradiance` (units of E_sun0: the sun's and
+/// the moon's light on it, each times the sine of its elevation, plus the sky's): at day (card
+/// at or above photopic_cd_m2) auto_exposure's key / (albedo / pi Y(irradiance)); below, the key
+/// times (L / photopic)^key_exponent. No gain limit: the night is dark by the key, not by a
+/// clamp. A full moon 45 degrees up: the card (0.012 cd/m2) shows at 0.11 (day: 0.5).
+double night_exposure(const Atmosphere& atmosphere, const glm::dvec3& irradiance,
+                      const ExposureOptions& exposure = {}, const NightOptions& night = {});
+
+/// The share of rod vision at an adaptation luminance: 0 at and above photopic_cd_m2, 1 at and
+/// below scotopic_cd_m2, linear in log luminance between.
+double rod_share(double adaptation_cd_m2, const NightOptions& night = {});
+
+/// The Purkinje shift of a displayed colour: towards its own Rec. 709 luminance in the
+/// scotopic tint by rod_share (luminance kept). A fixed-function engine applies it to the light
+/// it hands the pipeline (the tint times the share, e.g. as a colour scale of F_ex and L_in).
+glm::dvec3 purkinje_shift(const glm::dvec3& rgb, double adaptation_cd_m2,
+                          const NightOptions& night = {});
+
 // ---- Stars -------------------------------------------------------------------------------------
 
 struct Star {

@@ -195,6 +195,39 @@ Result<MoonSprite> make_moon_sprite(double phase_angle_rad, double bright_limb_a
     return out;
 }
 
+double card_luminance_cd_m2(const Atmosphere& atmosphere, const glm::dvec3& irradiance,
+                            double albedo) {
+    const double top = luminance(atmosphere.sun_irradiance);
+    if (!(top > 0.0)) return 0.0;
+    return albedo / kPi * luminance(irradiance) / top * kSunIlluminanceLux;
+}
+
+double night_exposure(const Atmosphere& atmosphere, const glm::dvec3& irradiance,
+                      const ExposureOptions& exposure, const NightOptions& night) {
+    const double card = card_luminance_cd_m2(atmosphere, irradiance, exposure.albedo);
+    const double radiance = exposure.albedo / kPi * luminance(irradiance);
+    if (!(radiance > 0.0) || !(card > 0.0)) return 0.0;
+    const double key =
+        card >= night.photopic_cd_m2
+            ? exposure.key
+            : exposure.key * std::pow(card / night.photopic_cd_m2, night.key_exponent);
+    return key / radiance;
+}
+
+double rod_share(double adaptation_cd_m2, const NightOptions& night) {
+    if (!(adaptation_cd_m2 > night.scotopic_cd_m2)) return 1.0;
+    if (adaptation_cd_m2 >= night.photopic_cd_m2) return 0.0;
+    return std::log(night.photopic_cd_m2 / adaptation_cd_m2) /
+           std::log(night.photopic_cd_m2 / night.scotopic_cd_m2);
+}
+
+glm::dvec3 purkinje_shift(const glm::dvec3& rgb, double adaptation_cd_m2,
+                          const NightOptions& night) {
+    const double s = rod_share(adaptation_cd_m2, night);
+    const glm::dvec3 rods = luminance(rgb) / luminance(night.scotopic_tint) * night.scotopic_tint;
+    return (1.0 - s) * rgb + s * rods;
+}
+
 Result<std::vector<Star>> read_star_catalogue(const std::string& path) {
     constexpr const char* kFunction = "read_star_catalogue";
     std::ifstream in(path);

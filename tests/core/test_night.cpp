@@ -352,3 +352,25 @@ TEST(NightExposure, PurkinjeShiftKeepsLuminanceAndTurnsBlueAtNight) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Stars, AppearanceGrowsWithTheMarginAboveTheLimit) {
+    aerial::VisibleStar at_limit;
+    at_limit.apparent_magnitude = at_limit.limiting_magnitude = 6.0;
+    aerial::VisibleStar bright = at_limit;
+    bright.apparent_magnitude = 1.0;
+    const auto faint = aerial::star_appearance(at_limit, 0.001);
+    const auto vivid = aerial::star_appearance(bright, 0.001);
+    EXPECT_FLOAT_EQ(faint.brightness, 0.15f);
+    EXPECT_FLOAT_EQ(faint.half_width_rad, 0.00075f);
+    EXPECT_FLOAT_EQ(vivid.brightness, 1.0f);
+    EXPECT_FLOAT_EQ(vivid.half_width_rad, 0.00225f);
+    const auto glow = aerial::make_star_glow(16).value();
+    EXPECT_EQ(glow.rgba.size(), 16u * 16u * 4u);
+    EXPECT_GT(glow.rgba[4 * (8 * 16 + 8)], 200) << "bright in the middle";
+    EXPECT_EQ(glow.rgba[0], 0) << "dark at the corner";
+    EXPECT_EQ(aerial::make_star_glow(4).error().field, "size");
+}
+
+}  // namespace

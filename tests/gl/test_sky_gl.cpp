@@ -158,6 +158,57 @@ TEST_F(SkyGl, SunSpriteBrightensTheSunAndLeavesTheRestOfTheSky) {
     }
 }
 
+// The moon's disc: its lit side where the sprite says, on the observer's left for a bright
+// limb angle of pi / 2; only light added.
+TEST_F(SkyGl, MoonSpriteShowsItsPhaseFacingTheEye) {
+    auto moon_image = aerial::make_moon_sprite(90.0 * aerial::kPi / 180.0, 0.5 * aerial::kPi, 32);
+    ASSERT_TRUE(moon_image.ok());
+    aerial::SunSprite sprite{moon_image->size, 0.3, moon_image->rgba};  // large: many pixels
+    auto texture = aerial::gl::SunSpriteTexture::create(gl(), sprite);
+    ASSERT_TRUE(texture.ok()) << texture.error().message;
+    const glm::dvec3 moon = glm::normalize(glm::dvec3(1.0, 0.0, 0.5));
+    const Camera cam = camera_looking(moon);
+    clear();
+    ASSERT_FALSE(
+        aerial::gl::draw_moon_sprite(gl(), *texture, cam.view, moon, {0, 0, 1}, glm::vec3(1.0f))
+            .has_value());
+    const std::vector<std::uint8_t> image = ctx_->read_rgba8();
+    double left = 0.0, right = 0.0;
+    for (int row = 0; row < kSize; ++row)
+        for (int x = 0; x < kSize; ++x)
+            (x < kSize / 2 ? left : right) += image[(std::size_t(row) * kSize + x) * 4];
+    EXPECT_GT(left, 20.0 * (right + 1.0)) << "the lit half on the left";
+    EXPECT_EQ(
+        aerial::gl::draw_moon_sprite(gl(), *texture, cam.view, moon, moon, glm::vec3(1.0f))->field,
+        "up");
+}
+
+// Stars: each drawn where its direction projects, brighter stars brighter; nothing else.
+TEST_F(SkyGl, StarsAreDrawnWhereTheyStand) {
+    auto glow_image = aerial::make_star_glow(16);
+    ASSERT_TRUE(glow_image.ok());
+    auto glow = aerial::gl::SunSpriteTexture::create(gl(), *glow_image);
+    ASSERT_TRUE(glow.ok());
+    const Camera cam = camera_looking({0.0, 1.0, 0.0});  // north, on the horizon
+    // Two stars: pixel (16, 32) and (48, 32) directions, bright and faint, 2 pixels wide.
+    const double pixel = 2.0 / kSize;  // tangent per pixel at the centre
+    std::vector<aerial::StarAppearance> stars(2);
+    stars[0].direction = pixel_direction(cam, 16, 32);
+    stars[0].brightness = 1.0f;
+    stars[0].half_width_rad = float(2.0 * pixel);
+    stars[1].direction = pixel_direction(cam, 48, 32);
+    stars[1].brightness = 0.3f;
+    stars[1].half_width_rad = float(2.0 * pixel);
+    clear();
+    ASSERT_FALSE(aerial::gl::draw_stars(gl(), *glow, cam.view, stars).has_value());
+    const std::vector<std::uint8_t> image = ctx_->read_rgba8();
+    const auto at = [&](int x, int row) { return int(image[(std::size_t(row) * kSize + x) * 4]); };
+    EXPECT_GT(at(16, 32), 200);
+    EXPECT_GT(at(48, 32), 40);
+    EXPECT_LT(at(48, 32), at(16, 32));
+    EXPECT_EQ(at(32, 10), 0) << "the sky between the stars is untouched";
+}
+
 TEST_F(SkyGl, DrawsAndUploadsLeaveTheGlStateAsTheyFoundIt) {
     if (!aerial::gl::cube_maps_supported(gl())) GTEST_SKIP() << "no cube maps";
     // An engine's state: culling, depth test, a bound and enabled 2D texture, texgen, odd
@@ -186,6 +237,20 @@ TEST_F(SkyGl, DrawsAndUploadsLeaveTheGlStateAsTheyFoundIt) {
     const Camera cam = camera_looking({1, 0.3, 0.2});
     ASSERT_FALSE(aerial::gl::draw_sky_box(g, *texture, cam.view).has_value());
     ASSERT_FALSE(aerial::gl::draw_sun_sprite(g, *sun, cam.view, sky_->view.sun_dir).has_value());
+    g.Color4f(0.1f, 0.2f, 0.3f, 0.4f);
+    const auto with_colour = aerial::gl::capture_state(g);
+    ASSERT_FALSE(aerial::gl::draw_moon_sprite(g, *sun, cam.view, sky_->view.sun_dir, {0, 0, 1},
+                                              glm::vec3(0.5f))
+                     .has_value());
+    aerial::StarAppearance star;
+    star.direction = {0.0, 0.6, 0.8};
+    star.brightness = 0.7f;
+    star.half_width_rad = 0.01f;
+    ASSERT_FALSE(aerial::gl::draw_stars(g, *sun, cam.view, {star}).has_value());
+    const auto after_night =
+        aerial::gl::state_differences(with_colour, aerial::gl::capture_state(g));
+    EXPECT_TRUE(after_night.empty()) << after_night.front();
+    g.Color4f(1.0f, 1.0f, 1.0f, 1.0f);
     ASSERT_FALSE(texture.value().update(faces_, kCubemap).has_value());
     const auto changed = aerial::gl::state_differences(before, aerial::gl::capture_state(g));
     EXPECT_TRUE(changed.empty()) << changed.front();

@@ -76,6 +76,8 @@ class StateSaver {
     void unbind_pixel_unpack_buffer();
     /// The current texture coordinates of `unit` are about to change (immediate mode).
     void save_current_texcoord(int unit);
+    /// The current colour is about to change (glColor in immediate mode).
+    void save_current_color();
 
     // Client state. Pointers are given with array buffer 0 bound (client memory).
     void color_array(GLint size, GLenum type, GLsizei stride, const void* pointer);
@@ -103,7 +105,6 @@ class StateSaver {
   private:
     void select_client_unit(int unit);
     void unbind_array_buffer();
-    void save_current_color();
     void save_current_secondary_color();
     GLint read_enum(const EnumState& state);
     GLint read_enum(const EnumState& state, GLenum query);

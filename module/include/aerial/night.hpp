@@ -29,6 +29,7 @@
 
 #include "aerial/atmosphere.hpp"
 #include "aerial/error.hpp"
+#include "aerial/sky.hpp"
 #include "aerial/sun.hpp"
 
 namespace aerial {
@@ -122,7 +123,8 @@ double card_luminance_cd_m2(const Atmosphere& atmosphere, const glm::dvec3& irra
 /// the moon's light on it, each times the sine of its elevation, plus the sky's): at day (card
 /// at or above photopic_cd_m2) auto_exposure's key / (albedo / pi Y(irradiance)); below, the key
 /// times (L / photopic)^key_exponent. No gain limit: the night is dark by the key, not by a
-/// clamp. A full moon 45 degrees up: the card (0.012 cd/m2) shows at 0.11 (day: 0.5).
+/// clamp. A full moon 45 degrees up: the card (0.012 cd/m2) shows at 0.11 (day: 0.5). 0 where
+/// the card gets no light (or a value that is not a finite irradiance).
 double night_exposure(const Atmosphere& atmosphere, const glm::dvec3& irradiance,
                       const ExposureOptions& exposure = {}, const NightOptions& night = {});
 
@@ -205,6 +207,21 @@ struct VisibleStar {
     double apparent_magnitude = 0;
     double limiting_magnitude = 0;  ///< the limit in its direction
 };
+
+/// How a visible star is drawn: a small glow whose brightness and size grow with how far it is
+/// above the eye's limit. r = 10^(0.4 (limit - apparent)) is its flux over the threshold's;
+/// brightness = clamp(0.15 + 0.85 log10(r) / 2, 0.15, 1) (full 5 magnitudes above the limit),
+/// half-width = pixel_rad * clamp(0.75 + 0.75 log10(r), 0.75, 2.5).
+struct StarAppearance {
+    glm::dvec3 direction{0.0, 0.0, 1.0};  ///< east-north-up, unit
+    float brightness = 0;                 ///< display value of its centre, 0 .. 1
+    float half_width_rad = 0;
+};
+StarAppearance star_appearance(const VisibleStar& star, double pixel_rad);
+
+/// The glow every star is drawn with: a Gaussian spot (sigma a quarter of the half-width), white,
+/// `size` x `size` RGBA8 (8 .. 256), in a SunSprite's layout for aerial::gl's sprite textures.
+Result<SunSprite> make_star_glow(int size = 16);
 
 /// The stars above the horizon brighter than the limit in their direction, for an observer at
 /// `altitude_m` with the sun along `sun_enu` (east-north-up, unit): the view's eye at that

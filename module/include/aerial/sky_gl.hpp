@@ -1,4 +1,5 @@
-// aerial/sky_gl.hpp — the sky cubemap and the sun sprite on the fixed pipeline.
+// aerial/sky_gl.hpp — the sky cubemap, the sun sprite, the moon and the stars on the fixed
+// pipeline.
 //
 // How to use this:
 //   1. Once, with the engine's context current: `if (aerial::gl::cube_maps_supported(api))`
@@ -21,9 +22,11 @@
 #include <optional>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include "aerial/error.hpp"
+#include "aerial/night.hpp"
 #include "aerial/sky.hpp"
 
 namespace aerial::gl {
@@ -113,5 +116,23 @@ std::optional<Error> draw_sky_box(const Api& api, const SkyCubemapTexture& textu
 /// rules and errors as draw_sky_box; "sun_dir" when it is not a unit vector.
 std::optional<Error> draw_sun_sprite(const Api& api, const SunSpriteTexture& texture,
                                      const SkyBoxView& view, const glm::dvec3& sun_dir);
+
+/// Draws the moon's disc (aerial::make_moon_sprite, aerial/night.hpp, uploaded as a
+/// SunSpriteTexture whose half-width is the moon's angular radius, about 0.0045 rad) additively,
+/// facing the eye, centred on the unit world direction `moon_dir`, the image's top row along
+/// `up` (world, unit) as it crosses the line of sight, its left column on the observer's left,
+/// modulated by `colour` (display values, 0 .. 1). Same state rules and errors as
+/// draw_sun_sprite ("moon_dir", "up" when not unit, or parallel to each other).
+std::optional<Error> draw_moon_sprite(const Api& api, const SunSpriteTexture& texture,
+                                      const SkyBoxView& view, const glm::dvec3& moon_dir,
+                                      const glm::dvec3& up, const glm::vec3& colour);
+
+/// Draws stars (aerial::star_appearance) additively as small quads of the `glow` texture
+/// (aerial::make_star_glow) facing the eye: each centred on its direction mapped to the world by
+/// `enu_to_world` (columns: east, north, up in world coordinates), as wide as its half-width,
+/// as bright as its brightness (a grey). Same state rules and errors as draw_sun_sprite.
+std::optional<Error> draw_stars(const Api& api, const SunSpriteTexture& glow,
+                                const SkyBoxView& view, const std::vector<StarAppearance>& stars,
+                                const glm::dmat3& enu_to_world = glm::dmat3(1.0));
 
 }  // namespace aerial::gl

@@ -305,6 +305,37 @@ Result<double> sky_luminance_cd_m2(const Atmosphere& atmosphere, const View& vie
     return luminance(sky_radiance(*sky, direction)) / top * kSunIlluminanceLux * light_fraction;
 }
 
+StarAppearance star_appearance(const VisibleStar& star, double pixel_rad) {
+    const double excess = 0.4 * (star.limiting_magnitude - star.apparent_magnitude);  // log10 r
+    StarAppearance a;
+    a.direction = star.direction;
+    a.brightness = float(std::clamp(0.15 + 0.85 * excess / 2.0, 0.15, 1.0));
+    a.half_width_rad = float(pixel_rad * std::clamp(0.75 + 0.75 * excess, 0.75, 2.5));
+    return a;
+}
+
+Result<SunSprite> make_star_glow(int size) {
+    if (size < 8 || size > 256)
+        return aerial::detail::invalid("make_star_glow", "size", "8 .. 256",
+                                       aerial::detail::number(size));
+    SunSprite glow;
+    glow.size = size;
+    glow.half_width_rad = 0.01;  // the drawer scales each star's quad to its own half-width
+    glow.rgba.assign(std::size_t(size) * std::size_t(size) * 4, 0);
+    for (int row = 0; row < size; ++row) {
+        for (int col = 0; col < size; ++col) {
+            const double x = 2.0 * (col + 0.5) / size - 1.0, y = 2.0 * (row + 0.5) / size - 1.0;
+            const double v = std::exp(-(x * x + y * y) / (2.0 * 0.25 * 0.25));
+            const auto code = std::uint8_t(std::lround(255.0 * v));
+            std::uint8_t* p =
+                &glow.rgba[4 * (std::size_t(row) * std::size_t(size) + std::size_t(col))];
+            p[0] = p[1] = p[2] = code;
+            p[3] = 255;
+        }
+    }
+    return glow;
+}
+
 Result<std::vector<VisibleStar>> visible_stars(const std::vector<Star>& stars,
                                                const Atmosphere& atmosphere, double altitude_m,
                                                const glm::dvec3& sun_enu, double latitude_rad,

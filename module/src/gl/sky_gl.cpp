@@ -292,4 +292,92 @@ std::optional<Error> draw_sun_sprite(const Api& api, const SunSpriteTexture& tex
     return std::nullopt;
 }
 
+namespace {
+
+/// A textured square facing the eye around `centre` (unit), its texture's first row along `top`
+/// and first column along -right, half-width `t` as a tangent, at distance h; the caller has set
+/// the state.
+void facing_quad(const Api& api, const glm::dvec3& centre, const glm::dvec3& right,
+                 const glm::dvec3& top, double t, double h) {
+    static constexpr float kCorners[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (const auto& c : kCorners) {
+        const glm::dvec3 p =
+            h * (centre + (2.0 * c[0] - 1.0) * t * right + (1.0 - 2.0 * c[1]) * t * top);
+        api.TexCoord2f(c[0], c[1]);
+        api.Vertex3f(static_cast<GLfloat>(p.x), static_cast<GLfloat>(p.y),
+                     static_cast<GLfloat>(p.z));
+    }
+}
+
+/// The common set-up of the additive, colour-modulated sprites.
+void additive_modulated(const Api& api, StateSaver& s, const SkyBoxView& view, GLuint texture) {
+    common_state(api, s, view, GL_TEXTURE_2D, texture);
+    s.tex_env(0, GL_TEXTURE_ENV_MODE, GL_MODULATE);
+    s.enable(GL_BLEND, true);
+    s.blend_func(GL_ONE, GL_ONE);
+    s.save_current_color();
+}
+
+std::optional<glm::dvec3> unit(const glm::dvec3& v) {
+    const double length = glm::length(v);
+    if (!std::isfinite(length) || std::abs(length - 1.0) > 1e-3) return std::nullopt;
+    return v / length;
+}
+
+}  // namespace
+
+std::optional<Error> draw_moon_sprite(const Api& api, const SunSpriteTexture& texture,
+                                      const SkyBoxView& view, const glm::dvec3& moon_dir,
+                                      const glm::dvec3& up, const glm::vec3& colour) {
+    constexpr const char* kFunction = "gl::draw_moon_sprite";
+    if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
+    double near_plane = 0, far_plane = 0;
+    if (!near_far(view.projection, near_plane, far_plane)) return not_perspective(kFunction);
+    const auto moon = unit(moon_dir);
+    if (!moon)
+        return invalid(kFunction, "moon_dir", "a unit vector", aerial::detail::vector(moon_dir));
+    const auto sky_up = unit(up);
+    const glm::dvec3 across = sky_up ? *sky_up - glm::dot(*sky_up, *moon) * *moon : glm::dvec3(0);
+    if (!sky_up || glm::length(across) < 1e-6)
+        return invalid(kFunction, "up", "a unit vector not along moon_dir",
+                       aerial::detail::vector(up));
+    const glm::dvec3 top = glm::normalize(across);
+    const glm::dvec3 right = glm::cross(*moon, top);
+    StateSaver s(api);
+    additive_modulated(api, s, view, texture.id());
+    api.Color4f(colour.x, colour.y, colour.z, 1.0f);
+    api.Begin(GL_QUADS);
+    facing_quad(api, *moon, right, top, std::tan(texture.half_width_rad()),
+                0.99 * far_plane / std::sqrt(3.0));
+    api.End();
+    return std::nullopt;
+}
+
+std::optional<Error> draw_stars(const Api& api, const SunSpriteTexture& glow,
+                                const SkyBoxView& view, const std::vector<StarAppearance>& stars,
+                                const glm::dmat3& enu_to_world) {
+    constexpr const char* kFunction = "gl::draw_stars";
+    if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
+    double near_plane = 0, far_plane = 0;
+    if (!near_far(view.projection, near_plane, far_plane)) return not_perspective(kFunction);
+    const double h = 0.99 * far_plane / std::sqrt(3.0);
+    StateSaver s(api);
+    additive_modulated(api, s, view, glow.id());
+    api.Begin(GL_QUADS);
+    for (const StarAppearance& star : stars) {
+        const glm::dvec3 d = enu_to_world * star.direction;
+        const double length = glm::length(d);
+        if (!(length > 0.0) || !std::isfinite(length)) continue;
+        const glm::dvec3 centre = d / length;
+        const glm::dvec3 helper =
+            std::abs(centre.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
+        const glm::dvec3 right = glm::normalize(glm::cross(centre, helper));
+        const glm::dvec3 top = glm::cross(right, centre);
+        api.Color4f(star.brightness, star.brightness, star.brightness, 1.0f);
+        facing_quad(api, centre, right, top, std::tan(double(star.half_width_rad)), h);
+    }
+    api.End();
+    return std::nullopt;
+}
+
 }  // namespace aerial::gl

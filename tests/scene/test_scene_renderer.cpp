@@ -310,6 +310,50 @@ TEST_F(SceneRendererTest, DrawsABlueSkyAtNoonAndCallsReplacedDrawers) {
     EXPECT_EQ(image[p] + image[p + 1] + image[p + 2], 0) << "the replaced sky drew nothing";
 }
 
+// The night drawer draws the stars where they stand and the moon after the renderer's sun, on a
+// night sky (the sun well below the horizon), and changes its moon image only when it must.
+TEST_F(SceneRendererTest, NightDrawerDrawsStarsAndTheMoon) {
+    const Camera up = sky_camera();
+    FrameSettings night_settings = clear_noon_settings();
+    night_settings.sun_dir = glm::normalize(glm::dvec3(0.0, -1.0, -0.6));  // 31 deg down
+    const glm::dvec3 forward = glm::normalize(up.target - up.eye);
+    const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 0, 1)));
+    auto night = std::make_shared<aerial::scene::NightSky>();
+    aerial::StarAppearance star;
+    star.direction = glm::normalize(forward + 0.3 * right);  // east-north-up = world here
+    star.brightness = 1.0f;
+    star.half_width_rad = 0.03f;
+    night->stars = {star};
+    night->draw_moon = true;
+    night->moon_dir = glm::normalize(forward - 0.3 * right);
+    night->moon_half_width_rad = 0.08;
+    auto stats = std::make_shared<aerial::scene::NightSkyStats>();
+    renderer().set_sun_drawer(
+        aerial::scene::night_sky_drawer(renderer().sun_drawer(), night, stats));
+    const auto image = draw(renderer(), scene_, up, night_settings);
+    EXPECT_TRUE(stats->error.empty()) << stats->error;
+    EXPECT_EQ(stats->stars_drawn, 1u);
+    EXPECT_EQ(stats->moon_sprites, 1);
+    // Right of the centre the star (a small spot), left of it the full moon (a wide disc); the
+    // rows of the sky above the scene's unlit box.
+    int star_peak = 0, star_pixels = 0, moon_pixels = 0;
+    for (int row = 0; row < kHeight / 2 + 15; ++row)
+        for (int x = 0; x < kWidth; ++x) {
+            const int v = image[4 * (std::size_t(row) * kWidth + std::size_t(x))];
+            if (x > kWidth / 2) star_peak = std::max(star_peak, v);
+            if (v > 100) ++(x > kWidth / 2 ? star_pixels : moon_pixels);
+        }
+    EXPECT_GT(star_peak, 120);
+    EXPECT_GT(star_pixels, 0);
+    EXPECT_GT(moon_pixels, 4 * star_pixels);
+    night->moon_phase_angle_rad = 0.001;  // below the half-degree: the same image
+    draw(renderer(), scene_, up, night_settings);
+    EXPECT_EQ(stats->moon_sprites, 1);
+    night->moon_phase_angle_rad = 1.5;
+    draw(renderer(), scene_, up, night_settings);
+    EXPECT_EQ(stats->moon_sprites, 2);
+}
+
 TEST_F(SceneRendererTest, CubemapSkyMatchesTheCpuCubemapAndRefreshesOnlyWhenItMust) {
     auto sky = install_cubemap_sky(renderer(), gl());
     const Camera up = sky_camera();

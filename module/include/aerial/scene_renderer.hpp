@@ -184,6 +184,8 @@ class SceneRenderer {
 
     void set_sky_drawer(SkyDrawer drawer);  ///< null: no sky
     void set_sun_drawer(SkyDrawer drawer);  ///< null: no sun
+    /// The sun drawer in use (to chain it, as scene::night_sky_drawer does).
+    const SkyDrawer& sun_drawer() const;
 
     /// Forgets every cached colour and GL texture (call after the context lost its objects).
     void clear_caches();

@@ -1,4 +1,5 @@
-// aerial/scene_sky.hpp — the CPU sky cubemap and the sun sprite as the scene renderer's sky.
+// aerial/scene_sky.hpp — the CPU sky cubemap and the sun sprite as the scene renderer's sky, and
+// the night's stars and moon after it (night_sky_drawer).
 //
 // How to use this:
 //   1. Once, after SceneRenderer::create and with the context current:
@@ -16,8 +17,13 @@
 #pragma once
 
 #include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
 
 #include "aerial/error.hpp"
+#include "aerial/night.hpp"
 #include "aerial/scene_renderer.hpp"
 #include "aerial/sky.hpp"
 
@@ -50,5 +56,33 @@ struct CubemapSkyStats {
 /// "sprite.size" below 8; the renderer is unchanged then.
 Result<std::shared_ptr<const CubemapSkyStats>> install_cubemap_sky(
     SceneRenderer& renderer, const gl::Api& api, const CubemapSkyOptions& options = {});
+
+/// The night's lights the renderer draws after the sky (aerial/night.hpp): the application fills
+/// it (visible_stars and star_appearance, moon_position) and changes it between frames.
+struct NightSky {
+    std::vector<StarAppearance> stars;  ///< directions east-north-up
+    glm::dmat3 enu_to_world{1.0};       ///< columns: east, north, up in world coordinates
+    bool draw_moon = false;
+    glm::dvec3 moon_dir{0.0, 0.0, 1.0};  ///< world, unit
+    double moon_phase_angle_rad = 0.0;
+    double moon_bright_limb_angle_rad = 0.0;  ///< moon_bright_limb_angle_rad of the world up
+    double moon_half_width_rad = 0.0045;      ///< its angular radius
+    glm::vec3 moon_colour{1.0f};              ///< display values the sprite is modulated by
+};
+
+/// What the night drawer did. `error` keeps its last drawing error (a drawer cannot fail
+/// render()); empty when none.
+struct NightSkyStats {
+    std::size_t stars_drawn = 0;
+    int moon_sprites = 0;  ///< moon images made (a new one when the phase or limb moved 0.5 deg)
+    std::string error;
+};
+
+/// A sun drawer that calls `sun` (the renderer's current one, SceneRenderer::sun_drawer(); null:
+/// none), then draws the stars and the moon of `*night` as it is at that frame with
+/// aerial::gl::draw_stars and draw_moon_sprite. Its textures are made on its first frame (the
+/// context current); `stats` (may be null) is updated each frame.
+SkyDrawer night_sky_drawer(SkyDrawer sun, std::shared_ptr<const NightSky> night,
+                           std::shared_ptr<NightSkyStats> stats = nullptr);
 
 }  // namespace aerial::scene

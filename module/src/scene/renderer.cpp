@@ -270,6 +270,7 @@ const ArbProgram* SceneRenderer::arb_program(Model model) const {
 }
 void SceneRenderer::set_sky_drawer(SkyDrawer drawer) { impl_->sky = std::move(drawer); }
 void SceneRenderer::set_sun_drawer(SkyDrawer drawer) { impl_->sun = std::move(drawer); }
+const SkyDrawer& SceneRenderer::sun_drawer() const { return impl_->sun; }
 void SceneRenderer::clear_caches() {
     impl_->nodes.clear();
     impl_->textures.clear();

@@ -62,7 +62,7 @@ TEST(Moon, HorizontalPositionFollowsTheEquatorialOne) {
     EXPECT_NEAR(std::asin(geocentric.z), moon->elevation_rad, 1.05 * kDegree);
     EXPECT_LE(moon->elevation_rad, std::asin(geocentric.z) + 1e-6) << "parallax lowers the moon";
     EXPECT_EQ(aerial::moon_position({2026, 12, 6, 20, 0, 0.0}, 2.0, 0.0).error().message,
-              "aerial::moon_position(): latitude_rad: expected a value in [-pi/2, pi/2], got 2");
+              "aerial::moon_position(): latitude: expected a value in [-pi/2, pi/2] rad, got 2");
 }
 
 // Krisciunas & Schaefer: the full moon about 0.3 lux, a quarter moon about a tenth of it.

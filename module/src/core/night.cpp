@@ -21,6 +21,7 @@
 #include "../common/error_text.hpp"
 #include "aerial/scattering.hpp"
 #include "aerial/sky.hpp"
+#include "place.hpp"
 
 namespace aerial {
 namespace {
@@ -33,16 +34,6 @@ constexpr double kMeanMoonDistanceKm = 384400.0;
 double julian_day(const UtcDateTime& t) {
     ln_date date{t.year, t.month, t.day, t.hour, t.minute, t.second};
     return ln_get_julian_day(&date);
-}
-
-std::optional<Error> check_place(const char* function, double latitude_rad, double longitude_rad) {
-    if (!(std::abs(latitude_rad) <= 0.5 * kPi))
-        return aerial::detail::invalid(function, "latitude_rad", "a value in [-pi/2, pi/2]",
-                                       aerial::detail::number(latitude_rad));
-    if (!(std::abs(longitude_rad) <= kPi))
-        return aerial::detail::invalid(function, "longitude_rad", "a value in [-pi, pi]",
-                                       aerial::detail::number(longitude_rad));
-    return std::nullopt;
 }
 
 /// A mean place of the date made apparent by nutation (Meeus eq. 23.1; libnova gives the
@@ -59,9 +50,11 @@ ln_equ_posn nutated(const ln_equ_posn& mean, double jd) {
     return out;
 }
 
-glm::dvec3 enu(double elevation_rad, double azimuth_rad) {
-    return {std::cos(elevation_rad) * std::sin(azimuth_rad),
-            std::cos(elevation_rad) * std::cos(azimuth_rad), std::sin(elevation_rad)};
+/// Radiance in units of E_sun0 of `atmosphere` to luminance, cd/m2: its Rec. 709 luminance over
+/// E_sun0's, times kSunIlluminanceLux (0 without a sun).
+double luminance_scale(const Atmosphere& atmosphere) {
+    const double top = luminance(atmosphere.sun_irradiance);
+    return top > 0.0 ? kSunIlluminanceLux / top : 0.0;
 }
 
 }  // namespace
@@ -70,7 +63,7 @@ Result<MoonPosition> moon_position(const UtcDateTime& time, double latitude_rad,
                                    double longitude_rad) {
     constexpr const char* kFunction = "moon_position";
     if (auto e = validate(time)) return aerial::detail::from(kFunction, *e);
-    if (auto e = check_place(kFunction, latitude_rad, longitude_rad)) return *e;
+    if (auto e = detail::validate_place(kFunction, latitude_rad, longitude_rad)) return *e;
     const double jd = julian_day(time);
     MoonPosition m;
     // libnova's lunar theory gives the mean equator and equinox of J2000: precessed to the date
@@ -98,7 +91,7 @@ Result<MoonPosition> moon_position(const UtcDateTime& time, double latitude_rad,
 }
 
 glm::dvec3 moon_direction_enu(const MoonPosition& moon) {
-    return enu(moon.elevation_rad, moon.azimuth_rad);
+    return detail::enu_direction(moon.elevation_rad, moon.azimuth_rad);
 }
 
 double moon_illuminance_lux(double phase_angle_rad, double distance_km) {
@@ -197,9 +190,7 @@ Result<MoonSprite> make_moon_sprite(double phase_angle_rad, double bright_limb_a
 
 double card_luminance_cd_m2(const Atmosphere& atmosphere, const glm::dvec3& irradiance,
                             double albedo) {
-    const double top = luminance(atmosphere.sun_irradiance);
-    if (!(top > 0.0)) return 0.0;
-    return albedo / kPi * luminance(irradiance) / top * kSunIlluminanceLux;
+    return albedo / kPi * luminance(irradiance) * luminance_scale(atmosphere);
 }
 
 double night_exposure(const Atmosphere& atmosphere, const glm::dvec3& irradiance,
@@ -300,9 +291,7 @@ Result<double> sky_luminance_cd_m2(const Atmosphere& atmosphere, const View& vie
                                        aerial::detail::number(light_fraction));
     auto sky = prepare_sky(atmosphere, view, SkyMethod::height_chained);
     if (!sky) return aerial::detail::from(kFunction, sky.error());
-    const double top = luminance(atmosphere.sun_irradiance);
-    if (!(top > 0.0)) return 0.0;
-    return luminance(sky_radiance(*sky, direction)) / top * kSunIlluminanceLux * light_fraction;
+    return luminance(sky_radiance(*sky, direction)) * luminance_scale(atmosphere) * light_fraction;
 }
 
 StarAppearance star_appearance(const VisibleStar& star, double pixel_rad) {
@@ -365,8 +354,7 @@ Result<std::vector<VisibleStar>> visible_stars(const std::vector<Star>& stars,
         if (!made) return aerial::detail::from(kFunction, made.error());
         moon_sky = std::move(made).value();
     }
-    const double top = luminance(atmosphere.sun_irradiance);
-    const double scale = top > 0.0 ? kSunIlluminanceLux / top : 0.0;
+    const double scale = luminance_scale(atmosphere);
     // The sky's luminance on a grid of elevation (0 .. 90 deg) x azimuth (from east, 0 .. 360).
     const int rows = options.elevation_rows, columns = 4 * rows;
     std::vector<double> grid(std::size_t(rows + 1) * std::size_t(columns + 1));

@@ -11,6 +11,7 @@
 #include "aerial/phase.hpp"
 #include "aerial/scattering.hpp"
 #include "aerial/sky.hpp"
+#include "place.hpp"
 
 namespace aerial {
 namespace {
@@ -87,17 +88,6 @@ double refraction_rad(double elevation_rad) {
     return arcsec / 3600.0 * kDeg;
 }
 
-std::optional<Error> validate_place(const char* function, double latitude_rad,
-                                    double longitude_rad) {
-    if (!std::isfinite(latitude_rad) || std::abs(latitude_rad) > kPi / 2) {
-        return invalid(function, "latitude", "a value in [-pi/2, pi/2] rad", number(latitude_rad));
-    }
-    if (!std::isfinite(longitude_rad) || std::abs(longitude_rad) > kPi) {
-        return invalid(function, "longitude", "a value in [-pi, pi] rad", number(longitude_rad));
-    }
-    return std::nullopt;
-}
-
 std::optional<Error> validate_date(const char* function, int year, int month, int day) {
     if (year < 1901 || year > 2099) return invalid(function, "year", "1901 .. 2099", number(year));
     if (month < 1 || month > 12) return invalid(function, "month", "1 .. 12", number(month));
@@ -140,7 +130,7 @@ std::optional<Error> validate(const UtcDateTime& t) {
 Result<SunPosition> sun_position(const UtcDateTime& time, double latitude_rad,
                                  double longitude_rad) {
     if (auto e = validate(time)) return detail::from("sun_position", *e);
-    if (auto e = validate_place("sun_position", latitude_rad, longitude_rad)) return *e;
+    if (auto e = detail::validate_place("sun_position", latitude_rad, longitude_rad)) return *e;
     const double minutes = time.hour * 60.0 + time.minute + time.second / 60.0;
     const double jd = julian_day_at_midnight(time.year, time.month, time.day) + minutes / 1440.0;
     const SolarCoordinates sc = solar_coordinates(jd);
@@ -156,9 +146,7 @@ Result<SunPosition> sun_position(const UtcDateTime& time, double latitude_rad,
 }
 
 glm::dvec3 sun_direction_enu(const SunPosition& sun) {
-    const double c = std::cos(sun.elevation_rad);
-    return {c * std::sin(sun.azimuth_rad), c * std::cos(sun.azimuth_rad),
-            std::sin(sun.elevation_rad)};
+    return detail::enu_direction(sun.elevation_rad, sun.azimuth_rad);
 }
 
 namespace {
@@ -201,7 +189,7 @@ HourAngleCrossing crossing(double jd0, double noon, double longitude_deg, double
 Result<SolarEvents> solar_events(int year, int month, int day, double latitude_rad,
                                  double longitude_rad) {
     if (auto e = validate_date("solar_events", year, month, day)) return *e;
-    if (auto e = validate_place("solar_events", latitude_rad, longitude_rad)) return *e;
+    if (auto e = detail::validate_place("solar_events", latitude_rad, longitude_rad)) return *e;
     const double jd0 = julian_day_at_midnight(year, month, day);
     const double longitude_deg = longitude_rad / kDeg;
     SolarEvents out;
@@ -359,6 +347,17 @@ double auto_exposure(const glm::dvec3& sun_irradiance, double sun_elevation_rad,
         luminance(sun_irradiance * std::max(std::sin(sun_elevation_rad), 0.0) + sky_irradiance);
     const double exposure = lit > 0 ? options.key / lit : reference * options.max_gain;
     return std::clamp(exposure, reference * options.min_gain, reference * options.max_gain);
+}
+
+std::optional<Error> detail::validate_place(const char* function, double latitude_rad,
+                                            double longitude_rad) {
+    if (!std::isfinite(latitude_rad) || std::abs(latitude_rad) > kPi / 2) {
+        return invalid(function, "latitude", "a value in [-pi/2, pi/2] rad", number(latitude_rad));
+    }
+    if (!std::isfinite(longitude_rad) || std::abs(longitude_rad) > kPi) {
+        return invalid(function, "longitude", "a value in [-pi, pi] rad", number(longitude_rad));
+    }
+    return std::nullopt;
 }
 
 }  // namespace aerial

@@ -261,16 +261,27 @@ std::optional<Error> draw_sky_box(const Api& api, const SkyCubemapTexture& textu
     return std::nullopt;
 }
 
+namespace {
+
+/// `v` normalised when its length is finite and within 1e-3 of 1.
+std::optional<glm::dvec3> unit(const glm::dvec3& v) {
+    const double length = glm::length(v);
+    if (!std::isfinite(length) || std::abs(length - 1.0) > 1e-3) return std::nullopt;
+    return v / length;
+}
+
+}  // namespace
+
 std::optional<Error> draw_sun_sprite(const Api& api, const SunSpriteTexture& texture,
                                      const SkyBoxView& view, const glm::dvec3& sun_dir) {
     constexpr const char* kFunction = "gl::draw_sun_sprite";
     if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
     double near_plane = 0, far_plane = 0;
     if (!near_far(view.projection, near_plane, far_plane)) return not_perspective(kFunction);
-    const double length = glm::length(sun_dir);
-    if (!std::isfinite(length) || std::abs(length - 1.0) > 1e-3)
+    const auto unit_sun = unit(sun_dir);
+    if (!unit_sun)
         return invalid(kFunction, "sun_dir", "a unit vector", aerial::detail::vector(sun_dir));
-    const glm::dvec3 sun = sun_dir / length;
+    const glm::dvec3 sun = *unit_sun;
     const glm::dvec3 helper = std::abs(sun.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0);
     const glm::dvec3 u = glm::normalize(glm::cross(helper, sun));
     const glm::dvec3 v = glm::cross(sun, u);
@@ -316,12 +327,6 @@ void additive_modulated(const Api& api, StateSaver& s, const SkyBoxView& view, G
     s.enable(GL_BLEND, true);
     s.blend_func(GL_ONE, GL_ONE);
     s.save_current_color();
-}
-
-std::optional<glm::dvec3> unit(const glm::dvec3& v) {
-    const double length = glm::length(v);
-    if (!std::isfinite(length) || std::abs(length - 1.0) > 1e-3) return std::nullopt;
-    return v / length;
 }
 
 }  // namespace

@@ -31,6 +31,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -77,6 +78,25 @@ struct Camera {
     double far_units = 30000.0;             ///< > near_units
 };
 
+/// The frame's second light: the moon (aerial/night.hpp gives both values for a date and
+/// place: moon_direction_enu, moonlight_fraction). The models run for it as for the sun, along
+/// `dir` with the atmosphere's E_sun0 times `fraction`; the frame is the sum of both lights.
+struct Moonlight {
+    glm::dvec3 dir{0.0, 0.0, 1.0};  ///< unit, towards the moon, world
+    /// Its illuminance outside the atmosphere as a fraction of the sun's, [0, 1e-3]
+    /// (moonlight_fraction: 2.4e-6 for a full moon at its mean distance).
+    double fraction = 0.0;
+};
+
+/// Which lights a frame was shaded with (FrameReport::lights).
+enum class Lights {
+    sun,   ///< the sun alone (no moon, or its light below half a step)
+    moon,  ///< the moon alone (the sun's light below half a step: night)
+    both,  ///< both: every shaded node computed for each light and summed
+};
+/// "sun", "moon", "both".
+const char* lights_name(Lights lights);
+
 /// Everything a frame's shading depends on besides the camera.
 struct FrameSettings {
     Atmosphere atmosphere;
@@ -90,9 +110,16 @@ struct FrameSettings {
     Model model = Model::height;
     bool policy = true;             ///< the update policy above; false: shade everything
     double error_target_lsb = 2.0;  ///< largest accepted 8-bit difference to `model`, >= 0
-    /// Terrain lighting: sky irradiance added to the sun's (linear RGB); negative (default):
-    /// computed from the sky seen from the eye (cosine-weighted L_in over the upper hemisphere).
+    /// Terrain lighting: sky irradiance added to the sun's (linear RGB; with a moon, both
+    /// lights' skylight); negative (default): aerial::sky_ambient at sea level for each light.
     glm::vec3 ambient{-1.0f};
+    /// The moon as a second light; none by default. A light is left out of a frame when the
+    /// policy is on and its largest output, exposure x (E at the eye + 4 x its sky ambient),
+    /// is below half a step (the sun at night, the moon by day): such frames cost one light.
+    /// Frames with both lights shade each shaded node twice (cpu: summed before the display;
+    /// arb: a second, additive pass of the program with the moon's parameters, exact with the
+    /// clamp curve the programs have) and take no cached colours and no 2002-model choice.
+    std::optional<Moonlight> moon;
 };
 
 /// What the renderer did with a node.
@@ -130,7 +157,8 @@ struct FrameReport {
     /// GL calls, no sky).
     double shading_milliseconds = 0.0;
     gl::Path path = gl::Path::automatic;  ///< the fixed-function path of the cpu backend
-    glm::vec3 ambient{0.0f};              ///< the sky irradiance used for terrain
+    glm::vec3 ambient{0.0f};              ///< the sky irradiance used for terrain (all lights)
+    Lights lights = Lights::sun;          ///< the lights the frame was shaded with
     /// The method of most shaded vertices this frame ("hoffman-preetham", "height", ...), or
     /// "cached" / "skipped" / "unshaded" / "none" when nothing was shaded.
     std::string main_method() const;
@@ -146,6 +174,10 @@ struct SkyDrawContext {
     const Camera* camera = nullptr;
     const Frame<float>* hoffman_preetham = nullptr;  ///< prepared for this frame's eye and sun
     const Frame<float>* model = nullptr;             ///< the same for FrameSettings::model
+    /// The frame's lights, each as the settings of a one-light frame (the moon's: sun_dir the
+    /// moon's direction, E_sun0 times its fraction): sky drawers draw the sum of their skies.
+    /// The sun's is `settings` itself; the sun drawer draws the sun of `settings`.
+    std::vector<const FrameSettings*> lights;
     /// The renderer's fixed-function path (and combiner texture), for
     /// aerial::gl::draw_with_colours: sky colours can be drawn as L_in on a black primary.
     const gl::ApplyOptions* apply = nullptr;

@@ -190,6 +190,11 @@ constexpr aerial::detail::NameTable<Method, 7> kMethodNames{
 
 const char* method_name(Method method) { return aerial::detail::name_in(kMethodNames, method); }
 
+constexpr aerial::detail::NameTable<Lights, 3> kLightsNames{
+    {{Lights::sun, "sun"}, {Lights::moon, "moon"}, {Lights::both, "both"}}};
+
+const char* lights_name(Lights lights) { return aerial::detail::name_in(kLightsNames, lights); }
+
 std::string FrameReport::main_method() const {
     std::map<Method, std::size_t> vertices;
     for (const NodeReport& n : nodes) {

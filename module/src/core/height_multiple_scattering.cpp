@@ -103,13 +103,15 @@ LevelRows compute_level_rows(const Atmosphere& a, const MultipleScatteringTable&
     return rows;
 }
 
-/// level(h, mu_s) of an atmosphere (E_sun0 included): 65 536 lookups in its table, about 20 ms,
-/// kept for the last few atmospheres (a game switching between clear air and fog).
+/// level(h, mu_s) of an atmosphere per unit E_sun0 (the table's own unit: an atmosphere that
+/// differs in E_sun0 alone, such as the moon's light, shares them): 65 536 lookups in its
+/// table, about 20 ms, kept for the last few tables (a game switching between clear air and fog).
 std::shared_ptr<const LevelRows> level_rows(
-    const Atmosphere& a, const std::shared_ptr<const MultipleScatteringTable>& table) {
+    const Atmosphere& lit, const std::shared_ptr<const MultipleScatteringTable>& table) {
+    Atmosphere a = lit;
+    a.sun_irradiance = glm::dvec3(1.0);
     struct Entry {
         std::shared_ptr<const MultipleScatteringTable> table;  // keeps the address unique
-        glm::dvec3 sun_irradiance;
         std::shared_ptr<const LevelRows> rows;
     };
     constexpr std::size_t kKept = 4;
@@ -118,7 +120,7 @@ std::shared_ptr<const LevelRows> level_rows(
     {
         std::lock_guard<std::mutex> lock(mutex);
         for (std::size_t i = 0; i < kept.size(); ++i) {
-            if (kept[i].table == table && kept[i].sun_irradiance == a.sun_irradiance) {
+            if (kept[i].table == table) {
                 Entry hit = kept[i];
                 kept.erase(kept.begin() + std::ptrdiff_t(i));
                 kept.push_back(hit);
@@ -129,7 +131,7 @@ std::shared_ptr<const LevelRows> level_rows(
     auto rows = std::make_shared<const LevelRows>(compute_level_rows(a, *table));
     std::lock_guard<std::mutex> lock(mutex);
     if (kept.size() == kKept) kept.erase(kept.begin());
-    kept.push_back({table, a.sun_irradiance, rows});
+    kept.push_back({table, rows});
     return rows;
 }
 
@@ -143,6 +145,7 @@ std::shared_ptr<const MultipleScatteringSlice> cut_slice(
     slice->altitude_scale = float((S::kAltitudeRows - 1) / horizon);
     slice->two_radius_m = float(2.0 * radius);
     slice->level = *level_rows(a, table);
+    for (glm::vec3& row : slice->level) row *= glm::vec3(a.sun_irradiance);
     const Field field(a, *table, eye_cos_sun_zenith);
     const float mu_s = float(eye_cos_sun_zenith);
     const auto cut_shape = [&](double altitude_m, glm::vec3* out) {
@@ -200,7 +203,7 @@ std::shared_ptr<const MultipleScatteringSlice> multiple_scattering_slice(
         SliceKey key;
         std::shared_ptr<const MultipleScatteringSlice> slice;
     };
-    constexpr std::size_t kKept = 4;
+    constexpr std::size_t kKept = 8;  // two lights (sun and moon) of the last frames
     static std::mutex mutex;
     static std::vector<Entry> kept;  // most recent last
     const SliceKey key{

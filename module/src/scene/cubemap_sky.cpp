@@ -1,9 +1,11 @@
 // The CPU sky cubemap and the sun sprite installed as the scene renderer's sky and sun drawers.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <optional>
 #include <utility>
+#include <vector>
 
 #include "../common/error_text.hpp"
 #include "aerial/gl_api.hpp"
@@ -13,10 +15,16 @@
 namespace aerial::scene {
 namespace {
 
-/// What both drawers share: the cache, the textures and the exposure their texels were made for.
+/// Which sky the texture shows.
+enum class Shown { none, sun, moon, both };
+
+/// What both drawers share: the caches, the textures and the exposure their texels were made for.
 struct CubemapSky {
     CubemapSkyOptions options;
-    SkyCubemapCache cache;
+    SkyCubemapCache cache;                            ///< the sun's sky
+    SkyCubemapCache moon_cache;                       ///< the moon's (FrameSettings::moon)
+    std::array<std::vector<std::uint8_t>, 6> summed;  ///< both skies' texels (Shown::both)
+    Shown shown = Shown::none;
     std::optional<gl::SkyCubemapTexture> sky_texture;
     std::optional<gl::SunSpriteTexture> sun_texture;
     bool updated_this_frame = false;  ///< by the sky drawer, for the sun drawer
@@ -25,28 +33,69 @@ struct CubemapSky {
     ToneCurve sun_tone = ToneCurve::clamp;
     std::shared_ptr<CubemapSkyStats> stats = std::make_shared<CubemapSkyStats>();
 
-    explicit CubemapSky(const CubemapSkyOptions& o) : options(o), cache(o.cache) {}
+    explicit CubemapSky(const CubemapSkyOptions& o)
+        : options(o), cache(o.cache), moon_cache(o.cache) {}
 
-    View view_of(const SkyDrawContext& c) const {
+    static View view_of(const SkyDrawContext& c, const FrameSettings& light) {
         View view;
         view.eye = c.camera->eye;
-        view.sun_dir = c.settings->sun_dir;
-        view.up = c.settings->up;
-        view.meters_per_unit = c.settings->meters_per_unit;
+        view.sun_dir = light.sun_dir;
+        view.up = light.up;
+        view.meters_per_unit = light.meters_per_unit;
         return view;
     }
 
-    /// Brings the texels up to date; nullopt (and stats->error set) on failure, else whether
-    /// they changed.
-    std::optional<bool> update_cache(const SkyDrawContext& c) {
-        auto changed = cache.update(c.settings->atmosphere, view_of(c), c.settings->display);
+    /// Brings the texels of one light's cache up to date (the sun's: c.settings); nullopt (and
+    /// stats->error set) on failure, else whether they changed.
+    std::optional<bool> update_cache(const SkyDrawContext& c, SkyCubemapCache& which,
+                                     const FrameSettings& light) {
+        auto changed = which.update(light.atmosphere, view_of(c, light), light.display);
         if (!changed) {
             stats->error = "sky cubemap: " + changed.error().message;
             return std::nullopt;
         }
         return *changed;
     }
+    std::optional<bool> update_cache(const SkyDrawContext& c) {
+        return update_cache(c, cache, *c.settings);
+    }
 };
+
+/// The lights of a frame (SkyDrawContext::lights; the settings' sun when none is given).
+std::vector<const FrameSettings*> lights_of(const SkyDrawContext& c) {
+    return c.lights.empty() ? std::vector<const FrameSettings*>{c.settings} : c.lights;
+}
+
+/// Both skies' texels: the sum of the caches' radiance after the display.
+void sum_skies(CubemapSky& sky, const Display& display) {
+    SkyCubemap sum = sky.cache.cubemap();
+    const SkyCubemap& moon = sky.moon_cache.cubemap();
+    for (std::size_t f = 0; f < sum.faces.size(); ++f) {
+        for (std::size_t t = 0; t < sum.faces[f].size() && t < moon.faces[f].size(); ++t) {
+            sum.faces[f][t] += moon.faces[f][t];
+        }
+    }
+    sky.summed = cubemap_to_rgba8(sum, display.exposure, display.tone);
+}
+
+/// Updates the caches of the frame's lights; nullopt on failure, else whether the texels to show
+/// changed (sky.shown says which they are).
+std::optional<bool> update_skies(CubemapSky& sky, const SkyDrawContext& c) {
+    bool changed = false, sun = false, moon = false;
+    for (const FrameSettings* light : lights_of(c)) {
+        const bool is_sun = light == c.settings;
+        const auto updated = sky.update_cache(c, is_sun ? sky.cache : sky.moon_cache, *light);
+        if (!updated) return std::nullopt;
+        changed = changed || *updated;
+        (is_sun ? sun : moon) = true;
+    }
+    const Shown shown = sun && moon ? Shown::both : (moon ? Shown::moon : Shown::sun);
+    changed = changed || shown != sky.shown;
+    sky.shown = shown;
+    if (changed && shown == Shown::both) sum_skies(sky, c.settings->display);
+    sky.updated_this_frame = sun;
+    return changed;
+}
 
 /// Fades the sprite to black towards its edge (from kFadeStart of its half-width to the inscribed
 /// circle): at a low sun the exposure is high and the halo still shows at the sprite's edge,
@@ -69,19 +118,23 @@ void fade_edges(SunSprite& sprite) {
 void draw_sky(CubemapSky& sky, const SkyDrawContext& c) {
     const auto start = std::chrono::steady_clock::now();
     CubemapSkyStats& stats = *sky.stats;
-    const int before = sky.cache.recomputes();
-    const auto changed = sky.update_cache(c);
+    const int before = sky.cache.recomputes() + sky.moon_cache.recomputes();
+    const auto changed = update_skies(sky, c);
     if (!changed) return;
-    sky.updated_this_frame = true;
-    const SkyCubemapCache::Stats& cache = sky.cache.stats();
-    stats.recomputed_last_frame = sky.cache.recomputes() != before;
-    stats.recomputes = sky.cache.recomputes();
+    const SkyCubemapCache& shown = sky.shown == Shown::moon ? sky.moon_cache : sky.cache;
+    const SkyCubemapCache::Stats& cache = shown.stats();
+    stats.recomputes = sky.cache.recomputes() + sky.moon_cache.recomputes();
+    stats.recomputed_last_frame = stats.recomputes != before;
     stats.directions_last_frame = cache.directions_last_update;
     stats.bound_steps = cache.bound_steps;
     stats.last_switch_steps = cache.last_switch_steps;
+    if (sky.shown == Shown::both) {
+        stats.directions_last_frame += sky.moon_cache.stats().directions_last_update;
+        stats.bound_steps += sky.moon_cache.stats().bound_steps;
+    }
     if (!sky.sky_texture || *changed) {
-        const auto& faces = sky.cache.rgba8();
-        const int size = sky.cache.cubemap().size;
+        const auto& faces = sky.shown == Shown::both ? sky.summed : shown.rgba8();
+        const int size = shown.cubemap().size;
         if (sky.sky_texture) {
             if (auto e = sky.sky_texture->update(faces, size)) {
                 stats.error = "sky cubemap: " + e->message;
@@ -117,6 +170,9 @@ double exposure_steps(float made, const Display& display) {
 
 void draw_sun(CubemapSky& sky, const SkyDrawContext& c) {
     CubemapSkyStats& stats = *sky.stats;
+    // Not a light of this frame (night): no sun to draw.
+    const auto lights = lights_of(c);
+    if (std::find(lights.begin(), lights.end(), c.settings) == lights.end()) return;
     // The sky drawer, called first each frame, brings the cache up to date; without a sky
     // node in the scene the sun does.
     if (!sky.updated_this_frame && !sky.update_cache(c)) return;
@@ -126,7 +182,8 @@ void draw_sun(CubemapSky& sky, const SkyDrawContext& c) {
         exposure_steps(sky.sun_exposure, display) >= sky.options.cache.max_change_steps ||
         sky.sun_tone != display.tone) {
         // The sprite needs the sky at the eye (E_sun there, the Mie optical depth to the sun).
-        auto context = prepare_sky(c.settings->atmosphere, sky.view_of(c), SkyMethod::dome_height);
+        auto context = prepare_sky(c.settings->atmosphere, CubemapSky::view_of(c, *c.settings),
+                                   SkyMethod::dome_height);
         if (!context) {
             stats.error = "sun sprite: " + context.error().message;
             return;

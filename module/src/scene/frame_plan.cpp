@@ -241,10 +241,13 @@ NodePlan plan_node(FrameInputs& f, NodeState& st, const Node& node) {
     NodePlan plan;
     plan.lit = node.kind == NodeKind::terrain;
     const glm::vec3 albedo = node.albedo;
+    double light_max = max3(settings.atmosphere.sun_irradiance) + max3(glm::dvec3(f.ambient));
+    if (f.second) {
+        light_max += max3(f.second->settings->atmosphere.sun_irradiance) +
+                     max3(glm::dvec3(f.second->ambient));
+    }
     const double lit_max =
-        plan.lit ? double(settings.display.exposure) * max3(glm::dvec3(albedo)) *
-                       (max3(settings.atmosphere.sun_irradiance) + max3(glm::dvec3(f.ambient)))
-                 : 1.0;
+        plan.lit ? double(settings.display.exposure) * max3(glm::dvec3(albedo)) * light_max : 1.0;
     // 0. The none backend computes no scattering at all.
     if (f.backend == Backend::none) {
         plan.method = Method::unshaded;
@@ -252,14 +255,25 @@ NodePlan plan_node(FrameInputs& f, NodeState& st, const Node& node) {
         return plan;
     }
     // 1. Negligible scattering.
-    if (settings.policy &&
-        scattering_bound_lsb(f.bound, st.bounds, settings.display, lit_max) < kSkipBelowLsb) {
+    double bound = scattering_bound_lsb(f.bound, st.bounds, settings.display, lit_max);
+    if (f.second)
+        bound += scattering_bound_lsb(f.second->bound, st.bounds, settings.display, lit_max);
+    if (settings.policy && bound < kSkipBelowLsb) {
         plan.method = Method::skipped;
         plan.model = st.model;
         return plan;
     }
     // 2. Cached colours (cpu) or a cached choice (arb).
     const bool cpu = f.backend == Backend::cpu;
+    if (f.second) {
+        // Two lights: shaded with settings.model for each, nothing kept for the next frame.
+        st.model = settings.model;
+        st.cache.invalidate();
+        st.has_choice = false;
+        plan.method = method_of(settings.model);
+        plan.model = settings.model;
+        return plan;
+    }
     // (Never for adaptive nodes: their colours morph from one update to the next.)
     if (settings.policy && !node.adaptive && (cpu ? st.has_colours : st.has_choice)) {
         if (!st.cache.needs_update(key_for(f, st.model, albedo, plan.lit))) {
@@ -284,22 +298,33 @@ NodePlan plan_node(FrameInputs& f, NodeState& st, const Node& node) {
     return plan;
 }
 
+/// max(N.L, 0) of vertex i (1 without normals).
+float vertex_cosine(const NodeState& st, std::size_t i, const glm::dvec3& light_dir) {
+    if (st.normals.empty()) return 1.0f;
+    return std::max(0.0f, st.normals[3 * i] * float(light_dir.x) +
+                              st.normals[3 * i + 1] * float(light_dir.y) +
+                              st.normals[3 * i + 2] * float(light_dir.z));
+}
+
 void skipped_colours(const FrameInputs& f, NodeState& st, bool lit, const glm::vec3& albedo) {
     const FrameSettings& settings = *f.settings;
     const glm::vec3 sun_e = f.hoffman_preetham.sun_irradiance_eye;
-    if (!st.skip_colours || st.skip_sun != settings.sun_dir || st.skip_light != f.ambient) {
+    // The second light: its direction and E at the eye, and its skylight.
+    const glm::dvec3 moon_dir = f.second ? f.second->settings->sun_dir : glm::dvec3(0.0);
+    const glm::vec3 moon_e = f.second ? f.second->model.sun_irradiance_eye : glm::vec3(0.0f);
+    const glm::vec3 ambient = f.ambient + (f.second ? f.second->ambient : glm::vec3(0.0f));
+    const glm::dvec3 moon_key = moon_dir * double(moon_e.g);
+    if (!st.skip_colours || st.skip_sun != settings.sun_dir || st.skip_light != ambient ||
+        st.skip_moon != moon_key) {
         const std::size_t n = st.positions.size() / 3;
         for (std::size_t i = 0; i < n; ++i) {
-            float ndl = 1.0f;
-            if (lit && !st.normals.empty()) {
-                ndl = std::max(0.0f, st.normals[3 * i] * float(settings.sun_dir.x) +
-                                         st.normals[3 * i + 1] * float(settings.sun_dir.y) +
-                                         st.normals[3 * i + 2] * float(settings.sun_dir.z));
-            }
+            const float ndl = lit ? vertex_cosine(st, i, settings.sun_dir) : 1.0f;
+            const float ndm = lit && f.second ? vertex_cosine(st, i, moon_dir) : 0.0f;
             for (int c = 0; c < 3; ++c) {
+                const float light = sun_e[c] * ndl + moon_e[c] * ndm;
                 const float v =
                     lit ? display_value(settings.display,
-                                        lit_value(1.0f, albedo[c], sun_e[c], ndl, f.ambient[c]))
+                                        lit_value(1.0f, albedo[c], 1.0f, light, ambient[c]))
                         : 1.0f;
                 st.primary[4 * i + std::size_t(c)] = to_unorm8(v);
                 st.secondary[4 * i + std::size_t(c)] = 0;
@@ -307,7 +332,8 @@ void skipped_colours(const FrameInputs& f, NodeState& st, bool lit, const glm::v
         }
         st.skip_colours = true;
         st.skip_sun = settings.sun_dir;
-        st.skip_light = f.ambient;
+        st.skip_light = ambient;
+        st.skip_moon = moon_key;
     }
     st.has_colours = false;  // the scattering colours are gone
     st.has_choice = false;

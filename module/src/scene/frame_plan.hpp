@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -36,6 +37,7 @@ struct NodeState {
     bool skip_colours = false;
     glm::dvec3 skip_sun{0.0};
     glm::vec3 skip_light{-1.0f};
+    glm::dvec3 skip_moon{0.0};  ///< the second light's direction times its E (0: none)
     std::uint64_t last_frame = 0;
     /// Adaptive nodes: the arrays of the refined mesh (drawn instead of Node::mesh) and the
     /// vertex count they were made for.
@@ -52,6 +54,15 @@ struct SkyAmbientCache {
     glm::vec3 ambient{0.0f};
 };
 
+/// The second light of a frame shaded with both (lights.hpp): the moon's one-light settings
+/// and what they give.
+struct SecondLight {
+    const FrameSettings* settings = nullptr;  ///< sun_dir the moon's, E_sun0 times its fraction
+    Frame<float> model;                       ///< settings->model
+    Frame<double> bound;                      ///< the same in double, for the skip bound
+    glm::vec3 ambient{0.0f};                  ///< its skylight (0 with a given ambient)
+};
+
 /// What a frame's decisions depend on, checked and prepared once per frame.
 struct FrameInputs {
     const FrameSettings* settings = nullptr;
@@ -62,6 +73,9 @@ struct FrameInputs {
     Frame<double> bound;                       ///< settings.model in double, for the skip bound
     glm::vec3 ambient{0.0f};                   ///< the frame's ambient light (frame_ambient)
     std::map<Model, PreparedShadingKey> keys;  ///< cache keys per model, prepared on first use
+    /// Frames with both lights: the moon's (settings above are then the sun's). Such frames
+    /// take no cached colours and no 2002-model choice.
+    std::optional<SecondLight> second;
 
     const Frame<float>& frame_for(Model m) const {
         return m == Model::hoffman_preetham ? hoffman_preetham : model;

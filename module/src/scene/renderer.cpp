@@ -26,6 +26,7 @@
 #include "aerial/phase.hpp"
 #include "aerial/scene_renderer.hpp"
 #include "frame_plan.hpp"
+#include "lights.hpp"
 
 namespace aerial::scene {
 namespace {
@@ -100,7 +101,7 @@ struct SceneRenderer::Impl {
     detail::ValidatedMeshes validated;
     std::map<const Texture*, std::pair<std::shared_ptr<const Texture>, GLuint>> textures;
     GLuint light_texture = 0;  ///< arb backend: 1×1 lighting factor on unit 1
-    detail::SkyAmbientCache ambient;
+    detail::LightState lights;
     std::uint64_t frame_number = 0;  ///< frames rendered
 
     ~Impl() { release_gl(); }
@@ -128,12 +129,22 @@ struct SceneRenderer::Impl {
     std::optional<Error> shade_node(const Node& node, detail::NodeState& st,
                                     const detail::NodePlan& plan, const detail::FrameInputs& frame,
                                     FrameReport& report);
+    /// Binds the node's texture on unit 0 (sets apply.textured) and returns its draw call.
+    std::function<void()> node_draw(const Node& node, const detail::NodeState& st,
+                                    gl::ApplyOptions& apply);
     /// Draws the node with its colours (cpu, skipped) or through its model's ARB program.
     std::optional<Error> draw_node(const Node& node, const detail::NodeState& st,
                                    const detail::NodePlan& plan, const detail::FrameInputs& frame,
                                    const gl::ApplyOptions& apply, int units);
-    /// arb backend, lit nodes: the node's lighting factor as a 1x1 texture on unit 1.
-    void set_light_unit(const detail::FrameInputs& frame, const Node& node);
+    /// arb backend: a lighting factor (display values) as a 1x1 texture on unit 1.
+    void set_light_unit(const std::array<std::uint8_t, 3>& texel);
+    /// arb backend, frames with both lights: the node again through its program with the
+    /// moon's parameters, added (blend ONE, ONE at equal depth); unlit nodes with a black
+    /// lighting factor, so that only the moon's L_in is added (needs two texture units).
+    std::optional<Error> draw_second_light(const Node& node, const detail::NodeState& st,
+                                           const detail::NodePlan& plan,
+                                           const detail::FrameInputs& frame,
+                                           const gl::ApplyOptions& apply, int units);
 
     void release_gl() {
         if (!api) return;
@@ -280,7 +291,7 @@ void SceneRenderer::clear_caches() {
     impl_->nodes.clear();
     impl_->textures.clear();
     impl_->light_texture = 0;
-    impl_->ambient.valid = false;
+    impl_->lights = detail::LightState{};
 }
 
 Result<SceneRenderer> SceneRenderer::create(const gl::Api& api, const RendererOptions& options) {
@@ -383,6 +394,12 @@ class FrameGlState {
 
     /// Texture units the frame uses (unit 1 carries the arb backend's lighting factor).
     int units() const { return units_; }
+    /// The arb backend's second light: drawn over the first at equal depth, added.
+    void additive() {
+        saver_.enable(GL_BLEND, true);
+        saver_.blend_func(GL_ONE, GL_ONE);
+        saver_.depth_mask(false);
+    }
 
   private:
     const gl::Api& api_;
@@ -410,6 +427,13 @@ std::optional<Error> SceneRenderer::Impl::shade_node(const Node& node, detail::N
     if (plan.method == Method::skipped || plan.method == Method::unshaded) {
         if (plan.method == Method::skipped) ++report.skipped;
         detail::skipped_colours(frame, st, plan.lit, node.albedo);
+    } else if (cpu && frame.second) {
+        if (auto e = detail::shade_two_lights(frame, st, plan.lit, node.albedo))
+            return node_error(node, *e);
+        if (node.adaptive) detail::morph_adaptive_colours(st, node);
+        st.has_colours = true;
+        st.skip_colours = false;
+        report.vertices_shaded += 2 * n;
     } else if (cpu && plan.method != Method::cached) {
         BatchOutputs out;
         Lighting lighting;
@@ -433,7 +457,7 @@ std::optional<Error> SceneRenderer::Impl::shade_node(const Node& node, detail::N
         st.skip_colours = false;
         report.vertices_shaded += n;
     } else if (options.backend == Backend::arb) {
-        report.vertices_shaded += n;
+        report.vertices_shaded += frame.second ? 2 * n : n;
     }
     if (plan.method == Method::cached) ++report.cache_hits;
     if (plan.method == Method::hoffman_preetham) ++report.shaded_hoffman_preetham;
@@ -443,34 +467,39 @@ std::optional<Error> SceneRenderer::Impl::shade_node(const Node& node, detail::N
     return std::nullopt;
 }
 
-void SceneRenderer::Impl::set_light_unit(const detail::FrameInputs& frame, const Node& node) {
-    const FrameSettings& settings = *frame.settings;
-    const glm::vec3 sun_e = frame.hoffman_preetham.sun_irradiance_eye;
-    const float cos_sun = std::max(0.0f, float(glm::dot(settings.sun_dir, settings.up)));
-    std::uint8_t texel[3];
+namespace {
+
+/// The arb backend's lighting factor of a lit node: level ground (the programs carry no
+/// normals) of the node's albedo under a light of E `e` at the eye along `dir`, plus `ambient`.
+std::array<std::uint8_t, 3> light_texel(const FrameSettings& settings, const Node& node,
+                                        const glm::vec3& e, const glm::dvec3& dir,
+                                        const glm::vec3& ambient) {
+    const float cosine = std::max(0.0f, float(glm::dot(dir, settings.up)));
+    std::array<std::uint8_t, 3> texel{};
     for (int c = 0; c < 3; ++c) {
-        // Level ground's cosine: the programs carry no normals.
-        texel[c] =
-            to_unorm8(display_value(settings.display, lit_value(1.0f, node.albedo[c], sun_e[c],
-                                                                cos_sun, frame.ambient[c])));
+        texel[std::size_t(c)] = to_unorm8(display_value(
+            settings.display, lit_value(1.0f, node.albedo[c], e[c], cosine, ambient[c])));
     }
+    return texel;
+}
+
+}  // namespace
+
+void SceneRenderer::Impl::set_light_unit(const std::array<std::uint8_t, 3>& texel) {
     api->ActiveTexture(GL_TEXTURE1);
     if (!light_texture) api->GenTextures(1, &light_texture);
     api->BindTexture(GL_TEXTURE_2D, light_texture);
-    api->TexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, 1, 1, 0, GL_RGB, GL_UNSIGNED_BYTE, texel);
+    api->TexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, 1, 1, 0, GL_RGB, GL_UNSIGNED_BYTE, texel.data());
     api->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     api->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     api->Enable(GL_TEXTURE_2D);
     api->ActiveTexture(GL_TEXTURE0);
 }
 
-std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const detail::NodeState& st,
-                                                    const detail::NodePlan& plan,
-                                                    const detail::FrameInputs& frame,
-                                                    const gl::ApplyOptions& apply, int units) {
+std::function<void()> SceneRenderer::Impl::node_draw(const Node& node, const detail::NodeState& st,
+                                                     gl::ApplyOptions& apply) {
     const gl::Api& gl = *api;
     const MeshData& mesh = *st.mesh;
-    const std::size_t n = st.positions.size() / 3;
     const bool textured = node.texture && !mesh.texcoords.empty();
     if (gl.ActiveTexture) gl.ActiveTexture(GL_TEXTURE0);
     if (textured) {
@@ -479,7 +508,8 @@ std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const deta
     } else {
         gl.Disable(GL_TEXTURE_2D);
     }
-    const std::function<void()> draw = [&] {
+    apply.textured = textured;
+    return [&gl, &mesh, &st, textured] {
         if (gl.ClientActiveTexture) gl.ClientActiveTexture(GL_TEXTURE0);
         gl.VertexPointer(3, GL_FLOAT, 0, st.positions.data());
         if (textured) {
@@ -490,8 +520,16 @@ std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const deta
                         mesh.indices.data());
         if (textured) gl.DisableClientState(GL_TEXTURE_COORD_ARRAY);
     };
+}
+
+std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const detail::NodeState& st,
+                                                    const detail::NodePlan& plan,
+                                                    const detail::FrameInputs& frame,
+                                                    const gl::ApplyOptions& apply, int units) {
+    const gl::Api& gl = *api;
+    const std::size_t n = st.positions.size() / 3;
     gl::ApplyOptions node_apply = apply;
-    node_apply.textured = textured;
+    const std::function<void()> draw = node_draw(node, st, node_apply);
     if (options.backend != Backend::arb || plan.method == Method::skipped) {
         gl::VertexColours colours{st.primary.data(), st.secondary.data(), 0, 0, n};
         auto drawn = gl::draw_with_colours(gl, node_apply, colours, draw);
@@ -500,7 +538,10 @@ std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const deta
     }
     // arb: the program computes F_ex and L_in; lighting is one factor per node on unit 1.
     const bool light_unit = plan.lit && units > 1;
-    if (light_unit) set_light_unit(frame, node);
+    if (light_unit) {
+        set_light_unit(light_texel(*frame.settings, node, frame.hoffman_preetham.sun_irradiance_eye,
+                                   frame.settings->sun_dir, frame.ambient));
+    }
     const bool hp = plan.model == Model::hoffman_preetham;
     gl::ArbVertexProgram& program = hp ? *program_hp : *program_height;
     auto parameters = arb_program_parameters(frame.frame_for(plan.model), frame.settings->display,
@@ -513,6 +554,33 @@ std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const deta
         gl.Disable(GL_TEXTURE_2D);
         gl.ActiveTexture(GL_TEXTURE0);
     }
+    if (!drawn) return node_error(node, drawn.error());
+    return std::nullopt;
+}
+
+std::optional<Error> SceneRenderer::Impl::draw_second_light(
+    const Node& node, const detail::NodeState& st, const detail::NodePlan& plan,
+    const detail::FrameInputs& frame, const gl::ApplyOptions& apply, int units) {
+    if (plan.method != Method::hoffman_preetham && plan.method != Method::height) return {};
+    if (units < 2) return std::nullopt;  // no unit for the lighting factor: the sun's pass only
+    const detail::SecondLight& moon = *frame.second;
+    const std::array<std::uint8_t, 3> black{0, 0, 0};
+    set_light_unit(plan.lit ? light_texel(*frame.settings, node, moon.model.sun_irradiance_eye,
+                                          moon.settings->sun_dir, moon.ambient)
+                            : black);
+    const gl::Api& gl = *api;
+    gl::ApplyOptions node_apply = apply;
+    const std::function<void()> draw = node_draw(node, st, node_apply);
+    const bool hp = plan.model == Model::hoffman_preetham;
+    auto parameters = arb_program_parameters(moon.model, frame.settings->display,
+                                             (hp ? arb_hp : arb_height).options);
+    if (!parameters) return node_error(node, parameters.error());
+    gl::ArbVertexProgram& program = hp ? *program_hp : *program_height;
+    if (auto e = program.set_parameters(*parameters)) return node_error(node, *e);
+    auto drawn = program.draw(draw, node_apply);
+    gl.ActiveTexture(GL_TEXTURE1);
+    gl.Disable(GL_TEXTURE_2D);
+    gl.ActiveTexture(GL_TEXTURE0);
     if (!drawn) return node_error(node, drawn.error());
     return std::nullopt;
 }
@@ -565,15 +633,22 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
     Impl& im = *impl_;
     const gl::Api& api = *im.api;
     if (auto e = gl::no_current_context(api)) return aerial::detail::from(detail::kRender, *e);
+    if (auto e = detail::validate_moon(settings)) return *e;
+    const detail::FrameLights lights = detail::choose_lights(im.lights, settings, camera.eye);
     auto inputs =
-        detail::prepare_frame_inputs(root, camera, settings, im.options.backend, im.validated);
+        detail::prepare_frame_inputs(root, camera, *lights.first, im.options.backend, im.validated);
     if (!inputs) return inputs.error();
     detail::FrameInputs& frame = inputs.value();
-    frame.ambient = detail::frame_ambient(im.ambient, settings);
+    frame.ambient = lights.first_ambient;
+    if (lights.second) {
+        if (auto e = detail::prepare_second_light(frame, *lights.second, lights.second_ambient))
+            return *e;
+    }
 
     FrameReport report;
     report.path = im.path;
-    report.ambient = frame.ambient;
+    report.ambient = lights.first_ambient + lights.second_ambient;
+    report.lights = lights.lights;
     ++im.frame_number;
 
     const glm::dmat4 projection = projection_matrix(camera);
@@ -581,7 +656,7 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
     const auto planes = frustum_planes(projection * view);
     std::optional<Error> failure;
     {
-        const FrameGlState gl_state(api, projection, view);
+        FrameGlState gl_state(api, projection, view);
         gl::ApplyOptions apply;
         apply.path = im.path;
         apply.combiner = im.combiner ? &*im.combiner : nullptr;
@@ -590,6 +665,8 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
         SkyDrawContext sky_context;
         sky_context.api = &api;
         sky_context.settings = &settings;
+        sky_context.lights = {lights.first};
+        if (lights.second) sky_context.lights.push_back(lights.second);
         sky_context.camera = &camera;
         sky_context.hoffman_preetham = &frame.hoffman_preetham;
         sky_context.model = &frame.model;
@@ -618,6 +695,14 @@ Result<FrameReport> SceneRenderer::render(const Node& root, const Camera& camera
             report.nodes[v.report_index].method = v.plan.method;
             detail::add_counts(report, v.counts);
             failure = im.draw_node(*v.node, *v.state, v.plan, frame, apply, gl_state.units());
+        }
+        if (!failure && frame.second && im.options.backend == Backend::arb) {
+            gl_state.additive();
+            for (const Impl::Visible& v : visible) {
+                failure =
+                    im.draw_second_light(*v.node, *v.state, v.plan, frame, apply, gl_state.units());
+                if (failure) break;
+            }
         }
     }
     if (failure) return *failure;

@@ -1,5 +1,6 @@
 // The scene's built-in sky dome (the core sky of aerial/sky.hpp, drawn per vertex) and sun disc.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <memory>
 
@@ -84,14 +85,23 @@ Result<SkyContext> SkyDome::prepare(const FrameSettings& settings, const glm::dv
     return sky;
 }
 
-const std::vector<std::uint8_t>& SkyDome::shade(const SkyContext& sky, const Display& display) {
-    const std::vector<glm::dvec3> radiance = shade_sky_dome(sky, mesh_);
-    colours_.assign(4 * directions_.size(), 255);
-    for (std::size_t v = 0; v < directions_.size(); ++v) {
-        // The skirt (after the mesh's vertices) repeats ring 0, whose vertices come first.
-        const glm::dvec3& l = v < radiance.size() ? radiance[v] : radiance[v - radiance.size()];
+std::vector<glm::dvec3> SkyDome::radiance(const SkyContext& sky) const {
+    std::vector<glm::dvec3> radiance = shade_sky_dome(sky, mesh_);
+    // The skirt (after the mesh's vertices) repeats ring 0, whose vertices come first.
+    const std::size_t mesh_vertices = radiance.size();
+    for (std::size_t v = mesh_vertices; v < directions_.size(); ++v) {
+        radiance.push_back(radiance[v - mesh_vertices]);
+    }
+    return radiance;
+}
+
+const std::vector<std::uint8_t>& SkyDome::encode(const std::vector<glm::dvec3>& radiance,
+                                                 const Display& display) {
+    colours_.assign(4 * radiance.size(), 255);
+    for (std::size_t v = 0; v < radiance.size(); ++v) {
         for (int ch = 0; ch < 3; ++ch) {
-            colours_[4 * v + std::size_t(ch)] = to_unorm8(display_value(display, float(l[ch])));
+            colours_[4 * v + std::size_t(ch)] =
+                to_unorm8(display_value(display, float(radiance[v][ch])));
         }
     }
     return colours_;
@@ -111,20 +121,31 @@ double eye_altitude_m(const SkyDrawContext& c) {
                                          s.atmosphere.planet_radius_m);
 }
 
-/// The dome's buffers between frames.
+/// The dome's buffers between frames: a dome per light (each keeps its own fit).
 struct DomeDrawer {
-    detail::SkyDome dome{kSkyDomeRings, kSkyDomeSegments};
+    std::array<detail::SkyDome, 2> domes{detail::SkyDome{kSkyDomeRings, kSkyDomeSegments},
+                                         detail::SkyDome{kSkyDomeRings, kSkyDomeSegments}};
     std::vector<float> positions;
     std::vector<std::uint8_t> black;
 };
 
 void draw_dome(DomeDrawer& d, const SkyDrawContext& c) {
     const FrameSettings& s = *c.settings;
-    // render() has checked the same settings and camera: an error here draws no sky.
-    auto sky = d.dome.prepare(s, c.camera->eye);
-    if (!sky) return;
-    const std::vector<std::uint8_t>& colours = d.dome.shade(*sky, s.display);
-    const std::vector<glm::dvec3>& directions = d.dome.directions();
+    // The sum of the lights' skies. render() has checked the same settings and camera: an
+    // error here draws no sky.
+    const std::vector<const FrameSettings*> lights =
+        c.lights.empty() ? std::vector<const FrameSettings*>{c.settings} : c.lights;
+    std::vector<glm::dvec3> radiance;
+    for (std::size_t i = 0; i < lights.size() && i < d.domes.size(); ++i) {
+        auto sky = d.domes[i].prepare(*lights[i], c.camera->eye);
+        if (!sky) return;
+        const std::vector<glm::dvec3> light = d.domes[i].radiance(*sky);
+        if (radiance.empty()) radiance.assign(light.size(), glm::dvec3(0.0));
+        for (std::size_t v = 0; v < light.size(); ++v) radiance[v] += light[v];
+    }
+    detail::SkyDome& dome = d.domes[0];
+    const std::vector<std::uint8_t>& colours = dome.encode(radiance, s.display);
+    const std::vector<glm::dvec3>& directions = dome.directions();
     const std::size_t n = directions.size();
     const double draw_radius = 0.5 * c.camera->far_units;
     d.positions.resize(3 * n);
@@ -140,7 +161,7 @@ void draw_dome(DomeDrawer& d, const SkyDrawContext& c) {
     apply.textured = false;
     gl::VertexColours vertex_colours{d.black.data(), colours.data(), 0, 0, n};
     const gl::Api& api = *c.api;
-    const std::vector<std::uint32_t>& indices = d.dome.indices();
+    const std::vector<std::uint32_t>& indices = dome.indices();
     (void)gl::draw_with_colours(api, apply, vertex_colours, [&] {
         api.VertexPointer(3, GL_FLOAT, 0, d.positions.data());
         api.DrawElements(GL_TRIANGLES, GLsizei(indices.size()), GL_UNSIGNED_INT, indices.data());

@@ -36,9 +36,16 @@ class SkyDome {
     /// kRefitAltitudeM since the fit.
     Result<SkyContext> prepare(const FrameSettings& settings, const glm::dvec3& eye);
 
-    /// RGBA8 colours of directions(): to_unorm8(display_value(display, L)) of shade_sky_dome,
-    /// the skirt repeating ring 0; alpha 255. Remade on every call.
-    const std::vector<std::uint8_t>& shade(const SkyContext& sky, const Display& display);
+    /// Linear radiance towards directions(): shade_sky_dome, the skirt repeating ring 0.
+    std::vector<glm::dvec3> radiance(const SkyContext& sky) const;
+    /// RGBA8 colours of a radiance per direction (one light's, or the sum of several):
+    /// to_unorm8(display_value(display, L)); alpha 255. Remade on every call.
+    const std::vector<std::uint8_t>& encode(const std::vector<glm::dvec3>& radiance,
+                                            const Display& display);
+    /// encode(radiance(sky), display).
+    const std::vector<std::uint8_t>& shade(const SkyContext& sky, const Display& display) {
+        return encode(radiance(sky), display);
+    }
 
     /// Unit world directions: the mesh's (rings x segments, then the zenith) then the skirt's
     /// `segments` (under ring 0's). Valid after prepare.

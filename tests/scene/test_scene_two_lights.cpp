@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "aerial/adaptive_scene.hpp"
 #include "aerial/gl_api.hpp"
 #include "aerial/gl_state.hpp"
 #include "aerial/scene_renderer.hpp"
@@ -250,6 +251,27 @@ TEST_F(TwoLightsTest, ALeftOutLightChangesTheFrameByAtMostOneStep) {
                 << backend_name(backend) << ", sun " << sun_deg << " deg: pixel " << d.pixel;
         }
     }
+}
+
+TEST_F(TwoLightsTest, TheAdaptiveSkyAddsTheMoonsSky) {
+    auto r = make(Backend::cpu);
+    ASSERT_TRUE(r);
+    auto stats = std::make_shared<AdaptiveSkyStats>();
+    r->set_sky_drawer(adaptive_sky_drawer({}, stats));
+    FrameSettings both = moonlit_settings(-6.5, 40.0 * kFullMoon);
+    both.policy = false;
+    both.display.exposure *= 0.25f;
+    const auto a = frame(*r, sun_alone(both));
+    const auto ab = frame(*r, both);
+    EXPECT_TRUE(stats->error.empty()) << stats->error;
+    // The top row is sky: brighter with the moon's sky added.
+    double sun = 0.0, sum = 0.0;
+    for (int x = 0; x < kWidth; ++x) {
+        const std::size_t p = 4 * (std::size_t(kHeight - 1) * kWidth + std::size_t(x));
+        sun += a[p] + a[p + 1] + a[p + 2];
+        sum += ab[p] + ab[p + 1] + ab[p + 2];
+    }
+    EXPECT_GT(sum, sun + 3.0 * kWidth) << "at least a step a channel brighter";
 }
 
 TEST_F(TwoLightsTest, TheMoonLightsTheTerrainAtNight) {

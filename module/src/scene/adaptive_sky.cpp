@@ -86,14 +86,51 @@ void add_skirt(AdaptiveSky& sky, const mesh::Mesh& mesh, const glm::dvec3& eye, 
     for (const auto& e : edges) sky.indices.insert(sky.indices.end(), {e[0], e[1], nadir});
 }
 
+/// The sky's frame for one light: the sky depends on the eye's altitude and the light, so it is
+/// shaded around (0, 0, altitude).
+Result<Frame<float>> sky_frame(const SkyDrawContext& c, const FrameSettings& light) {
+    View view;
+    view.eye = light.up * glm::dot(c.camera->eye, light.up) * light.meters_per_unit;
+    view.sun_dir = light.sun_dir;
+    view.up = light.up;
+    return prepare_frame<float>(light.atmosphere, view, Model::height);
+}
+
+/// L_in of the dome's vertices as RGBA8 into sky.secondary: one light's straight from
+/// shade_into, or the sum of each light's floats (SkyDrawContext::lights) then the display.
+std::optional<Error> shade_sky(AdaptiveSky& sky, const SkyDrawContext& c,
+                               const Frame<float>& first, std::size_t n) {
+    const Positions positions = Positions::aos(sky.shade_positions.data(), n);
+    BatchSettings settings;
+    settings.display = c.settings->display;
+    BatchOutputs out;
+    if (c.lights.size() < 2) {
+        out.in_scattering_rgba8 = sky.secondary.data();
+        auto shaded = shade_into(first, positions, out, settings);
+        return shaded ? std::nullopt : std::optional<Error>(shaded.error());
+    }
+    std::vector<float> sum(3 * n, 0.0f), light(3 * n);
+    out.in_scattering_rgb = light.data();
+    for (std::size_t i = 0; i < c.lights.size(); ++i) {
+        auto frame = i == 0 ? Result<Frame<float>>(first) : sky_frame(c, *c.lights[i]);
+        if (!frame) return frame.error();
+        auto shaded = shade_into(*frame, positions, out, settings);
+        if (!shaded) return shaded.error();
+        for (std::size_t k = 0; k < sum.size(); ++k) sum[k] += light[k];
+    }
+    for (std::size_t v = 0; v < n; ++v) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            sky.secondary[4 * v + k] = to_unorm8(display_value(settings.display, sum[3 * v + k]));
+        }
+        sky.secondary[4 * v + 3] = 255;
+    }
+    return std::nullopt;
+}
+
 void draw_adaptive_sky(AdaptiveSky& sky, const SkyDrawContext& c) {
     const FrameSettings& s = *c.settings;
-    // The sky depends on the eye's altitude and the sun: shade around (0, 0, altitude).
-    View view;
-    view.eye = s.up * glm::dot(c.camera->eye, s.up) * s.meters_per_unit;
-    view.sun_dir = s.sun_dir;
-    view.up = s.up;
-    auto frame = prepare_frame<float>(s.atmosphere, view, Model::height);
+    // Refined for the frame's first light (the brighter: the moon's at night).
+    auto frame = sky_frame(c, c.lights.empty() ? s : *c.lights.front());
     if (!frame) {
         sky.stats->error = frame.error().message;
         return;
@@ -108,7 +145,7 @@ void draw_adaptive_sky(AdaptiveSky& sky, const SkyDrawContext& c) {
             return;
         }
         mesh::DomeOptions dome;
-        dome.centre = view.eye;
+        dome.centre = frame->view.eye;
         dome.up = s.up;
         dome.radius_m = sky.options.radius_m;
         auto base = mesh::geodesic_dome(sky.options.base_frequency, dome);
@@ -162,14 +199,8 @@ void draw_adaptive_sky(AdaptiveSky& sky, const SkyDrawContext& c) {
     sky.primary.assign(4 * n, 0);
     for (std::size_t i = 0; i < n; ++i) sky.primary[4 * i + 3] = 255;
     sky.secondary.assign(4 * n, 0);
-    BatchOutputs out;
-    out.in_scattering_rgba8 = sky.secondary.data();
-    BatchSettings settings;
-    settings.display = s.display;
-    if (auto shaded =
-            shade_into(*frame, Positions::aos(sky.shade_positions.data(), n), out, settings);
-        !shaded) {
-        sky.stats->error = shaded.error().message;
+    if (auto e = shade_sky(sky, c, *frame, n)) {
+        sky.stats->error = e->message;
         return;
     }
     sky.mesh->morph_into(sky.secondary.data(), 3, 4);

@@ -260,6 +260,30 @@ TEST(Stars, FewerNearTheMoon) {
     EXPECT_LT(lit->size(), dark->size());
 }
 
+// Each star's dimming is the G transmittance to space along its direction (a table by elevation
+// stands in for one integral a star): within 0.002 magnitudes above 1 degree.
+TEST(Stars, DimmedByTheTransmittanceAlongTheirDirection) {
+    const auto catalogue = aerial::read_star_catalogue(aerial::kBrightStarCataloguePath);
+    ASSERT_TRUE(catalogue.ok());
+    const aerial::Atmosphere hazy = aerial::atmosphere_preset("hazy").value();
+    const auto seen =
+        aerial::visible_stars(*catalogue, hazy, 100.0, sun_at(-30.0), 45.0 * kDegree, 2.0);
+    ASSERT_TRUE(seen.ok());
+    ASSERT_GT(seen->size(), 100u);
+    double worst = 0.0;
+    std::size_t compared = 0;
+    for (const aerial::VisibleStar& v : *seen) {
+        if (v.direction.z < std::sin(kDegree)) continue;
+        const double t = aerial::sun_transmittance(hazy, 100.0, v.direction.z).y;
+        const double expected = (*catalogue)[v.index].magnitude - 2.5 * std::log10(t);
+        worst = std::max(worst, std::abs(v.apparent_magnitude - expected));
+        ++compared;
+    }
+    std::printf("dimming of %zu stars within %.5f magnitudes of the transmittance's\n", compared,
+                worst);
+    EXPECT_LT(worst, 0.002);
+}
+
 }  // namespace
 
 namespace {

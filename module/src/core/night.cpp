@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -325,6 +326,38 @@ Result<SunSprite> make_star_glow(int size) {
     return glow;
 }
 
+namespace {
+
+/// The magnitudes a star loses to the atmosphere (-2.5 log10 of the G transmittance to space)
+/// by its elevation: sun_transmittance on kRows elevations evenly from 0 to 90 degrees,
+/// interpolated linearly in elevation (within 0.001 magnitudes above 1 degree; the catalogue's
+/// 4 500 stars above the horizon took half a second one transmittance each).
+class StarDimming {
+  public:
+    static constexpr int kRows = 512;
+    StarDimming(const Atmosphere& atmosphere, double altitude_m) : table_(kRows + 1) {
+        for (int r = 0; r <= kRows; ++r) {
+            const double t =
+                sun_transmittance(atmosphere, altitude_m, std::sin(0.5 * kPi * r / kRows)).y;
+            table_[std::size_t(r)] = t > 0.0 ? -2.5 * std::log10(t) : kInfinity;
+        }
+    }
+    /// Infinite where no light gets through.
+    double magnitudes(double sin_elevation) const {
+        const double x = std::asin(std::clamp(sin_elevation, 0.0, 1.0)) / (0.5 * kPi) * kRows;
+        const int r = std::min(int(x), kRows - 1);
+        const double a = table_[std::size_t(r)], b = table_[std::size_t(r) + 1];
+        if (!std::isfinite(a) || !std::isfinite(b)) return x - r < 0.5 ? a : b;
+        return a + (x - r) * (b - a);
+    }
+
+  private:
+    static constexpr double kInfinity = std::numeric_limits<double>::infinity();
+    std::vector<double> table_;
+};
+
+}  // namespace
+
 Result<std::vector<VisibleStar>> visible_stars(const std::vector<Star>& stars,
                                                const Atmosphere& atmosphere, double altitude_m,
                                                const glm::dvec3& sun_enu, double latitude_rad,
@@ -381,16 +414,17 @@ Result<std::vector<VisibleStar>> visible_stars(const std::vector<Star>& stars,
         return (1 - fr) * ((1 - fc) * at(r, c) + fc * at(r, c + 1)) +
                fr * ((1 - fc) * at(r + 1, c) + fc * at(r + 1, c + 1));
     };
+    const StarDimming dimming(atmosphere, altitude_m);
     std::vector<VisibleStar> seen;
     for (std::size_t i = 0; i < stars.size(); ++i) {
         const glm::dvec3 d = star_direction_enu(stars[i], latitude_rad, sidereal_rad);
         if (d.z <= 0.0) continue;
-        const double transmittance = sun_transmittance(atmosphere, altitude_m, d.z).y;
-        if (!(transmittance > 0.0)) continue;
+        const double dimmed = dimming.magnitudes(d.z);
+        if (!std::isfinite(dimmed)) continue;
         VisibleStar v;
         v.index = i;
         v.direction = d;
-        v.apparent_magnitude = stars[i].magnitude - 2.5 * std::log10(transmittance);
+        v.apparent_magnitude = stars[i].magnitude + dimmed;
         v.limiting_magnitude = limiting_magnitude(sky_at(d) + options.natural_background_cd_m2);
         if (v.apparent_magnitude < v.limiting_magnitude) seen.push_back(v);
     }

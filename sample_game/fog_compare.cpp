@@ -68,8 +68,8 @@ std::optional<aerial::Error> fly_round(const aerial::gl::Api& api, const World& 
                                        const GameConfig& config, std::vector<Row>& rows) {
     auto made = make_game_renderer(api, config);
     if (!made) return made.error();
-    aerial::scene::SceneRenderer& game = made.value().renderer;
-    const SkySetup* sky = &made.value().sky;
+    GameRenderer& game = made.value();
+    const SkySetup* sky = &game.sky;
     aerial::scene::RendererOptions fog_options;
     fog_options.backend = aerial::scene::Backend::none;
     auto fog = aerial::scene::SceneRenderer::create(api, fog_options);

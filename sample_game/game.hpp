@@ -2,10 +2,12 @@
 //
 // How to use this:
 //   1. Fill a GameConfig from the command line.
-//   2. Per frame, with a current context: `render_frame(api, renderer, world, state, config)`
-//      clears, draws the world through aerial::scene::SceneRenderer and the readout (fps, vertices
-//      shaded, method), and says what the frame did.
-//   3. `run_window(...)` flies interactively in a GLFW window (builds with GLFW only).
+//   2. `auto game = make_game_renderer(api, config);` (or SceneRenderer::create and install_sky):
+//      the renderer with the sky, and the stars and the moon after it (night_sky.hpp).
+//   3. Per frame, with a current context: `render_frame(api, game, world, state, config)` clears,
+//      updates the night sky, draws the world through aerial::scene::SceneRenderer and the readout
+//      (fps, sun and moon, vertices shaded, method), and says what the frame did.
+//   4. `run_window(...)` flies interactively in a GLFW window (builds with GLFW only).
 #pragma once
 
 #include <memory>
@@ -13,6 +15,7 @@
 
 #include "aerial/scene_renderer.hpp"
 #include "aerial/scene_sky.hpp"
+#include "night_sky.hpp"
 #include "world.hpp"
 
 namespace sample {
@@ -32,22 +35,27 @@ struct GameConfig {
     bool readout = true;
     SkyKind sky = SkyKind::cubemap;
     int cube_size = 32;  ///< texels along a cubemap face's side (the cubemap sky), 1 .. 512
-    SunSchedule sun;     ///< the day: date, place, noon and dusk
+    SunSchedule sun;     ///< the day and night: date, place, noon, sunset, night, the end
     int width = 480;
     int height = 270;
+    /// How fast the window's clock runs (times real time), shown in the readout; < 0: not shown.
+    double time_factor = -1.0;
 };
 
 struct FrameOutcome {
     aerial::scene::FrameReport report;
     aerial::scene::FrameSettings settings;
-    double milliseconds = 0.0;  ///< render() and glFinish, without the readout
+    double milliseconds = 0.0;    ///< render() and glFinish, without the readout
+    std::size_t stars_drawn = 0;  ///< aerial::scene::NightSkyStats::stars_drawn of the frame
 };
 
-/// Installs config.sky on the renderer. The cubemap needs cube maps: without them the renderer
-/// keeps its dome and `used` says dome. Returns the cubemap's statistics (null for the dome).
+/// Installs config.sky on the renderer, then the night sky's drawer after its sun
+/// (install_night_sky). The cubemap needs cube maps: without them the renderer keeps its dome
+/// and `used` says dome. Returns the cubemap's statistics (null for the dome) and the night sky.
 struct SkySetup {
     SkyKind used = SkyKind::dome;
     std::shared_ptr<const aerial::scene::CubemapSkyStats> stats;
+    std::shared_ptr<NightSkyState> night;
 };
 aerial::Result<SkySetup> install_sky(aerial::scene::SceneRenderer& renderer,
                                      const aerial::gl::Api& api, const GameConfig& config);
@@ -61,8 +69,8 @@ struct GameRenderer {
 aerial::Result<GameRenderer> make_game_renderer(const aerial::gl::Api& api,
                                                 const GameConfig& config);
 
-aerial::Result<FrameOutcome> render_frame(const aerial::gl::Api& api,
-                                          aerial::scene::SceneRenderer& renderer,
+/// One frame of `state`. Errors: the settings, the night sky or the renderer failed.
+aerial::Result<FrameOutcome> render_frame(const aerial::gl::Api& api, GameRenderer& game,
                                           const World& world, const FlightState& state,
                                           const GameConfig& config);
 
@@ -72,9 +80,14 @@ std::string clock_text(double hours);
 /// True when this build has the interactive window (GLFW).
 bool window_available();
 
+/// The window's clock speeds (times real time) that ] and [ step through.
+inline constexpr double kTimeFactors[] = {0.0, 1.0, 60.0, 600.0, 3600.0};
+
 /// Flies in a window until it is closed (or for `frames` frames when > 0, then writes the last
-/// one to `screenshot` when not empty). Keys: arrows turn and climb, W/S speed, T/G time of day,
-/// F fog, P policy, 1-5 presets, Esc quits. Returns the exit status; errors go to stderr.
+/// one to `screenshot` when not empty). Keys: arrows turn and climb, W/S speed, T/G an hour back
+/// and on a second held, ] / [ time faster and slower (kTimeFactors; 0x at first: the clock
+/// stands at noon), F fog, P policy, 1-5 presets, Esc quits. Returns the exit status; errors go
+/// to stderr.
 int run_window(const World& world, GameConfig config, int frames, const std::string& screenshot);
 
 }  // namespace sample

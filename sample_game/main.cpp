@@ -1,6 +1,7 @@
 // aerial-sample: a flight over 16 × 16 km of procedural terrain with sky, sun and aerial
-// perspective from aerial::scene, headless by default: a scripted flythrough (noon to dusk,
-// a ground-fog segment) rendered to PNG frames, a contact sheet and a CSV of what each frame did.
+// perspective from aerial::scene, headless by default: a scripted flythrough (noon, dusk,
+// twilight and a moonlit night, a ground-fog segment) rendered to PNG frames, a contact sheet and
+// a CSV of what each frame did.
 // Built only on the public API.
 #include <algorithm>
 #include <chrono>
@@ -30,8 +31,9 @@ constexpr const char* kDescription =
     "Flies over 16 x 16 km of procedural, textured terrain with a sky and a sun; F_ex and\n"
     "L_in per vertex from the aerial module (aerial::scene, cpu colours or the ARB program),\n"
     "applied by the fixed pipeline. The sun stands where it does on --date at --latitude and\n"
-    "--longitude (NOAA solar calculator). Headless (default): renders a scripted flythrough\n"
-    "(solar noon to just after sunset, ground fog in the middle) to DIR/frame_NNNN.png,\n"
+    "--longitude (NOAA solar calculator), the moon and the stars where they do (libnova, the\n"
+    "Yale Bright Star Catalogue). Headless (default): renders a scripted flythrough (solar noon\n"
+    "into the night, the sun 15 deg down; ground fog in the middle) to DIR/frame_NNNN.png,\n"
     "DIR/contact_sheet.png and DIR/frames.csv, and prints one summary line.\n"
     "Exit status: 0 on success, 2 on bad input, 1 when the GL context or rendering fails.";
 
@@ -332,9 +334,10 @@ int main(int argc, char** argv) {
     auto sky = sample::install_sky(renderer.value(), api, config);
     if (!sky) return fail("--sky: " + sky.error().message, 1);
     config.sky = sky->used;
+    sample::GameRenderer game{std::move(renderer).value(), *sky};
     auto sky_stats = std::make_shared<aerial::scene::AdaptiveSkyStats>();
     if (adaptive_sky)
-        renderer.value().set_sky_drawer(aerial::scene::adaptive_sky_drawer({}, sky_stats));
+        game.renderer.set_sky_drawer(aerial::scene::adaptive_sky_drawer({}, sky_stats));
 
     if (auto e = aerial::tools::make_parent_directories(out + "/frames.csv"))
         return fail("--out " + *e);
@@ -343,15 +346,18 @@ int main(int argc, char** argv) {
     csv << "frame,t,utc,solar_time,sun_elevation_deg,sun_azimuth_deg,fog,exposure,"
            "vertices_shaded,vertices_drawn,cache_hits,culled,skipped,nodes_hoffman_preetham,"
            "nodes_height,nodes_reference,method,shading_ms,ms,sky,sky_refreshes,sky_refresh_ms,"
-           "tessellation,sky_vertices,sky_directions,sky_bound_steps\n";
+           "tessellation,sky_vertices,sky_directions,sky_bound_steps,moon_elevation_deg,"
+           "moon_phase_deg,moon_fraction,lights,stars_drawn\n";
 
     std::vector<aerial::tools::Rgb8Image> thumbnails;
     const int factor = std::max(1, width / kThumbnailWidth);
     double total_ms = 0.0, total_shaded = 0.0;
+    std::size_t most_stars = 0;
+    double last_sun_deg = 0.0;
     for (int i = 0; i < frames; ++i) {
         const double t = frames == 1 ? 0.0 : double(i) / double(frames - 1);
         const sample::FlightState state = sample::flight_at(world, t, config.sun);
-        auto outcome = sample::render_frame(api, renderer.value(), world, state, config);
+        auto outcome = sample::render_frame(api, game, world, state, config);
         if (!outcome) return fail("frame " + std::to_string(i) + ": " + outcome.error().message, 1);
         const aerial::scene::FrameReport& report = outcome->report;
         const double ms = outcome->milliseconds;
@@ -365,18 +371,27 @@ int main(int argc, char** argv) {
         if (auto e = aerial::tools::write_png(out + name, image)) return fail("--out " + *e);
         thumbnails.push_back(shrink(image, factor));
         // The cubemap's refreshes so far, and the cost of this frame's refresh (0: none).
-        const aerial::scene::CubemapSkyStats* stats = sky->stats.get();
+        const aerial::scene::CubemapSkyStats* stats = game.sky.stats.get();
         if (stats && !stats->error.empty())
             return fail("frame " + std::to_string(i) + ": " + stats->error, 1);
+        if (!game.sky.night->stats->error.empty())
+            return fail(
+                "frame " + std::to_string(i) + ": night sky: " + game.sky.night->stats->error, 1);
+        most_stars = std::max(most_stars, outcome->stars_drawn);
+        last_sun_deg = sun_deg;
         const int refreshes = stats ? stats->recomputes : 0;
         const double refresh_ms = stats ? stats->last_refresh_ms : 0.0;
         if (!sky_stats->error.empty())
             return fail("frame " + std::to_string(i) + ": adaptive sky: " + sky_stats->error, 1);
-        char row[704];
+        // The moon: its place and phase, and its light as a fraction of the sun's (the renderer's
+        // Moonlight::fraction).
+        const auto& moon = state.moon;
+        const auto& moonlight = outcome->settings.moon;
+        char row[768];
         std::snprintf(
             row, sizeof row,
             "%d,%.4f,%s,%s,%.2f,%.2f,%d,%.3f,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%s,%.3f,%.3f,%s,%d,"
-            "%.2f,%s,%zu,%d,%.2f\n",
+            "%.2f,%s,%zu,%d,%.2f,%.2f,%.2f,%.4g,%s,%zu\n",
             i, t, sample::clock_text(std::fmod(state.utc_min / 60.0 + 24.0, 24.0)).c_str(),
             sample::clock_text(state.clock_hours).c_str(), sun_deg, state.sun_azimuth_rad / kDegree,
             state.fog ? 1 : 0, double(outcome->settings.display.exposure), report.vertices_shaded,
@@ -385,23 +400,27 @@ int main(int argc, char** argv) {
             report.main_method().c_str(), report.shading_milliseconds, ms,
             sample::sky_name(config.sky), refreshes, refresh_ms, tessellation_text.c_str(),
             adaptive_sky ? sky_stats->vertices : std::size_t(0),
-            stats ? stats->directions_last_frame : 0, stats ? stats->bound_steps : 0.0);
+            stats ? stats->directions_last_frame : 0, stats ? stats->bound_steps : 0.0,
+            moon ? moon->elevation_rad / kDegree : 0.0,
+            moon ? moon->phase_angle_rad / kDegree : 0.0, moonlight ? moonlight->fraction : 0.0,
+            aerial::scene::lights_name(report.lights), outcome->stars_drawn);
         csv << row;
     }
     if (auto e = aerial::tools::write_png(out + "/contact_sheet.png", contact_sheet(thumbnails))) {
         return fail("--out " + *e);
     }
-    const int refreshes = sky->stats ? sky->stats->recomputes : 0;
+    const aerial::scene::CubemapSkyStats* stats = game.sky.stats.get();
     std::printf(
         "%s: %d frames %dx%d preset=%s model=%s backend=%s policy=%s sky=%s tessellation=%s "
         "date=%s "
         "latitude=%.4f longitude=%.4f tiles=%zu vertices=%zu mean_ms=%.2f "
-        "mean_vertices_shaded=%.0f sky_refreshes=%d mean_sky_refresh_ms=%.1f renderer=\"%s\" "
-        "-> %s/\n",
+        "mean_vertices_shaded=%.0f sky_refreshes=%d mean_sky_refresh_ms=%.1f last_sun_deg=%.2f "
+        "most_stars=%zu star_searches=%d renderer=\"%s\" -> %s/\n",
         kTool, frames, width, height, preset.c_str(), model_text.c_str(), backend_text.c_str(),
         no_policy ? "off" : "on", sample::sky_name(config.sky), tessellation_text.c_str(),
         date.c_str(), latitude_deg, longitude_deg, world.tiles, world.vertices, total_ms / frames,
-        total_shaded / frames, refreshes, sky->stats ? sky->stats->total_refresh_ms / frames : 0.0,
-        api.caps.renderer.c_str(), out.c_str());
+        total_shaded / frames, stats ? stats->recomputes : 0,
+        stats ? stats->total_refresh_ms / frames : 0.0, last_sun_deg, most_stars,
+        game.sky.night->stars.recomputes, api.caps.renderer.c_str(), out.c_str());
     return 0;
 }

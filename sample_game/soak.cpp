@@ -37,13 +37,17 @@ int max_difference(const std::vector<std::uint8_t>& a, const std::vector<std::ui
     return worst;
 }
 
-/// The image a renderer created now draws of `state` (fresh caches, fresh sky).
+/// The image a renderer created now draws of `state` (fresh caches, fresh sky), with the soaked
+/// game's stars: the set of visible stars is the application's cache (found again only when the
+/// sun or the moon moved by half a degree), not the renderer's.
 aerial::Result<std::vector<std::uint8_t>> fresh_render(const aerial::headless::Context& context,
                                                        const World& world, const FlightState& state,
-                                                       const GameConfig& config) {
+                                                       const GameConfig& config,
+                                                       const StarCache& stars) {
     auto game = make_game_renderer(context.api(), config);
     if (!game) return game.error();
-    auto outcome = render_frame(context.api(), game.value().renderer, world, state, config);
+    game.value().sky.night->stars = stars;
+    auto outcome = render_frame(context.api(), game.value(), world, state, config);
     if (!outcome) return outcome.error();
     return context.read_rgba8();
 }
@@ -96,7 +100,6 @@ aerial::Result<SoakReport> run_soak(const World& world, GameConfig config,
     const aerial::gl::Api& api = context->api();
     auto game = make_game_renderer(api, config);
     if (!game) return game.error();
-    aerial::scene::SceneRenderer& renderer = game.value().renderer;
     const SkySetup* sky = &game.value().sky;
     config.sky = sky->used;
 
@@ -124,7 +127,7 @@ aerial::Result<SoakReport> run_soak(const World& world, GameConfig config,
         const double t = phase <= period / 2 ? double(phase) / (period / 2)
                                              : double(period - phase) / (period / 2);
         const FlightState state = flight_at(world, t, config.sun);
-        auto outcome = render_frame(api, renderer, world, state, config);
+        auto outcome = render_frame(api, game.value(), world, state, config);
         if (!outcome) {
             return aerial::Error{"frame",
                                  "frame " + std::to_string(i) + ": " + outcome.error().message};
@@ -163,11 +166,15 @@ aerial::Result<SoakReport> run_soak(const World& world, GameConfig config,
         if (sky->stats && !sky->stats->error.empty()) {
             return aerial::Error{"sky", "frame " + std::to_string(i) + ": " + sky->stats->error};
         }
+        if (!sky->night->stats->error.empty()) {
+            return aerial::Error{
+                "sky", "frame " + std::to_string(i) + ": night sky: " + sky->night->stats->error};
+        }
         const bool last = i + 1 == options.frames;
         // The first frame too: the fresh renderer's allocations are then part of the baseline.
         if (i == 0 || (i + 1) % std::max(1, options.compare_every) == 0 || last) {
             const std::vector<std::uint8_t> soaked = context->read_rgba8();
-            auto fresh = fresh_render(*context, world, state, config);
+            auto fresh = fresh_render(*context, world, state, config, sky->night->stars);
             if (!fresh) {
                 return aerial::Error{"fresh", "fresh render of frame " + std::to_string(i) + ": " +
                                                   fresh.error().message};

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <iterator>
 
 #include "game.hpp"
 #include "support/png.hpp"
@@ -18,6 +19,8 @@ namespace {
 void* load_gl(void*, const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
 
 const char* const kPresets[] = {"earth", "hazy", "foggy", "hp2002", "mars"};
+/// T and G move the clock by an hour a second held.
+constexpr double kHourKeyMinutesPerSecond = 60.0;
 
 }  // namespace
 
@@ -67,12 +70,15 @@ int run_window(const World& world, GameConfig config, int frames, const std::str
             return 1;
         }
         config.sky = sky->used;
+        GameRenderer game{std::move(renderer).value(), *sky};
         FlightState state = flight_at(world, 0.0, config.sun);
-        double speed = 100.0, t_day = 0.0;  // m/s; 0 = solar noon .. 1 = just after sunset
+        double speed = 100.0;  // m/s
+        double utc_min = state.utc_min;
+        std::size_t time_step = 0;  // into kTimeFactors
         auto last = std::chrono::steady_clock::now();
         std::printf(
-            "aerial-sample: keys: arrows turn/climb, W/S speed, T/G time of day, F fog, "
-            "P policy, 1-5 presets, Esc quits\n");
+            "aerial-sample: keys: arrows turn/climb, W/S speed, T/G an hour back/on, ] [ time "
+            "faster/slower, F fog, P policy, 1-5 presets, Esc quits\n");
         for (int frame = 0; !glfwWindowShouldClose(window) && (frames <= 0 || frame < frames);
              ++frame) {
             const auto now = std::chrono::steady_clock::now();
@@ -89,26 +95,33 @@ int run_window(const World& world, GameConfig config, int frames, const std::str
                 state.altitude_agl = std::max(20.0, state.altitude_agl - 150 * dt);
             if (down(GLFW_KEY_W)) speed = std::min(1000.0, speed + 100 * dt);
             if (down(GLFW_KEY_S)) speed = std::max(0.0, speed - 100 * dt);
-            if (down(GLFW_KEY_T)) t_day = std::max(0.0, t_day - 0.1 * dt);
-            if (down(GLFW_KEY_G)) t_day = std::min(1.0, t_day + 0.1 * dt);
+            if (down(GLFW_KEY_T)) utc_min -= kHourKeyMinutesPerSecond * dt;
+            if (down(GLFW_KEY_G)) utc_min += kHourKeyMinutesPerSecond * dt;
             for (int i = 0; i < 5; ++i) {
                 if (down(GLFW_KEY_1 + i)) config.preset = kPresets[i];
             }
-            static bool f_was = false, p_was = false;
+            static bool f_was = false, p_was = false, faster_was = false, slower_was = false;
             if (down(GLFW_KEY_F) && !f_was) state.fog = !state.fog;
             if (down(GLFW_KEY_P) && !p_was) config.policy = !config.policy;
+            if (down(GLFW_KEY_RIGHT_BRACKET) && !faster_was)
+                time_step = std::min(time_step + 1, std::size(kTimeFactors) - 1);
+            if (down(GLFW_KEY_LEFT_BRACKET) && !slower_was && time_step > 0) --time_step;
             f_was = down(GLFW_KEY_F);
             p_was = down(GLFW_KEY_P);
+            faster_was = down(GLFW_KEY_RIGHT_BRACKET);
+            slower_was = down(GLFW_KEY_LEFT_BRACKET);
+            config.time_factor = kTimeFactors[time_step];
+            utc_min += config.time_factor * dt / 60.0;
             // Fly; keep the height above the ground below.
             const double ground = ground_height(world, state.x, state.y);
             state.x += std::sin(state.heading_rad) * speed * dt;
             state.y += std::cos(state.heading_rad) * speed * dt;
             state.altitude_agl += ground - ground_height(world, state.x, state.y);
             state.altitude_agl = std::max(20.0, state.altitude_agl);
-            place_sun(state, config.sun, t_day);
+            place_sky(state, config.sun, utc_min);
 
             glfwGetFramebufferSize(window, &config.width, &config.height);
-            auto outcome = render_frame(*api, renderer.value(), world, state, config);
+            auto outcome = render_frame(*api, game, world, state, config);
             if (!outcome) {
                 std::cerr << "aerial-sample: " << outcome.error().message << '\n';
                 status = 1;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
@@ -9,16 +11,8 @@ namespace sample {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegree = kPi / 180.0;
 constexpr int kTextureSize = 256;
-/// Altitude of the light that sets the exposure and the terrain's skylight, m (the terrain
-/// spans about 20 to 920 m).
-constexpr double kLightingAltitudeM = 300.0;
-/// The grey card's exposed radiance (aerial::ExposureOptions::key): brighter than the default
-/// 0.5, since the terrain's texture and albedo make it darker than an 18 % card.
-constexpr double kExposureKey = 0.8;
-/// At most this many times the exposure of the sun at the zenith: dusk may stay darker than
-/// noon instead of turning the bright sky around the low sun white.
-constexpr double kExposureMaxGain = 3.5;
 /// Ground reflectance over pi (the lit colour is albedo x irradiance, radiance needs the 1/pi);
 /// the texture (mean about 0.45) carries the colour.
 constexpr float kGroundAlbedo = float(0.3 / kPi);
@@ -95,7 +89,8 @@ void civil_from_days(long z, int& y, int& m, int& d) {
     y = int(yoe + era * 400 + (m <= 2));
 }
 
-/// The UTC moment `minutes` after 00:00 of the schedule's date (any sign, days roll over).
+}  // namespace
+
 aerial::UtcDateTime utc_at(const SunSchedule& schedule, double minutes) {
     const double whole_days = std::floor(minutes / 1440.0);
     double rest = minutes - whole_days * 1440.0;
@@ -107,6 +102,28 @@ aerial::UtcDateTime utc_at(const SunSchedule& schedule, double minutes) {
     time.minute = std::min(59, int(rest));
     time.second = std::clamp((rest - time.minute) * 60.0, 0.0, 59.999);
     return time;
+}
+
+namespace {
+
+/// The sun's elevation at `minutes` (UTC) for the schedule's place (valid: make_sun_schedule
+/// checked it), radians.
+double sun_elevation_at(const SunSchedule& schedule, double minutes) {
+    const auto sun = aerial::sun_position(utc_at(schedule, minutes), schedule.latitude_rad,
+                                          schedule.longitude_rad);
+    return sun ? sun->elevation_rad : 0.0;
+}
+
+/// When the evening sun's centre sinks `depression_rad` below the horizon, by bisection between
+/// noon and solar midnight (the sun sinks all the way between them); none where it stays higher.
+std::optional<double> evening_utc_min(const SunSchedule& schedule, double depression_rad) {
+    double high = schedule.noon_utc_min, low = schedule.noon_utc_min + 720.0;
+    if (sun_elevation_at(schedule, low) > -depression_rad) return std::nullopt;
+    for (int i = 0; i < 40; ++i) {  // 720 min / 2^40: well below a second
+        const double mid = 0.5 * (high + low);
+        (sun_elevation_at(schedule, mid) > -depression_rad ? high : low) = mid;
+    }
+    return 0.5 * (high + low);
 }
 
 }  // namespace
@@ -130,34 +147,66 @@ aerial::Result<SunSchedule> make_sun_schedule(int year, int month, int day, doub
                              "the sun does not rise on that date at this latitude (polar night)"};
     }
     schedule.noon_utc_min = events->solar_noon_utc_min;
-    schedule.end_utc_min = events->civil_dusk_utc_min ? *events->civil_dusk_utc_min
-                           : events->sunset_utc_min
-                               ? *events->sunset_utc_min + kWhiteNightMinutesAfterSunset
-                               : events->solar_noon_utc_min + 600.0;
+    if (!events->sunset_utc_min) {  // polar day
+        schedule.end_utc_min = schedule.noon_utc_min + kPolarDayScriptMinutes;
+        schedule.sunset_utc_min = schedule.night_utc_min = schedule.end_utc_min;
+        return schedule;
+    }
+    schedule.sunset_utc_min = *events->sunset_utc_min;
+    // White nights: the sun's lowest point, solar midnight.
+    schedule.end_utc_min =
+        evening_utc_min(schedule, kScriptEndDepressionRad).value_or(schedule.noon_utc_min + 720.0);
+    schedule.night_utc_min =
+        evening_utc_min(schedule, kNightDepressionRad).value_or(schedule.end_utc_min);
     return schedule;
 }
 
 SunSchedule default_sun_schedule() {
-    constexpr double kDegree = kPi / 180.0;
     return make_sun_schedule(kDefaultYear, kDefaultMonth, kDefaultDay,
                              kDefaultLatitudeDeg * kDegree, kDefaultLongitudeDeg * kDegree)
         .value();  // a valid date and place
 }
 
-void place_sun(FlightState& state, const SunSchedule& schedule, double day) {
+double script_utc_min(const SunSchedule& schedule, double day) {
     day = std::clamp(day, 0.0, 1.0);
-    // Slow at first, fast through the afternoon, slow again towards sunset.
-    const double u = smoothstep(0.15, 1.0, day);
-    state.utc_min = schedule.noon_utc_min + (schedule.end_utc_min - schedule.noon_utc_min) * u;
-    // The schedule's place and date are valid (make_sun_schedule checked them).
-    const auto sun = aerial::sun_position(utc_at(schedule, state.utc_min), schedule.latitude_rad,
-                                          schedule.longitude_rad);
+    // (script position, UTC) where each part of the script ends: noon held, the afternoon,
+    // twilight, the night.
+    struct Knot {
+        double day, utc_min;
+    };
+    const Knot knots[] = {{0.15, schedule.noon_utc_min},
+                          {0.6, schedule.sunset_utc_min},
+                          {0.82, schedule.night_utc_min},
+                          {1.0, schedule.end_utc_min}};
+    if (day <= knots[0].day) return knots[0].utc_min;
+    Knot from = knots[0];
+    for (std::size_t i = 1; i < std::size(knots); ++i) {
+        // A part of no length (the last knots at the end) gives its share to the one before.
+        const bool last = i + 1 == std::size(knots) || knots[i].utc_min >= schedule.end_utc_min;
+        const Knot to = last ? knots[std::size(knots) - 1] : knots[i];
+        if (day <= to.day || last) {
+            double u = (day - from.day) / (to.day - from.day);
+            if (i == 1) u = smoothstep(0.0, 1.0, u);  // the afternoon: slow near noon and sunset
+            return from.utc_min + (to.utc_min - from.utc_min) * u;
+        }
+        from = to;
+    }
+    return schedule.end_utc_min;
+}
+
+void place_sky(FlightState& state, const SunSchedule& schedule, double utc_min) {
+    state.utc_min = utc_min;
+    const aerial::UtcDateTime time = utc_at(schedule, utc_min);
+    // The schedule's place is valid (make_sun_schedule checked it).
+    const auto sun = aerial::sun_position(time, schedule.latitude_rad, schedule.longitude_rad);
     if (!sun) return;
     state.sun_elevation_rad = sun->elevation_rad;
     state.sun_azimuth_rad = sun->azimuth_rad;
+    auto moon = aerial::moon_position(time, schedule.latitude_rad, schedule.longitude_rad);
+    state.moon = moon ? std::optional<aerial::MoonPosition>(*moon) : std::nullopt;
     // Local apparent solar time: UTC + longitude (4 minutes a degree) + equation of time.
     const double local_min =
-        state.utc_min + schedule.longitude_rad * 180.0 / kPi * 4.0 + sun->equation_of_time_min;
+        utc_min + schedule.longitude_rad / kDegree * 4.0 + sun->equation_of_time_min;
     state.clock_hours = std::fmod(std::fmod(local_min, 1440.0) + 1440.0, 1440.0) / 60.0;
 }
 
@@ -231,7 +280,7 @@ FlightState flight_at(const World& world, double t, const SunSchedule& schedule)
     s.altitude_agl = 250.0 + (ground - ground_height(world, x, y));
     s.pitch_rad = -0.09;
     s.fog = t > 0.4 && t < 0.6;
-    place_sun(s, schedule, t);
+    place_sky(s, schedule, script_utc_min(schedule, t));
     return s;
 }
 
@@ -250,60 +299,151 @@ aerial::scene::Camera camera_for(const World& world, const FlightState& s, doubl
     return c;
 }
 
-aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& s,
+namespace {
+
+/// One light (the sun, or the moon as a dimmer sun) on the level grey card at
+/// kLightingAltitudeM.
+struct CardLight {
+    glm::dvec3 direct{0.0};  ///< through the atmosphere, on a surface facing the light
+    double elevation_rad = 0.0;
+    glm::dvec3 sky{0.0};  ///< its skylight on level ground
+    glm::dvec3 direct_on_card() const { return direct * std::max(std::sin(elevation_rad), 0.0); }
+    glm::dvec3 on_card() const { return direct_on_card() + sky; }
+};
+
+aerial::SkyAmbientOptions ambient_options() {
+    aerial::SkyAmbientOptions options;
+    options.elevation_steps = 8;
+    options.azimuth_steps = 16;
+    return options;
+}
+
+aerial::Result<CardLight> card_light(const aerial::Atmosphere& atmosphere, double elevation_rad) {
+    CardLight light;
+    light.elevation_rad = elevation_rad;
+    light.direct =
+        aerial::sun_irradiance_at_altitude(atmosphere, kLightingAltitudeM, elevation_rad);
+    auto sky =
+        aerial::sky_ambient(atmosphere, kLightingAltitudeM, elevation_rad, ambient_options());
+    if (!sky) return sky.error();
+    light.sky = *sky;
+    return light;
+}
+
+/// The atmosphere of the preset, with the ground-fog layer when the state has it.
+aerial::Result<aerial::Atmosphere> flight_atmosphere(const FlightState& s,
+                                                     const std::string& preset) {
+    auto atmosphere = aerial::atmosphere_preset(preset);
+    if (!atmosphere || !s.fog) return atmosphere;
+    aerial::GroundHaze haze;
+    haze.visibility_in_layer_m = 1200.0;
+    haze.layer_thickness_m = 500.0;
+    haze.visibility_aloft_m = 15000.0;
+    // Real fog looks bright from every side because light scatters many times in it: the
+    // height model's higher orders carry that (docs/models.md), with the droplets' own g.
+    return aerial::atmosphere_with_ground_haze(haze, *atmosphere);
+}
+
+/// frame_light's exposure: the day's rule (the cones, dazzled by a low sun) and night_exposure
+/// (the rods), blended in log exposure by the rod share of the card's luminance.
+aerial::Result<double> exposure_for(const FrameLight& light, const CardLight& sun) {
+    aerial::ExposureOptions options;
+    options.key = kExposureKey;
+    options.max_gain = kExposureMaxGain;
+    // The sun's direct light, and the rest of the card's (the skylight, the moon).
+    double day =
+        aerial::auto_exposure(sun.direct, sun.elevation_rad, light.card - sun.direct_on_card(),
+                              light.atmosphere.sun_irradiance, options);
+    if (sun.elevation_rad < 0.0) {
+        // After sunset the day's exposure follows the sky down: it grows as the skylight fades
+        // below its value at sunset, so that civil twilight reads (the afterglow over the sun,
+        // the Earth's shadow opposite) instead of going black.
+        auto at_sunset =
+            aerial::sky_ambient(light.atmosphere, kLightingAltitudeM, 0.0, ambient_options());
+        if (!at_sunset) return at_sunset.error();
+        day *= std::max(1.0, aerial::luminance(*at_sunset) /
+                                 std::max(aerial::luminance(light.skylight), 1e-30));
+    }
+    const double night = aerial::night_exposure(light.atmosphere, light.card, options);
+    const double rods = aerial::rod_share(light.card_cd_m2);
+    if (!(night > 0.0) || !(rods > 0.0)) return day;
+    return std::exp((1.0 - rods) * std::log(day) + rods * std::log(night));
+}
+
+/// The Purkinje tint at the card's luminance: purkinje_shift of white (the rods' blue at
+/// luminance 1) mixed with white by the rod share in steps of kTintShareStep.
+glm::dvec3 purkinje_tint(double card_cd_m2) {
+    const double share =
+        std::round(aerial::rod_share(card_cd_m2) / kTintShareStep) * kTintShareStep;
+    const glm::dvec3 white(1.0);
+    const double rods_only = 0.0;  // cd/m2: below the scotopic level
+    return glm::mix(white, aerial::purkinje_shift(white, rods_only), share);
+}
+
+/// aerial::moonlight_fraction in steps of kMoonFractionStep e-folds.
+double stepped_moon_fraction(const aerial::MoonPosition& moon) {
+    const double fraction = aerial::moonlight_fraction(moon);
+    if (!(fraction > 0.0)) return 0.0;
+    return std::exp(std::round(std::log(fraction) / kMoonFractionStep) * kMoonFractionStep);
+}
+
+}  // namespace
+
+aerial::Result<FrameLight> frame_light(const FlightState& s, const std::string& preset) {
+    auto atmosphere = flight_atmosphere(s, preset);
+    if (!atmosphere) return atmosphere.error();
+    FrameLight light;
+    light.atmosphere = *atmosphere;
+    light.sun_dir = {std::cos(s.sun_elevation_rad) * std::sin(s.sun_azimuth_rad),
+                     std::cos(s.sun_elevation_rad) * std::cos(s.sun_azimuth_rad),
+                     std::sin(s.sun_elevation_rad)};
+    // Light of level ground at a typical terrain altitude: each light through the atmosphere
+    // (zero in the planet's shadow) and its skylight, which is also the terrain's ambient term.
+    auto sun = card_light(light.atmosphere, s.sun_elevation_rad);
+    if (!sun) return sun.error();
+    CardLight moon;
+    if (s.moon) {
+        light.moon = aerial::scene::Moonlight{aerial::moon_direction_enu(*s.moon),
+                                              stepped_moon_fraction(*s.moon)};
+        // aerial::moonlit's atmosphere, with the stepped fraction.
+        aerial::Atmosphere moonlit = light.atmosphere;
+        moonlit.sun_irradiance *= light.moon->fraction;
+        auto lit = card_light(moonlit, s.moon->elevation_rad);
+        if (!lit) return lit.error();
+        moon = *lit;
+    }
+    light.moon_direct = moon.direct;
+    light.skylight = sun->sky + moon.sky;
+    light.card = sun->on_card() + moon.on_card();
+    light.card_cd_m2 = aerial::card_luminance_cd_m2(light.atmosphere, light.card);
+    auto exposure = exposure_for(light, *sun);
+    if (!exposure) return exposure.error();
+    light.exposure = *exposure;
+    light.tint = purkinje_tint(light.card_cd_m2);
+    return light;
+}
+
+aerial::scene::FrameSettings settings_for(const FrameLight& light, aerial::Model model,
+                                          aerial::ToneCurve tone) {
+    aerial::scene::FrameSettings settings;
+    settings.atmosphere = light.atmosphere;
+    settings.atmosphere.sun_irradiance *= light.tint;
+    settings.sun_dir = light.sun_dir;
+    settings.moon = light.moon;
+    settings.model = model;
+    settings.ambient = glm::vec3(light.skylight * light.tint);  // skylight is linear in E_sun0
+    settings.display.exposure = float(light.exposure);
+    settings.display.tone = tone;
+    return settings;
+}
+
+aerial::Result<aerial::scene::FrameSettings> settings_for(const FlightState& state,
                                                           const std::string& preset,
                                                           aerial::Model model,
                                                           aerial::ToneCurve tone) {
-    auto atmosphere = aerial::atmosphere_preset(preset);
-    if (!atmosphere) return atmosphere.error();
-    aerial::scene::FrameSettings settings;
-    settings.atmosphere = *atmosphere;
-    if (s.fog) {
-        aerial::GroundHaze haze;
-        haze.visibility_in_layer_m = 1200.0;
-        haze.layer_thickness_m = 500.0;
-        haze.visibility_aloft_m = 15000.0;
-        // Real fog looks bright from every side because light scatters many times in it: the
-        // height model's higher orders carry that (docs/models.md), with the droplets' own g.
-        auto foggy = aerial::atmosphere_with_ground_haze(haze, settings.atmosphere);
-        if (!foggy) return foggy.error();
-        settings.atmosphere = *foggy;
-    }
-    settings.sun_dir = {std::cos(s.sun_elevation_rad) * std::sin(s.sun_azimuth_rad),
-                        std::cos(s.sun_elevation_rad) * std::cos(s.sun_azimuth_rad),
-                        std::sin(s.sun_elevation_rad)};
-    settings.model = model;
-    // Light of level ground at a typical terrain altitude: the sun through the atmosphere
-    // (zero in the planet's shadow) and the skylight, which is also the terrain's ambient term.
-    // The exposure maps a grey card under that light to a fixed display level, so that noon
-    // and dusk both read (aerial::auto_exposure).
-    const glm::dvec3 sun = aerial::sun_irradiance_at_altitude(
-        settings.atmosphere, kLightingAltitudeM, s.sun_elevation_rad);
-    aerial::SkyAmbientOptions ambient_options;
-    ambient_options.elevation_steps = 8;
-    ambient_options.azimuth_steps = 16;
-    auto sky = aerial::sky_ambient(settings.atmosphere, kLightingAltitudeM, s.sun_elevation_rad,
-                                   ambient_options);
-    if (!sky) return sky.error();
-    settings.ambient = glm::vec3(*sky);
-    aerial::ExposureOptions exposure;
-    exposure.key = kExposureKey;
-    exposure.max_gain = kExposureMaxGain;
-    double value = aerial::auto_exposure(sun, s.sun_elevation_rad, *sky,
-                                         settings.atmosphere.sun_irradiance, exposure);
-    if (s.sun_elevation_rad < 0.0) {
-        // After sunset the exposure follows the sky down: it grows as the skylight fades below
-        // its value at sunset, so that civil twilight reads (the afterglow over the sun, the
-        // Earth's shadow opposite) instead of going black.
-        auto at_sunset =
-            aerial::sky_ambient(settings.atmosphere, kLightingAltitudeM, 0.0, ambient_options);
-        if (!at_sunset) return at_sunset.error();
-        value *=
-            std::max(1.0, aerial::luminance(*at_sunset) / std::max(aerial::luminance(*sky), 1e-30));
-    }
-    settings.display.exposure = float(value);
-    settings.display.tone = tone;
-    return settings;
+    auto light = frame_light(state, preset);
+    if (!light) return light.error();
+    return settings_for(*light, model, tone);
 }
 
 }  // namespace sample

@@ -12,7 +12,8 @@
 # Works from any directory. Needs Debian (apt) for the install step; root or sudo to install.
 set -euo pipefail
 
-# Debian packages. RUN_PACKAGES are what the sample game needs to build and render headless;
+# Debian packages. RUN_PACKAGES are what the sample game needs to build and render headless
+# (xplanet: the star catalogue of its night);
 # `test` adds TEST_PACKAGES (the tests, tools, the OpenSceneGraph adapter, the sanitizer build).
 # Adding a dependency is adding one line to one of the lists.
 RUN_PACKAGES=(
@@ -32,10 +33,10 @@ RUN_PACKAGES=(
     libegl-mesa0
     libopenmesh-dev
     libglfw3-dev
+    xplanet
 )
 TEST_PACKAGES=(
     libgtest-dev
-    xplanet
     liblcms2-dev
     libopenscenegraph-dev
     libirrlicht-dev
@@ -86,7 +87,7 @@ Commands:
   run [FLAGS...]  install the missing packages of RUN_PACKAGES, configure a Release build in
                   $BUILD_DIR/ (CMake + Ninja) and build only ${RUN_TARGETS[*]}, then render
                   the sample's headless flythrough
-                  (noon to dusk, a ground-fog segment):
+                  (noon into a moonlit night, a ground-fog segment):
                   $BUILD_DIR/bin/aerial-sample --headless --frames 24 --out $OUT_DIR/flythrough
                   which writes frame_NNNN.png, contact_sheet.png and frames.csv there.
                   FLAGS are passed on to aerial-sample (for example --preset hazy --backend arb

@@ -109,6 +109,7 @@ void update_moon(aerial::scene::NightSky& sky, const FlightState& state, const F
 
 std::shared_ptr<NightSkyState> install_night_sky(aerial::scene::SceneRenderer& renderer) {
     auto night = std::make_shared<NightSkyState>();
+    night->sky->moon_half_width_rad = kMoonShownHalfWidthRad;
     renderer.set_sun_drawer(
         aerial::scene::night_sky_drawer(renderer.sun_drawer(), night->sky, night->stats));
     return night;

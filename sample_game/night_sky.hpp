@@ -33,6 +33,10 @@ inline constexpr double kStarsBelowSunRad = -3.0 * 3.14159265358979323846 / 180.
 inline constexpr double kStarRecomputeRad = 0.5 * 3.14159265358979323846 / 180.0;
 /// The moon is drawn while its centre is higher than this (the terrain hides it below), radians.
 inline constexpr double kMoonDrawnAboveRad = -1.0 * 3.14159265358979323846 / 180.0;
+/// The moon's drawn angular radius: three times its mean 0.26 degrees, as the renderer's
+/// built-in sun disc is, to be seen at the sample's resolution (a true moon is 3 pixels wide at
+/// 480 x 270).
+inline constexpr double kMoonShownHalfWidthRad = 3.0 * 0.0045;
 /// The moon sprite's colour: its largest channel is held in [kMoonColourMin, 1] (see
 /// update_night_sky).
 inline constexpr float kMoonColourMin = 0.15f;

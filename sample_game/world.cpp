@@ -251,6 +251,23 @@ double ground_height(const World& world, double x, double y) {
     return aerial::scene::procedural_height(world.terrain, x, y);
 }
 
+namespace {
+
+/// In the night part of the script the view turns from the path towards the moon (when it is
+/// up), keeping it 10 degrees above the centre of the frame, over the terrain.
+constexpr double kNightLookStart = 0.8, kNightLookEnd = 0.92;
+
+void look_at_the_moon(FlightState& s, double weight) {
+    if (!s.moon || s.moon->elevation_rad < 0.0 || !(weight > 0.0)) return;
+    // The shortest turn from the path's heading to the moon's azimuth.
+    const double turn = std::remainder(s.moon->azimuth_rad - s.heading_rad, 2.0 * kPi);
+    s.heading_rad += weight * turn;
+    const double pitch = std::clamp(s.moon->elevation_rad - 0.17, -0.09, 0.3);
+    s.pitch_rad += weight * (pitch - s.pitch_rad);
+}
+
+}  // namespace
+
 FlightState flight_at(const World& world, double t, const SunSchedule& schedule) {
     t = std::clamp(t, 0.0, 1.0);
     FlightState s;
@@ -281,6 +298,7 @@ FlightState flight_at(const World& world, double t, const SunSchedule& schedule)
     s.pitch_rad = -0.09;
     s.fog = t > 0.4 && t < 0.6;
     place_sky(s, schedule, script_utc_min(schedule, t));
+    look_at_the_moon(s, smoothstep(kNightLookStart, kNightLookEnd, t));
     return s;
 }
 
@@ -354,27 +372,26 @@ aerial::Result<double> exposure_for(const FrameLight& light, const CardLight& su
     double day =
         aerial::auto_exposure(sun.direct, sun.elevation_rad, light.card - sun.direct_on_card(),
                               light.atmosphere.sun_irradiance, options);
-    if (sun.elevation_rad < 0.0) {
-        // After sunset the day's exposure follows the sky down: it grows as the skylight fades
-        // below its value at sunset, so that civil twilight reads (the afterglow over the sun,
-        // the Earth's shadow opposite) instead of going black.
-        auto at_sunset =
-            aerial::sky_ambient(light.atmosphere, kLightingAltitudeM, 0.0, ambient_options());
-        if (!at_sunset) return at_sunset.error();
-        day *= std::max(1.0, aerial::luminance(*at_sunset) /
-                                 std::max(aerial::luminance(light.skylight), 1e-30));
+    const aerial::NightOptions night_options;
+    const double sky_radiance = aerial::luminance(light.skylight) / kPi;
+    if (sun.elevation_rad < 0.0 && sky_radiance > 0.0) {
+        // After sunset the eye adapts to the sky: the day's exposure grows as the skylight fades,
+        // holding the sky's mean radiance at night_exposure's max_sky_value (about where it is
+        // at sunset), so that civil twilight reads (the afterglow over the sun, the Earth's
+        // shadow opposite) instead of going black.
+        day = std::max(day, night_options.max_sky_value / sky_radiance);
     }
-    const double night = aerial::night_exposure(light.atmosphere, light.card, options);
+    const double night = aerial::night_exposure(light.atmosphere, light.card, light.skylight,
+                                                options, night_options);
     const double rods = aerial::rod_share(light.card_cd_m2);
     if (!(night > 0.0) || !(rods > 0.0)) return day;
     return std::exp((1.0 - rods) * std::log(day) + rods * std::log(night));
 }
 
 /// The Purkinje tint at the card's luminance: purkinje_shift of white (the rods' blue at
-/// luminance 1) mixed with white by the rod share in steps of kTintShareStep.
+/// luminance 1) mixed with white by the rod share, in steps of kTintStep.
 glm::dvec3 purkinje_tint(double card_cd_m2) {
-    const double share =
-        std::round(aerial::rod_share(card_cd_m2) / kTintShareStep) * kTintShareStep;
+    const double share = std::round(aerial::rod_share(card_cd_m2) / kTintStep) * kTintStep;
     const glm::dvec3 white(1.0);
     const double rods_only = 0.0;  // cd/m2: below the scotopic level
     return glm::mix(white, aerial::purkinje_shift(white, rods_only), share);

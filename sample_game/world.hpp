@@ -158,25 +158,25 @@ struct FrameLight {
 /// skylight of each light from aerial::sky_ambient (the moon's: of aerial::moonlit's
 /// atmosphere); the exposure:
 ///   - day: aerial::auto_exposure with kExposureKey and kExposureMaxGain; after sunset raised as
-///     the skylight fades below its value at sunset, so that civil twilight's afterglow reads;
-///   - night: aerial::night_exposure, the card shown darker as the light falls (a moonlit night
-///     dark but readable);
+///     the skylight fades, holding the sky's mean radiance at aerial::NightOptions::
+///     max_sky_value, so that civil twilight's afterglow reads;
+///   - night: aerial::night_exposure with the skylight, the card shown darker as the light
+///     falls (a moonlit night dark but readable), the twilight sky held at the same value;
 ///   - between them the eye moves from the first to the second in log exposure by
 ///     aerial::rod_share of the card's luminance: 0 (the day's rule, exactly) at and above the
 ///     photopic 5 cd/m2 (the sun about 3.5 deg down on the default day), 1 (night_exposure) at
 ///     and below the scotopic 0.005 cd/m2 (about 10.5 deg down).
-/// The tint moves with the same rod share, in steps of kTintShareStep.
+/// The tint moves with the same rod share, in steps of kTintStep.
 aerial::Result<FrameLight> frame_light(const FlightState& state, const std::string& preset);
 
 /// The rod share of frame_light's tint changes in steps of this much: each new tint is a new
-/// E_sun0 for the library's per-atmosphere caches (the height model's multiple-scattering
-/// level rows, about 20 ms, four kept; the sky cubemap), so a tint that changed every frame
-/// would recompute them every frame.
-inline constexpr double kTintShareStep = 0.05;
+/// E_sun0 for the sky cubemap's cache, which computes its sky again for a new atmosphere, so
+/// a tint that changed every frame would recompute it every frame.
+inline constexpr double kTintStep = 0.05;
 
 /// The moon's light fraction changes in steps of this much (e-folds, so 2 %: +-1 % in
 /// brightness, a few steps a night), for the same reason: the moon's light is the atmosphere's
-/// E_sun0 times the fraction to those caches, and the fraction changes every minute.
+/// E_sun0 times the fraction to the cubemap's cache, and the fraction changes every minute.
 inline constexpr double kMoonFractionStep = 0.02;
 
 /// The renderer's settings of `light`: its atmosphere with E_sun0 scaled by the tint (so that

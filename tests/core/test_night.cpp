@@ -363,6 +363,51 @@ TEST(NightExposure, DayAsBeforeMoonlightDarkButReadable) {
     EXPECT_GT(last, 0.0);
 }
 
+// In twilight the card is lit by the sky alone: with the sky's irradiance the exposure holds
+// the sky's mean radiance at max_sky_value there, by the sky's share of the card (little by
+// day), and leaves a moonlit night, whose sky is dark, as it was.
+TEST(NightExposure, TwilightHoldsTheSkyMoonlightIsLeftAlone) {
+    const aerial::Atmosphere earth = aerial::atmosphere_preset("earth").value();
+    const aerial::NightOptions night;
+    const auto sky_value = [&](const glm::dvec3& card, const glm::dvec3& sky) {
+        return aerial::night_exposure(earth, card, sky) * aerial::luminance(sky) / kPi;
+    };
+    double last_sky = 0.0;
+    for (double sun_deg : {10.0, -2.0, -6.0, -9.0, -12.0}) {
+        const glm::dvec3 sky = aerial::sky_ambient(earth, 0.0, sun_deg * kDegree).value();
+        const glm::dvec3 direct =
+            aerial::sun_irradiance_at_altitude(earth, 0.0, sun_deg * kDegree) *
+            std::max(0.0, std::sin(sun_deg * kDegree));
+        const glm::dvec3 card = direct + sky;
+        const double held = sky_value(card, sky);
+        const double unheld = aerial::night_exposure(earth, card) * aerial::luminance(sky) / kPi;
+        const double share = aerial::luminance(sky) / aerial::luminance(card);
+        std::printf("sun %5.1f deg: sky shown at %.3f (card rule alone %.3f), sky's share %.2f\n",
+                    sun_deg, held, unheld, share);
+        EXPECT_LE(held, unheld * (1.0 + 1e-12));
+        if (unheld > night.max_sky_value) {
+            EXPECT_GE(held, night.max_sky_value * 0.999) << sun_deg;
+            // In log exposure, the sky's share of the way to the hold.
+            EXPECT_NEAR(std::log(held),
+                        std::log(unheld) - share * std::log(unheld / night.max_sky_value), 1e-9)
+                << sun_deg;
+        }
+        if (sun_deg < 0.0) EXPECT_NEAR(held, night.max_sky_value, 1e-6) << sun_deg;
+        last_sky = held;
+    }
+    EXPECT_GT(last_sky, 0.0);
+    // A full moon 45 degrees up, the sun far below: the card rule alone.
+    aerial::MoonPosition full;
+    full.elevation_rad = 45.0 * kDegree;
+    full.distance_km = 384400.0;
+    const aerial::Atmosphere lit = aerial::moonlit(earth, full);
+    const glm::dvec3 moon_sky = aerial::sky_ambient(lit, 0.0, full.elevation_rad).value();
+    const glm::dvec3 moon = aerial::sun_irradiance_at_altitude(lit, 0.0, full.elevation_rad) *
+                                std::sin(full.elevation_rad) +
+                            moon_sky;
+    EXPECT_EQ(aerial::night_exposure(earth, moon, moon_sky), aerial::night_exposure(earth, moon));
+}
+
 TEST(NightExposure, PurkinjeShiftKeepsLuminanceAndTurnsBlueAtNight) {
     const glm::dvec3 orange{0.8, 0.5, 0.2};
     EXPECT_EQ(aerial::rod_share(10.0), 0.0);

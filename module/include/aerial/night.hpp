@@ -112,6 +112,10 @@ struct NightOptions {
     /// The hue of rod vision (Jensen et al. 2001, "A physically-based night sky model": blue
     /// shift to (1.05, 0.97, 1.27)); Rec. 709 luminance about 1.
     glm::dvec3 scotopic_tint{1.05, 0.97, 1.27};
+    /// night_exposure with the sky's irradiance: the sky's mean radiance (its Rec. 709
+    /// irradiance on level ground / pi) times the exposure is held at this where the sky lights
+    /// the card.
+    double max_sky_value = 0.1;
 };
 
 /// The luminance (cd/m2) of a grey card of `albedo` lit by `irradiance` (in units of E_sun0 of
@@ -127,6 +131,16 @@ double card_luminance_cd_m2(const Atmosphere& atmosphere, const glm::dvec3& irra
 /// the card gets no light (or a value that is not a finite irradiance).
 double night_exposure(const Atmosphere& atmosphere, const glm::dvec3& irradiance,
                       const ExposureOptions& exposure = {}, const NightOptions& night = {});
+/// The same, for a view with the sky in it: in twilight the card is lit by the sky alone and
+/// the sky itself is several times brighter than the card, so that the card's exposure would
+/// show the sky pale white. `sky_irradiance` (part of `irradiance`: the sky's light on level
+/// ground) gives the sky's mean radiance; where that times night_exposure exceeds
+/// night.max_sky_value, the exposure moves towards the one that holds it there, in log exposure
+/// by the sky's share of the card's luminance: fully in twilight (the card lit by the sky),
+/// little by day or under a moon high enough to light the card itself.
+double night_exposure(const Atmosphere& atmosphere, const glm::dvec3& irradiance,
+                      const glm::dvec3& sky_irradiance, const ExposureOptions& exposure = {},
+                      const NightOptions& night = {});
 
 /// The share of rod vision at an adaptation luminance: 0 at and above photopic_cd_m2, 1 at and
 /// below scotopic_cd_m2, linear in log luminance between.

@@ -206,6 +206,19 @@ double night_exposure(const Atmosphere& atmosphere, const glm::dvec3& irradiance
     return key / radiance;
 }
 
+double night_exposure(const Atmosphere& atmosphere, const glm::dvec3& irradiance,
+                      const glm::dvec3& sky_irradiance, const ExposureOptions& exposure,
+                      const NightOptions& night) {
+    const double value = night_exposure(atmosphere, irradiance, exposure, night);
+    const double sky_radiance = luminance(sky_irradiance) / kPi;
+    if (!(value > 0.0) || !(sky_radiance > 0.0) || !(night.max_sky_value > 0.0)) return value;
+    const double glare = night.max_sky_value / sky_radiance;
+    if (value <= glare) return value;
+    const double sky_share =
+        std::clamp(luminance(sky_irradiance) / luminance(irradiance), 0.0, 1.0);
+    return std::exp(std::log(value) - sky_share * (std::log(value) - std::log(glare)));
+}
+
 double rod_share(double adaptation_cd_m2, const NightOptions& night) {
     if (!(adaptation_cd_m2 > night.scotopic_cd_m2)) return 1.0;
     if (adaptation_cd_m2 >= night.photopic_cd_m2) return 0.0;

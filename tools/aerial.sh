@@ -70,8 +70,8 @@ FUZZ_SMOKE_SECONDS=20
 SANITIZE_CI_EXCLUDE='^$'
 SANITIZE_CI_TESTS=(test_core_accuracy test_core_atmosphere test_core_batch test_core_batch_kernels
     test_core_batch_rgba8 test_core_cache test_core_models test_core_phase test_core_sky
-    test_core_stability test_core_sun test_capi_c test_mesh test_mesh_bad_data test_gl_arb_program
-    test_off_reader)
+    test_core_stability test_core_sun test_core_night test_capi_c test_mesh test_mesh_bad_data
+    test_gl_arb_program test_off_reader)
 # The part of their longest seeded sweeps those tests run there (AERIAL_TEST_SCALE, see
 # tests/test_scale.hpp): every operation costs about ten times more under the sanitizers. The
 # stability sweeps and the longest ARB program grids print how many cases they kept; `sanitize`

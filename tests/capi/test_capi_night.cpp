@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "aerial/aerial.h"
+#include "aerial/atmosphere.hpp"
 #include "aerial/night.hpp"
 
 namespace {
@@ -39,6 +40,37 @@ TEST(CApiNight, MoonSpriteEqualsTheCppApi) {
     double angle = 0.0;
     ASSERT_EQ(aerial_moon_bright_limb_angle(moon, sun, up, &angle), AERIAL_OK);
     EXPECT_GT(angle, 0.0) << "north of an eastern moon: its left";
+}
+
+TEST(CApiNight, NightExposureEqualsTheCppApi) {
+    aerial_context* context = nullptr;
+    ASSERT_EQ(aerial_context_create(nullptr, AERIAL_MODEL_HEIGHT, &context), AERIAL_OK);
+    const aerial::Atmosphere earth = aerial::atmosphere_preset("earth").value();
+    // A twilight card: lit by the sky alone.
+    const double card[3] = {2e-5, 3e-5, 5e-5};
+    float exposure = 0.0f;
+    ASSERT_EQ(aerial_night_exposure(context, card, card, nullptr, &exposure), AERIAL_OK)
+        << aerial_last_error_message();
+    const glm::dvec3 e{card[0], card[1], card[2]};
+    EXPECT_EQ(exposure, float(aerial::night_exposure(earth, e, e)));
+    ASSERT_EQ(aerial_night_exposure(context, card, nullptr, nullptr, &exposure), AERIAL_OK);
+    EXPECT_EQ(exposure, float(aerial::night_exposure(earth, e)));
+    aerial_exposure_options options = {};
+    options.key = 0.8;
+    ASSERT_EQ(aerial_night_exposure(context, card, nullptr, &options, &exposure), AERIAL_OK);
+    aerial::ExposureOptions cpp;
+    cpp.key = 0.8;
+    EXPECT_EQ(exposure, float(aerial::night_exposure(earth, e, cpp)));
+    const double bad[3] = {1e-5, -1.0, 0.0};
+    EXPECT_EQ(aerial_night_exposure(context, bad, nullptr, nullptr, &exposure),
+              AERIAL_ERROR_INVALID_ARGUMENT);
+    EXPECT_STREQ(aerial_last_error_field(), "card_irradiance");
+    EXPECT_EQ(aerial_night_exposure(context, card, bad, nullptr, &exposure),
+              AERIAL_ERROR_INVALID_ARGUMENT);
+    EXPECT_STREQ(aerial_last_error_field(), "sky_irradiance");
+    EXPECT_EQ(aerial_night_exposure(context, nullptr, nullptr, nullptr, &exposure),
+              AERIAL_ERROR_NULL_ARGUMENT);
+    aerial_context_destroy(context);
 }
 
 TEST(CApiNight, VisibleStarsForTheEnginesPoints) {

@@ -458,6 +458,17 @@ aerial_status aerial_moon_bright_limb_angle(const double moon_dir[3], const doub
 aerial_status aerial_moon_sprite(double phase_angle_rad, double bright_limb_angle_rad, int size,
                                  unsigned char* rgba, size_t capacity);
 
+/* The exposure into the night (aerial::night_exposure): `card_irradiance` is the light on a
+ * level grey card in units of the context's E_sun0 (each light's direct light times the sine of
+ * its elevation, plus the skylight), `sky_irradiance` the skylight part of it (NULL: the card
+ * alone). The options' key and albedo at and above 5 cd/m2 on the card (auto_exposure's rule,
+ * no gain limit); below, the card shown darker as (L / 5 cd/m2)^0.25, and where the sky lights
+ * the card (twilight) the sky's mean radiance held at 0.1. *exposure is 0 where the card gets
+ * no light. options NULL means defaults. */
+aerial_status aerial_night_exposure(const aerial_context* context, const double card_irradiance[3],
+                                    const double sky_irradiance[3],
+                                    const aerial_exposure_options* options, float* exposure);
+
 /* A star catalogue (aerial::read_star_catalogue). */
 typedef struct aerial_stars aerial_stars;
 

@@ -15,6 +15,7 @@
 #include "aerial/batch.hpp"
 #include "aerial/error.hpp"
 #include "aerial/scattering.hpp"
+#include "aerial/sun.hpp"
 
 struct aerial_context {
     aerial::Atmosphere atmosphere;
@@ -138,6 +139,9 @@ View to_cpp(const aerial_view& view);
 Display to_cpp(const aerial_display* display);
 /// The model, or AERIAL_ERROR_INVALID_ARGUMENT naming `field`.
 Model to_cpp_model(int model, const char* field);
+/// The exposure options with their defaults applied (null: all defaults), or
+/// AERIAL_ERROR_INVALID_ARGUMENT naming the bad field.
+ExposureOptions exposure_options(const aerial_exposure_options* options);
 
 /// The C positions (model matrix included), or AERIAL_ERROR_INVALID_BATCH.
 Positions to_cpp_positions(const aerial_positions& positions);

@@ -33,6 +33,17 @@ glm::dvec3 unit_or_fail(const double v[3], const char* field) {
     return d / length;
 }
 
+/// A light in units of E_sun0: finite, >= 0 per channel, or a failure naming `field`.
+glm::dvec3 irradiance_or_fail(const double v[3], const char* field) {
+    const glm::dvec3 e{v[0], v[1], v[2]};
+    for (int c = 0; c < 3; ++c) {
+        if (!(e[c] >= 0.0) || !std::isfinite(e[c]))
+            fail(AERIAL_ERROR_INVALID_ARGUMENT, field,
+                 "expected finite values >= 0, got " + detail::vector(e));
+    }
+    return e;
+}
+
 }  // namespace
 }  // namespace aerial::capi
 
@@ -70,6 +81,23 @@ aerial_status aerial_moon_bright_limb_angle(const double moon_dir[3], const doub
         *angle_rad = moon_bright_limb_angle_rad(capi::unit_or_fail(moon_dir, "moon_dir"),
                                                 capi::unit_or_fail(sun_dir, "sun_dir"),
                                                 capi::unit_or_fail(up, "up"));
+    });
+}
+
+aerial_status aerial_night_exposure(const aerial_context* context, const double card_irradiance[3],
+                                    const double sky_irradiance[3],
+                                    const aerial_exposure_options* options, float* exposure) {
+    return guard("aerial_night_exposure", capi::last_error_of(context), [&] {
+        require(context, "context");
+        require(card_irradiance, "card_irradiance");
+        require(exposure, "exposure");
+        const ExposureOptions e = capi::exposure_options(options);
+        const glm::dvec3 card = capi::irradiance_or_fail(card_irradiance, "card_irradiance");
+        *exposure = float(
+            sky_irradiance
+                ? night_exposure(context->atmosphere, card,
+                                 capi::irradiance_or_fail(sky_irradiance, "sky_irradiance"), e)
+                : night_exposure(context->atmosphere, card, e));
     });
 }
 

@@ -169,6 +169,12 @@ Display display_of(const aerial_display* display) {
     return d;
 }
 
+/// Sky rays of the exposure's skylight: as the sample game (8 elevations x 16 azimuths).
+constexpr int kExposureElevationSteps = 8;
+constexpr int kExposureAzimuthSteps = 16;
+
+}  // namespace
+
 ExposureOptions exposure_options(const aerial_exposure_options* o) {
     ExposureOptions e;
     if (!o) return e;
@@ -197,11 +203,6 @@ ExposureOptions exposure_options(const aerial_exposure_options* o) {
     return e;
 }
 
-/// Sky rays of the exposure's skylight: as the sample game (8 elevations x 16 azimuths).
-constexpr int kExposureElevationSteps = 8;
-constexpr int kExposureAzimuthSteps = 16;
-
-}  // namespace
 }  // namespace aerial::capi
 
 using namespace aerial;  // NOLINT(google-build-using-namespace): this file implements the C API

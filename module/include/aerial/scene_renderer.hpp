@@ -82,7 +82,7 @@ struct Camera {
 /// place: moon_direction_enu, moonlight_fraction). The models run for it as for the sun, along
 /// `dir` with the atmosphere's E_sun0 times `fraction`; the frame is the sum of both lights.
 struct Moonlight {
-    glm::dvec3 dir{0.0, 0.0, 1.0};  ///< unit, towards the moon, world
+    glm::dvec3 dir{0.0, 0.0, 1.0};  ///< towards the moon, world (finite, non-zero; normalised)
     /// Its illuminance outside the atmosphere as a fraction of the sun's, [0, 1e-3]
     /// (moonlight_fraction: 2.4e-6 for a full moon at its mean distance).
     double fraction = 0.0;

@@ -170,13 +170,14 @@ struct FrameLight {
 aerial::Result<FrameLight> frame_light(const FlightState& state, const std::string& preset);
 
 /// The rod share of frame_light's tint changes in steps of this much: each new tint is a new
-/// E_sun0 for the sky cubemap's cache, which computes its sky again for a new atmosphere, so
-/// a tint that changed every frame would recompute it every frame.
+/// E_sun0, which the renderer's colour caches (aerial::ShadingCache) take as a new atmosphere
+/// and shade every node again for, so a tint that changed every frame would do that every
+/// frame.
 inline constexpr double kTintStep = 0.05;
 
 /// The moon's light fraction changes in steps of this much (e-folds, so 2 %: +-1 % in
 /// brightness, a few steps a night), for the same reason: the moon's light is the atmosphere's
-/// E_sun0 times the fraction to the cubemap's cache, and the fraction changes every minute.
+/// E_sun0 times the fraction to those caches, and the fraction changes every minute.
 inline constexpr double kMoonFractionStep = 0.02;
 
 /// The renderer's settings of `light`: its atmosphere with E_sun0 scaled by the tint (so that

@@ -297,6 +297,60 @@ TEST(SkyCubemapCache, KeepsItsTexelsWithinOneStepOfAFreshSkyWhileSkippingWork) {
     }
 }
 
+// A new E_sun0 alone (the moon's light as it changes, a tint) scales the shown sky instead of
+// computing a new one: within a step of a fresh cubemap at that light, no new sky; any other
+// change of the atmosphere computes one.
+TEST(SkyCubemapCache, ANewSunIrradianceScalesTheSky) {
+    aerial::SkyCubemapCache::Options o;
+    o.size = 16;
+    aerial::SkyCubemapCache cache(o);
+    aerial::Atmosphere a = earth();
+    const aerial::View v = view_with_sun(15.0);
+    aerial::Display d{8.0f, aerial::ToneCurve::exponential};
+    ASSERT_TRUE(*cache.update(a, v, d));
+    const int recomputes = cache.recomputes();
+    for (const glm::dvec3 scale : {glm::dvec3(0.5, 0.7, 2.0), glm::dvec3(1.001), glm::dvec3(1.9)}) {
+        aerial::Atmosphere lit = a;
+        lit.sun_irradiance *= scale;
+        ASSERT_TRUE(cache.update(lit, v, d).ok());
+        EXPECT_EQ(cache.recomputes(), recomputes) << "no new sky for a new light";
+        EXPECT_LE(steps_from_fresh(cache, lit, v, d, o.size), 1) << scale.x;
+    }
+    // Beyond a factor of 2 from the shown sky's light (here 1.9 x 1.2), and for any other
+    // change of the atmosphere: a new sky.
+    aerial::Atmosphere brighter = a;
+    brighter.sun_irradiance *= 1.9 * 1.2;
+    ASSERT_TRUE(cache.update(brighter, v, d).ok());
+    EXPECT_EQ(cache.recomputes(), recomputes + 1);
+    EXPECT_LE(steps_from_fresh(cache, brighter, v, d, o.size), 1);
+    aerial::Atmosphere other = brighter;
+    other.mie_g = 0.7;
+    ASSERT_TRUE(cache.update(other, v, d).ok());
+    EXPECT_EQ(cache.recomputes(), recomputes + 2) << "another atmosphere is a new sky";
+    EXPECT_LE(steps_from_fresh(cache, other, v, d, o.size), 1);
+}
+
+// Into the night the exposure rises a hundredfold as the sun sinks: a texel the old sky shows
+// white at the new exposure may be far below white in the new sky, so the bound takes the tone
+// curve's slope at the darker end of a change (a slope at the old radiance, zero where it is
+// white, would keep the old sky).
+TEST(SkyCubemapCache, FollowsTheSkyIntoTheNightWhileTheExposureRises) {
+    aerial::SkyCubemapCache::Options o;
+    o.size = 16;
+    o.spread_updates = 1;
+    aerial::SkyCubemapCache cache(o);
+    const auto a = earth();
+    aerial::View v = view_with_sun(-4.0);
+    aerial::Display d{2000.0f, aerial::ToneCurve::exponential};
+    ASSERT_TRUE(*cache.update(a, v, d));
+    for (int i = 0; i < 4; ++i) {
+        v = moved(v, -2.0, 0.0, 0.0);
+        d.exposure *= 30.0f;
+        ASSERT_TRUE(cache.update(a, v, d).ok());
+        EXPECT_LE(steps_from_fresh(cache, a, v, d, o.size), 1) << "move " << i;
+    }
+}
+
 // A move beyond the bound but within the lag is recomputed over spread_updates updates and
 // shown whole; a move beyond the lag, a new atmosphere or a new tone curve at once.
 TEST(SkyCubemapCache, SpreadsARecomputeOverUpdatesAndCatchesUpBeyondTheLag) {

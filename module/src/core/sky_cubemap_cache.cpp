@@ -36,13 +36,15 @@ double tone_slope(double x, ToneCurve curve) {
     return x < 1.0 ? 1.0 : 0.0;
 }
 
-/// 8-bit steps a change dL of a radiance L moves its code by, to first order.
+/// 8-bit steps a change dL of a radiance L moves its code by: e |dL| times the tone curve's
+/// slope at the darker end, L - |dL| (the curve's slope falls as x grows, so a texel that is
+/// white at this exposure is not taken as unmoved when the change could bring it below white).
 double steps(const dvec3& radiance, const dvec3& change, const Display& d) {
     double most = 0.0;
     for (int c = 0; c < 3; ++c) {
         const double e = double(d.exposure);
-        most =
-            std::max(most, 255.0 * tone_slope(e * radiance[c], d.tone) * e * std::abs(change[c]));
+        const double darker = std::max(radiance[c] - std::abs(change[c]), 0.0);
+        most = std::max(most, 255.0 * tone_slope(e * darker, d.tone) * e * std::abs(change[c]));
     }
     return most;
 }
@@ -65,6 +67,7 @@ struct Probe {
 /// radiance and its change per radian of azimuth (the sun turning about up turns the sky).
 struct Sky {
     SkyViewTable table;
+    Atmosphere atmosphere;  ///< what it is made for (the table's context may adjust E_sun0)
     ViewState state;
     std::vector<Probe> probes;
     std::vector<dvec3> node_radiance, node_per_azimuth;
@@ -84,16 +87,37 @@ Result<SkyContext> perturbed(const SkyContext& base, double rise, double climb_m
     return prepare_sky(base.atmosphere, view, base.method);
 }
 
+/// A sky is scaled to a new E_sun0 when no channel changed by more than this factor; beyond,
+/// it is made again (the bound is first order: where the tone curve saturates, it would not see
+/// a large change).
+constexpr double kMaxLightScale = 2.0;
+
+/// Whether two atmospheres differ at most in E_sun0, each channel within kMaxLightScale of
+/// `shown`'s: the sky of one is the other's times their ratio per channel (radiance is linear
+/// in E_sun0).
+bool same_but_light(const Atmosphere& a, const Atmosphere& shown) {
+    Atmosphere b = shown;
+    b.sun_irradiance = a.sun_irradiance;
+    if (!(a == b)) return false;
+    for (int c = 0; c < 3; ++c) {
+        const double ratio = a.sun_irradiance[c] / shown.sun_irradiance[c];
+        if (!(ratio >= 1.0 / kMaxLightScale && ratio <= kMaxLightScale)) return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 struct SkyCubemapCache::State {
     Options options;
     Stats stats;
     std::optional<Sky> shown, building;
-    Atmosphere atmosphere;
+    Atmosphere atmosphere;     ///< the shown sky's
+    dvec3 light{1.0};          ///< E_sun0 now over the shown sky's, per channel
     dvec3 up{0.0}, axis{0.0};  ///< axis: the fixed horizontal axis azimuths are taken from
     ViewState encoded_state;
     Display encoded_display;
+    dvec3 encoded_light{1.0};  ///< `light` when the texels were encoded
     SkyCubemap cubemap;
     std::array<std::vector<std::uint8_t>, 6> rgba8;
 
@@ -101,6 +125,8 @@ struct SkyCubemapCache::State {
     /// `with_turn` false without the sun's turn about up (which turns the sky, not its table).
     double bound(const Sky& sky, const ViewState& from, const ViewState& to, const Display& d,
                  bool with_turn = true) const;
+    /// The steps a texel moves from the light and exposure it was encoded at to these.
+    double light_steps(const Display& d) const;
     void finish(Sky& sky);
     void encode(const dvec3& sun, const ViewState& now, const Display& d, bool switched);
 };
@@ -111,11 +137,26 @@ double SkyCubemapCache::State::bound(const Sky& sky, const ViewState& from, cons
     const double climb = std::abs(to.altitude_m - from.altitude_m);
     double turn = std::abs(to.sun_azimuth_rad - from.sun_azimuth_rad);
     turn = with_turn ? std::min(turn, 2.0 * kPi - turn) : 0.0;
+    // The sky at this light: every radiance and sensitivity times `light` per channel.
     double most = 0.0;
     for (const Probe& p : sky.probes)
-        most = std::max(most, steps(p.radiance, rise * p.per_rad + climb * p.per_m, d));
+        most = std::max(most,
+                        steps(light * p.radiance, light * (rise * p.per_rad + climb * p.per_m), d));
     for (std::size_t k = 0; k < sky.node_radiance.size(); ++k)
-        most = std::max(most, steps(sky.node_radiance[k], turn * sky.node_per_azimuth[k], d));
+        most = std::max(
+            most, steps(light * sky.node_radiance[k], light * (turn * sky.node_per_azimuth[k]), d));
+    return most;
+}
+
+double SkyCubemapCache::State::light_steps(const Display& d) const {
+    dvec3 ratio(0.0);
+    for (int c = 0; c < 3; ++c) {
+        ratio[c] = std::abs(std::log(double(d.exposure) * light[c] /
+                                     (double(encoded_display.exposure) * encoded_light[c])));
+    }
+    double most = 0.0;
+    for (const dvec3& l : shown->node_radiance)
+        most = std::max(most, steps(light * l, ratio * light * l, d));
     return most;
 }
 
@@ -164,6 +205,11 @@ void SkyCubemapCache::State::encode(const dvec3& sun, const ViewState& now, cons
                                     bool switched) {
     shown->table.set_sun_direction(sun);
     cubemap = detail::cubemap_from_table(shown->table, options.size);
+    if (light != dvec3(1.0)) {
+        for (auto& face : cubemap.faces) {
+            for (glm::vec3& texel : face) texel *= glm::vec3(light);
+        }
+    }
     auto codes = cubemap_to_rgba8(cubemap, d.exposure, d.tone);
     if (switched) {
         int largest = 0;
@@ -176,6 +222,7 @@ void SkyCubemapCache::State::encode(const dvec3& sun, const ViewState& now, cons
     rgba8 = std::move(codes);
     encoded_state = now;
     encoded_display = d;
+    encoded_light = light;
     ++stats.encodes;
 }
 
@@ -223,8 +270,12 @@ Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& v
                                detail::number(display.exposure));
     const dvec3 up = glm::normalize(view.up);
     const dvec3 sun = glm::normalize(view.sun_dir);
-    const bool reset =
-        !s.shown || !(atmosphere == s.atmosphere) || glm::dot(up, s.up) < 1.0 - kUpTolerance;
+    // A new E_sun0 alone (a moon's changing light, a tint) scales the sky: no new sky.
+    const bool reset = !s.shown || !same_but_light(atmosphere, s.atmosphere) ||
+                       glm::dot(up, s.up) < 1.0 - kUpTolerance;
+    if (s.building && !same_but_light(atmosphere, s.building->atmosphere)) {
+        s.building.reset();  // begun for another atmosphere: start again below if needed
+    }
     // Azimuths are taken from a horizontal axis fixed while the up axis holds.
     const dvec3 axis = reset ? any_horizontal(up) : s.axis;
     ViewState now;
@@ -242,13 +293,17 @@ Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& v
         s.stats.directions_last_update += (table.rows_done() - done) * SkyViewTable::kColumns -
                                           (zenith ? SkyViewTable::kColumns - 1 : 0);
     };
+    const auto light_of = [&](const Atmosphere& made) {
+        return atmosphere.sun_irradiance / made.sun_irradiance;
+    };
     const auto start = [&]() -> std::optional<Error> {
         auto sky = prepare_sky(atmosphere, view, s.options.method);
         if (!sky) return detail::from(kUpdate, sky.error());
-        s.building.emplace(Sky{SkyViewTable(*sky), now, {}, {}, {}});
+        s.building.emplace(Sky{SkyViewTable(*sky), atmosphere, now, {}, {}, {}});
         return std::nullopt;
     };
     // How far the shown texels could be from this view, and whether to catch up at once.
+    if (!reset) s.light = light_of(s.atmosphere);
     const double behind = reset ? 0.0 : s.bound(*s.shown, s.shown->state, now, display, false);
     bool at_once = reset || behind >= s.options.max_lag_steps;
     if (reset) {
@@ -271,9 +326,10 @@ Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& v
         compute(at_once ? SkyViewTable::kRows : (SkyViewTable::kRows + spread - 1) / spread);
         if (s.building->table.complete()) {
             s.finish(*s.building);
+            s.atmosphere = s.building->atmosphere;
+            s.light = light_of(s.atmosphere);
             s.shown = std::move(s.building);
             s.building.reset();
-            s.atmosphere = atmosphere;
             s.up = up;
             ++s.stats.recomputes;
             switched = true;
@@ -282,15 +338,8 @@ Result<bool> SkyCubemapCache::update(const Atmosphere& atmosphere, const View& v
     s.stats.building = s.building.has_value();
     // The texels: re-encoded from the shown sky when it changed or when the sun (its phase angle
     // and azimuth), the altitude or the exposure could have moved them by the bound.
-    const double exposure_steps = [&] {
-        const double ratio =
-            std::abs(std::log(double(display.exposure) / double(s.encoded_display.exposure)));
-        double most = 0.0;
-        for (const dvec3& l : s.shown->node_radiance)
-            most = std::max(most, steps(l, ratio * l, display));
-        return most;
-    }();
-    const double texel_steps = s.bound(*s.shown, s.encoded_state, now, display) + exposure_steps;
+    const double texel_steps =
+        s.bound(*s.shown, s.encoded_state, now, display) + s.light_steps(display);
     if (switched || reset || display.tone != s.encoded_display.tone ||
         texel_steps >= s.options.max_change_steps) {
         s.encode(sun, now, display, switched && !reset);

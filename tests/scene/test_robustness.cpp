@@ -404,13 +404,18 @@ TEST_F(StateHygiene, SceneRendererRestoresTheEnginesStateOnEveryBackendAndSky) {
         Backend backend;
         bool cubemap;
         aerial::Model model;
+        bool moon = false;  ///< the sun and the moon both lighting the frame
     };
     for (const Case& k :
          {Case{"renderer cpu dome", Backend::cpu, false, aerial::Model::height},
           Case{"renderer cpu cubemap", Backend::cpu, true, aerial::Model::height},
           Case{"renderer arb hoffman-preetham", Backend::arb, false,
                aerial::Model::hoffman_preetham},
-          Case{"renderer arb height cubemap", Backend::arb, true, aerial::Model::height}}) {
+          Case{"renderer arb height cubemap", Backend::arb, true, aerial::Model::height},
+          Case{"renderer cpu cubemap, sun and moon", Backend::cpu, true, aerial::Model::height,
+               true},
+          Case{"renderer arb height, sun and moon (two passes)", Backend::arb, false,
+               aerial::Model::height, true}}) {
         if (k.backend == Backend::arb && !gl().caps.vertex_program) continue;
         expect_restored(k.what, [&] {
             RendererOptions options;
@@ -423,10 +428,17 @@ TEST_F(StateHygiene, SceneRendererRestoresTheEnginesStateOnEveryBackendAndSky) {
                     EXPECT_EQ(stats.error().field, "cube_map") << stats.error().message;
                 }
             }
-            world.settings.model = k.model;
+            FrameSettings settings = world.settings;
+            settings.model = k.model;
+            if (k.moon) {
+                settings.moon =
+                    aerial::scene::Moonlight{glm::normalize(glm::dvec3(0, -1, 1)), 1e-4};
+                settings.policy = false;  // both lights, whatever they add
+            }
             for (int frame = 0; frame < 2; ++frame) {  // the second one from the caches
-                auto report = renderer.value().render(*world.root, world.camera, world.settings);
+                auto report = renderer.value().render(*world.root, world.camera, settings);
                 ASSERT_TRUE(report) << report.error().message;
+                if (k.moon) EXPECT_EQ(report->lights, aerial::scene::Lights::both) << k.what;
             }
         });
     }

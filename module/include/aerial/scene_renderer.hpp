@@ -5,7 +5,7 @@
 //   1. Once per context: `auto renderer = aerial::scene::SceneRenderer::create(api, options);`
 //      (options.backend cpu or arb, options.path for the cpu backend's fixed-function path).
 //   2. Per frame: fill a FrameSettings (atmosphere, sun, display, the model that sets the
-//      accuracy, the update policy) and a Camera, then
+//      accuracy, the update policy; at night the moon as a second light) and a Camera, then
 //      `auto report = renderer->render(*root, camera, settings);` — it clears nothing (the
 //      engine clears), draws sky, sun and every visible node, and restores the GL state it
 //      touched (enables, depth mask, texture bindings and env modes of units 0 and 1, client

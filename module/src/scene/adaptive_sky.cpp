@@ -98,8 +98,8 @@ Result<Frame<float>> sky_frame(const SkyDrawContext& c, const FrameSettings& lig
 
 /// L_in of the dome's vertices as RGBA8 into sky.secondary: one light's straight from
 /// shade_into, or the sum of each light's floats (SkyDrawContext::lights) then the display.
-std::optional<Error> shade_sky(AdaptiveSky& sky, const SkyDrawContext& c,
-                               const Frame<float>& first, std::size_t n) {
+std::optional<Error> shade_sky(AdaptiveSky& sky, const SkyDrawContext& c, const Frame<float>& first,
+                               std::size_t n) {
     const Positions positions = Positions::aos(sky.shade_positions.data(), n);
     BatchSettings settings;
     settings.display = c.settings->display;

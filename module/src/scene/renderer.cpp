@@ -136,6 +136,11 @@ struct SceneRenderer::Impl {
     std::optional<Error> draw_node(const Node& node, const detail::NodeState& st,
                                    const detail::NodePlan& plan, const detail::FrameInputs& frame,
                                    const gl::ApplyOptions& apply, int units);
+    /// arb backend: draws through the program of `model` with the parameters of `light` (the
+    /// sun's frame or the moon's), then turns unit 1's lighting factor off when `light_unit`.
+    std::optional<Error> draw_program(const Node& node, Model model, const Frame<float>& light,
+                                      const Display& display, const std::function<void()>& draw,
+                                      const gl::ApplyOptions& apply, bool light_unit);
     /// arb backend: a lighting factor (display values) as a 1x1 texture on unit 1.
     void set_light_unit(const std::array<std::uint8_t, 3>& texel);
     /// arb backend, frames with both lights: the node again through its program with the
@@ -542,17 +547,23 @@ std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const deta
         set_light_unit(light_texel(*frame.settings, node, frame.hoffman_preetham.sun_irradiance_eye,
                                    frame.settings->sun_dir, frame.ambient));
     }
-    const bool hp = plan.model == Model::hoffman_preetham;
+    return draw_program(node, plan.model, frame.frame_for(plan.model), frame.settings->display,
+                        draw, node_apply, light_unit);
+}
+
+std::optional<Error> SceneRenderer::Impl::draw_program(
+    const Node& node, Model model, const Frame<float>& light, const Display& display,
+    const std::function<void()>& draw, const gl::ApplyOptions& apply, bool light_unit) {
+    const bool hp = model == Model::hoffman_preetham;
     gl::ArbVertexProgram& program = hp ? *program_hp : *program_height;
-    auto parameters = arb_program_parameters(frame.frame_for(plan.model), frame.settings->display,
-                                             (hp ? arb_hp : arb_height).options);
+    auto parameters = arb_program_parameters(light, display, (hp ? arb_hp : arb_height).options);
     if (!parameters) return node_error(node, parameters.error());
     if (auto e = program.set_parameters(*parameters)) return node_error(node, *e);
-    auto drawn = program.draw(draw, node_apply);
+    auto drawn = program.draw(draw, apply);
     if (light_unit) {
-        gl.ActiveTexture(GL_TEXTURE1);
-        gl.Disable(GL_TEXTURE_2D);
-        gl.ActiveTexture(GL_TEXTURE0);
+        api->ActiveTexture(GL_TEXTURE1);
+        api->Disable(GL_TEXTURE_2D);
+        api->ActiveTexture(GL_TEXTURE0);
     }
     if (!drawn) return node_error(node, drawn.error());
     return std::nullopt;
@@ -561,28 +572,18 @@ std::optional<Error> SceneRenderer::Impl::draw_node(const Node& node, const deta
 std::optional<Error> SceneRenderer::Impl::draw_second_light(
     const Node& node, const detail::NodeState& st, const detail::NodePlan& plan,
     const detail::FrameInputs& frame, const gl::ApplyOptions& apply, int units) {
-    if (plan.method != Method::hoffman_preetham && plan.method != Method::height) return {};
+    if (plan.method != Method::hoffman_preetham && plan.method != Method::height)
+        return std::nullopt;             // skipped: its colours have both lights' lighting
     if (units < 2) return std::nullopt;  // no unit for the lighting factor: the sun's pass only
     const detail::SecondLight& moon = *frame.second;
     const std::array<std::uint8_t, 3> black{0, 0, 0};
     set_light_unit(plan.lit ? light_texel(*frame.settings, node, moon.model.sun_irradiance_eye,
                                           moon.settings->sun_dir, moon.ambient)
                             : black);
-    const gl::Api& gl = *api;
     gl::ApplyOptions node_apply = apply;
     const std::function<void()> draw = node_draw(node, st, node_apply);
-    const bool hp = plan.model == Model::hoffman_preetham;
-    auto parameters = arb_program_parameters(moon.model, frame.settings->display,
-                                             (hp ? arb_hp : arb_height).options);
-    if (!parameters) return node_error(node, parameters.error());
-    gl::ArbVertexProgram& program = hp ? *program_hp : *program_height;
-    if (auto e = program.set_parameters(*parameters)) return node_error(node, *e);
-    auto drawn = program.draw(draw, node_apply);
-    gl.ActiveTexture(GL_TEXTURE1);
-    gl.Disable(GL_TEXTURE_2D);
-    gl.ActiveTexture(GL_TEXTURE0);
-    if (!drawn) return node_error(node, drawn.error());
-    return std::nullopt;
+    return draw_program(node, plan.model, moon.model, frame.settings->display, draw, node_apply,
+                        true);
 }
 
 std::optional<Error> SceneRenderer::Impl::prepare_node(const Node& node, const glm::dmat4& world,

@@ -298,7 +298,6 @@ NodePlan plan_node(FrameInputs& f, NodeState& st, const Node& node) {
     return plan;
 }
 
-/// max(N.L, 0) of vertex i (1 without normals).
 float vertex_cosine(const NodeState& st, std::size_t i, const glm::dvec3& light_dir) {
     if (st.normals.empty()) return 1.0f;
     return std::max(0.0f, st.normals[3 * i] * float(light_dir.x) +

@@ -123,6 +123,10 @@ NodePlan plan_node(FrameInputs& frame, NodeState& st, const Node& node);
 /// node's scattering colours and cache.
 void skipped_colours(const FrameInputs& frame, NodeState& st, bool lit, const glm::vec3& albedo);
 
+/// max(N.L, 0) of vertex i of the node's world-space normals towards `light_dir` (1 without
+/// normals).
+float vertex_cosine(const NodeState& st, std::size_t i, const glm::dvec3& light_dir);
+
 /// The Method of shading with `model`.
 Method method_of(Model model);
 

@@ -152,15 +152,10 @@ std::optional<Error> shade_two_lights(const FrameInputs& f, NodeState& st, bool 
     const Display& display = f.settings->display;
     const glm::dvec3 sun_dir = f.settings->sun_dir, moon_dir = f.second->settings->sun_dir;
     const glm::vec3 ambient = f.ambient + f.second->ambient;
-    const auto cosine = [&](std::size_t i, const glm::dvec3& d) {
-        if (st.normals.empty()) return 1.0f;
-        const glm::vec3 n(st.normals[3 * i], st.normals[3 * i + 1], st.normals[3 * i + 2]);
-        return std::max(0.0f, glm::dot(n, glm::vec3(d)));
-    };
     const std::size_t n = st.positions.size() / 3;
     for (std::size_t i = 0; i < n; ++i) {
-        const float ndl = lit ? cosine(i, sun_dir) : 0.0f;
-        const float ndm = lit ? cosine(i, moon_dir) : 0.0f;
+        const float ndl = lit ? vertex_cosine(st, i, sun_dir) : 0.0f;
+        const float ndm = lit ? vertex_cosine(st, i, moon_dir) : 0.0f;
         std::uint8_t primary[3], secondary[3];
         for (int c = 0; c < 3; ++c) {
             const std::size_t k = 3 * i + std::size_t(c);

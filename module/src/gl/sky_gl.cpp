@@ -89,6 +89,15 @@ bool near_far(const std::array<float, 16>& p, double& near_plane, double& far_pl
            far_plane >= 4.0 * near_plane;
 }
 
+/// The far plane of the view a sprite is drawn in, after the checks every sky draw makes: a
+/// current context and a perspective projection (errors under `function`'s name).
+Result<double> sprite_far_plane(const Api& api, const SkyBoxView& view, const char* function) {
+    if (auto e = no_current_context(api)) return aerial::detail::from(function, *e);
+    double near_plane = 0, far_plane = 0;
+    if (!near_far(view.projection, near_plane, far_plane)) return not_perspective(function);
+    return far_plane;
+}
+
 /// The state both draws share: matrices, everything that would alter a plain textured quad off,
 /// unit 0 textured with `target` and `texture` in GL_REPLACE mode.
 void common_state(const Api& api, StateSaver& s, const SkyBoxView& view, GLenum target,
@@ -275,9 +284,9 @@ std::optional<glm::dvec3> unit(const glm::dvec3& v) {
 std::optional<Error> draw_sun_sprite(const Api& api, const SunSpriteTexture& texture,
                                      const SkyBoxView& view, const glm::dvec3& sun_dir) {
     constexpr const char* kFunction = "gl::draw_sun_sprite";
-    if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
-    double near_plane = 0, far_plane = 0;
-    if (!near_far(view.projection, near_plane, far_plane)) return not_perspective(kFunction);
+    const auto far = sprite_far_plane(api, view, kFunction);
+    if (!far) return far.error();
+    const double far_plane = *far;
     const auto unit_sun = unit(sun_dir);
     if (!unit_sun)
         return invalid(kFunction, "sun_dir", "a unit vector", aerial::detail::vector(sun_dir));
@@ -335,9 +344,9 @@ std::optional<Error> draw_moon_sprite(const Api& api, const SunSpriteTexture& te
                                       const SkyBoxView& view, const glm::dvec3& moon_dir,
                                       const glm::dvec3& up, const glm::vec3& colour) {
     constexpr const char* kFunction = "gl::draw_moon_sprite";
-    if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
-    double near_plane = 0, far_plane = 0;
-    if (!near_far(view.projection, near_plane, far_plane)) return not_perspective(kFunction);
+    const auto far = sprite_far_plane(api, view, kFunction);
+    if (!far) return far.error();
+    const double far_plane = *far;
     const auto moon = unit(moon_dir);
     if (!moon)
         return invalid(kFunction, "moon_dir", "a unit vector", aerial::detail::vector(moon_dir));
@@ -362,9 +371,9 @@ std::optional<Error> draw_stars(const Api& api, const SunSpriteTexture& glow,
                                 const SkyBoxView& view, const std::vector<StarAppearance>& stars,
                                 const glm::dmat3& enu_to_world) {
     constexpr const char* kFunction = "gl::draw_stars";
-    if (auto e = no_current_context(api)) return aerial::detail::from(kFunction, *e);
-    double near_plane = 0, far_plane = 0;
-    if (!near_far(view.projection, near_plane, far_plane)) return not_perspective(kFunction);
+    const auto far = sprite_far_plane(api, view, kFunction);
+    if (!far) return far.error();
+    const double far_plane = *far;
     const double h = 0.99 * far_plane / std::sqrt(3.0);
     StateSaver s(api);
     additive_modulated(api, s, view, glow.id());

@@ -422,10 +422,8 @@ aerial::Result<FrameLight> frame_light(const FlightState& s, const std::string& 
     if (s.moon) {
         light.moon = aerial::scene::Moonlight{aerial::moon_direction_enu(*s.moon),
                                               stepped_moon_fraction(*s.moon)};
-        // aerial::moonlit's atmosphere, with the stepped fraction.
-        aerial::Atmosphere moonlit = light.atmosphere;
-        moonlit.sun_irradiance *= light.moon->fraction;
-        auto lit = card_light(moonlit, s.moon->elevation_rad);
+        auto lit = card_light(aerial::moonlit(light.atmosphere, light.moon->fraction),
+                              s.moon->elevation_rad);
         if (!lit) return lit.error();
         moon = *lit;
     }

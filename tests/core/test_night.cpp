@@ -392,7 +392,9 @@ TEST(NightExposure, TwilightHoldsTheSkyMoonlightIsLeftAlone) {
                         std::log(unheld) - share * std::log(unheld / night.max_sky_value), 1e-9)
                 << sun_deg;
         }
-        if (sun_deg < 0.0) EXPECT_NEAR(held, night.max_sky_value, 1e-6) << sun_deg;
+        if (sun_deg < 0.0) {
+            EXPECT_NEAR(held, night.max_sky_value, 1e-6) << sun_deg;
+        }
         last_sky = held;
     }
     EXPECT_GT(last_sky, 0.0);

@@ -438,7 +438,9 @@ TEST_F(StateHygiene, SceneRendererRestoresTheEnginesStateOnEveryBackendAndSky) {
             for (int frame = 0; frame < 2; ++frame) {  // the second one from the caches
                 auto report = renderer.value().render(*world.root, world.camera, settings);
                 ASSERT_TRUE(report) << report.error().message;
-                if (k.moon) EXPECT_EQ(report->lights, aerial::scene::Lights::both) << k.what;
+                if (k.moon) {
+                    EXPECT_EQ(report->lights, aerial::scene::Lights::both) << k.what;
+                }
             }
         });
     }

@@ -77,6 +77,9 @@ glm::dvec3 moon_irradiance(const Atmosphere& atmosphere, const MoonPosition& moo
 /// programs alike) then gives the moon's light when its View::sun_dir is the moon's direction.
 /// Scattering is linear in the light: the night's L_in is the sun's plus the moon's.
 Atmosphere moonlit(const Atmosphere& atmosphere, const MoonPosition& moon);
+/// The same for a light of `fraction` times the sun's (moonlight_fraction, or a value an
+/// application holds, e.g. in steps): E_sun0 times `fraction`.
+Atmosphere moonlit(const Atmosphere& atmosphere, double fraction);
 
 /// Where the lit side of the moon's disc faces on the sky: the angle, in the plane across the
 /// line of sight, from the projection of `up` towards the projection of the sun, counterclockwise

@@ -172,8 +172,10 @@ struct SkyDrawContext {
     const gl::Api* api = nullptr;
     const FrameSettings* settings = nullptr;
     const Camera* camera = nullptr;
-    const Frame<float>* hoffman_preetham = nullptr;  ///< prepared for this frame's eye and sun
-    const Frame<float>* model = nullptr;             ///< the same for FrameSettings::model
+    /// Prepared for this frame's eye and the first of `lights` (the moon's on a night without
+    /// the sun), with the 2002 model and with FrameSettings::model.
+    const Frame<float>* hoffman_preetham = nullptr;
+    const Frame<float>* model = nullptr;
     /// The frame's lights, each as the settings of a one-light frame (the moon's: sun_dir the
     /// moon's direction, E_sun0 times its fraction): sky drawers draw the sum of their skies.
     /// The sun's is `settings` itself; the sun drawer draws the sun of `settings`.

@@ -109,12 +109,16 @@ double moonlight_fraction(const MoonPosition& moon) {
 }
 
 glm::dvec3 moon_irradiance(const Atmosphere& atmosphere, const MoonPosition& moon) {
-    return atmosphere.sun_irradiance * moonlight_fraction(moon);
+    return moonlit(atmosphere, moon).sun_irradiance;
 }
 
 Atmosphere moonlit(const Atmosphere& atmosphere, const MoonPosition& moon) {
+    return moonlit(atmosphere, moonlight_fraction(moon));
+}
+
+Atmosphere moonlit(const Atmosphere& atmosphere, double fraction) {
     Atmosphere out = atmosphere;
-    out.sun_irradiance = moon_irradiance(atmosphere, moon);
+    out.sun_irradiance = atmosphere.sun_irradiance * fraction;
     return out;
 }
 

@@ -9,6 +9,7 @@
 
 #include "../common/error_text.hpp"
 #include "aerial/batch.hpp"
+#include "aerial/night.hpp"
 #include "aerial/sun.hpp"
 
 namespace aerial::scene::detail {
@@ -61,7 +62,7 @@ std::optional<Error> validate_moon(const FrameSettings& settings) {
 FrameSettings moon_settings(const FrameSettings& settings) {
     FrameSettings moon = settings;
     moon.sun_dir = glm::normalize(settings.moon->dir);
-    moon.atmosphere.sun_irradiance *= settings.moon->fraction;
+    moon.atmosphere = moonlit(settings.atmosphere, settings.moon->fraction);
     moon.moon.reset();
     return moon;
 }
